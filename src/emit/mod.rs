@@ -1,0 +1,1 @@
+//! Back end: glTF scenes, the JSON report, and atomic file writes.

@@ -1,0 +1,1 @@
+//! Geometry: triangle meshes, loading, validation, mass properties and distance queries.

@@ -1,0 +1,3 @@
+//! Front end: KDL project text to a typed, span-carrying project.
+
+pub mod vocabulary;
