@@ -1,0 +1,276 @@
+//! Loading a mesh file: dispatch on the extension, then the clean-up common to all formats.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use nalgebra::Point3;
+
+use super::mesh::TriMesh;
+use super::{load_gltf, load_obj};
+
+/// Which part of a mesh file to load.
+///
+/// A name selector is matched against the names the file's format has: OBJ object and group
+/// names (`o`/`g` lines), glTF node names and then glTF mesh names. The variant records which
+/// format the name was written for; either variant works on either format.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum MeshSelector {
+    /// Everything: all objects of an OBJ file, or every mesh instance of the glTF default scene.
+    Whole,
+    /// The OBJ object (or group) with this name; several objects with the name are merged.
+    ObjObject(String),
+    /// The glTF node with this name (in its world frame), or else the glTF mesh with this name.
+    GltfNode(String),
+}
+
+impl MeshSelector {
+    /// The part name, or `None` for [`MeshSelector::Whole`].
+    pub(crate) fn part_name(&self) -> Option<&str> {
+        match self {
+            MeshSelector::Whole => None,
+            MeshSelector::ObjObject(name) | MeshSelector::GltfNode(name) => Some(name),
+        }
+    }
+}
+
+/// Why a mesh file could not be loaded.
+#[derive(Debug, thiserror::Error)]
+pub enum LoadError {
+    /// The file does not exist.
+    #[error("file not found: {path}")]
+    NotFound {
+        /// The path as given.
+        path: PathBuf,
+    },
+    /// The file exists but could not be read (a directory, no permission, ...).
+    #[error("cannot read {path}: {source}")]
+    Io {
+        /// The path as given.
+        path: PathBuf,
+        /// The underlying error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The extension is not one of `.obj`, `.gltf`, `.glb` (compared case-insensitively).
+    #[error("unsupported mesh format `{extension}` (expected .obj, .gltf or .glb)")]
+    UnknownFormat {
+        /// The file's extension without the dot (empty when there is none).
+        extension: String,
+    },
+    /// The OBJ text could not be parsed.
+    #[error("malformed OBJ file: {message}")]
+    Obj {
+        /// What is wrong.
+        message: String,
+    },
+    /// The glTF/GLB file could not be parsed, or refers to data that is missing or out of range.
+    #[error("malformed glTF file: {message}")]
+    Gltf {
+        /// What is wrong.
+        message: String,
+    },
+    /// The selector names a part the file does not have.
+    #[error("no part named `{name}` in the file{}", available_note(available))]
+    UnknownPart {
+        /// The name asked for.
+        name: String,
+        /// Every object, node and mesh name in the file, sorted and without duplicates.
+        available: Vec<String>,
+    },
+    /// The selector names a glTF node (or mesh) that several nodes (or meshes) share.
+    #[error("{count} parts are named `{name}`")]
+    AmbiguousPart {
+        /// The name asked for.
+        name: String,
+        /// How many nodes (or meshes) carry it.
+        count: usize,
+    },
+    /// A selected glTF primitive is not made of triangles.
+    #[error("glTF primitive mode {mode} is not supported; only TRIANGLES is")]
+    UnsupportedPrimitive {
+        /// The glTF mode name, e.g. `LINES` or `TRIANGLE_STRIP`.
+        mode: String,
+    },
+    /// The selected part has no triangles.
+    #[error("the mesh has no triangles")]
+    Empty,
+    /// A vertex coordinate is infinite or NaN.
+    #[error("vertex {index} has a non-finite coordinate")]
+    NonFinite {
+        /// Index of the vertex in load order, before duplicate positions are merged.
+        index: usize,
+    },
+}
+
+fn available_note(available: &[String]) -> String {
+    if available.is_empty() {
+        " (it has no named parts)".to_string()
+    } else {
+        format!(" (available: {})", available.join(", "))
+    }
+}
+
+/// Loads a triangle mesh from an `.obj`, `.gltf` or `.glb` file (extension compared
+/// case-insensitively).
+///
+/// The result is one [`TriMesh`] in the file's frame and units; for glTF, node transforms
+/// (world transforms, the product of the parents' local transforms) are applied. Vertices with
+/// bit-identical positions are merged (first occurrence kept, order preserved) so files that split
+/// vertices by normal or texture coordinate give a connected surface; `-0.0` and `0.0` count as
+/// equal. Nothing else is changed: degenerate or duplicate triangles are kept, for
+/// [`check_mesh`](super::check_mesh) to report.
+///
+/// Never panics, whatever the file holds.
+pub fn load_mesh(path: &Path, selector: &MeshSelector) -> Result<TriMesh, LoadError> {
+    let extension = path
+        .extension()
+        .map(|e| e.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let format = match extension.to_ascii_lowercase().as_str() {
+        "obj" => Format::Obj,
+        "gltf" | "glb" => Format::Gltf,
+        _ => return Err(LoadError::UnknownFormat { extension }),
+    };
+    let bytes = std::fs::read(path).map_err(|source| {
+        if source.kind() == std::io::ErrorKind::NotFound {
+            LoadError::NotFound {
+                path: path.to_path_buf(),
+            }
+        } else {
+            LoadError::Io {
+                path: path.to_path_buf(),
+                source,
+            }
+        }
+    })?;
+    let raw = match format {
+        Format::Obj => load_obj::parse_obj(&bytes, selector)?,
+        Format::Gltf => {
+            let base = path.parent().unwrap_or_else(|| Path::new("."));
+            load_gltf::parse_gltf(&bytes, base, selector)?
+        }
+    };
+    finish(raw)
+}
+
+enum Format {
+    Obj,
+    Gltf,
+}
+
+/// Positions and triangles as read from a file, before clean-up. Indices are already checked
+/// to be in range.
+pub(crate) struct RawMesh {
+    pub positions: Vec<Point3<f64>>,
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// Rejects non-finite coordinates and empty meshes, then merges bit-identical positions.
+pub(crate) fn finish(raw: RawMesh) -> Result<TriMesh, LoadError> {
+    if let Some(index) = raw
+        .positions
+        .iter()
+        .position(|p| !p.iter().all(|c| c.is_finite()))
+    {
+        return Err(LoadError::NonFinite { index });
+    }
+    if raw.triangles.is_empty() {
+        return Err(LoadError::Empty);
+    }
+    debug_assert!(raw
+        .triangles
+        .iter()
+        .flatten()
+        .all(|&i| (i as usize) < raw.positions.len()));
+    Ok(weld(raw))
+}
+
+/// Merges vertices with bit-identical positions (`-0.0` taken as `0.0`). The first occurrence
+/// of a position keeps its place; the order of first occurrences is preserved.
+fn weld(raw: RawMesh) -> TriMesh {
+    let key = |p: &Point3<f64>| p.coords.map(|c| (c + 0.0).to_bits());
+    let mut first: HashMap<_, u32> = HashMap::with_capacity(raw.positions.len());
+    let mut positions = Vec::with_capacity(raw.positions.len());
+    let remap: Vec<u32> = raw
+        .positions
+        .iter()
+        .map(|p| {
+            *first.entry(key(p)).or_insert_with(|| {
+                positions.push(*p);
+                // At most as many welded vertices as loaded ones, which fit in u32 indices.
+                (positions.len() - 1) as u32
+            })
+        })
+        .collect();
+    let triangles = raw
+        .triangles
+        .iter()
+        .map(|t| t.map(|i| remap[i as usize]))
+        .collect();
+    TriMesh {
+        positions,
+        triangles,
+    }
+}
+
+/// Converts a vertex count to the `u32` index space, or reports it with `err`.
+pub(crate) fn index_u32(n: usize, err: impl FnOnce() -> LoadError) -> Result<u32, LoadError> {
+    u32::try_from(n).map_err(|_| err())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn p(x: f64, y: f64, z: f64) -> Point3<f64> {
+        Point3::new(x, y, z)
+    }
+
+    #[test]
+    fn weld_merges_identical_positions_first_wins() {
+        let raw = RawMesh {
+            positions: vec![
+                p(0., 0., 0.),
+                p(1., 0., 0.),
+                p(0., 1., 0.),
+                p(1., 0., 0.),
+                p(-0.0, 1., 0.),
+            ],
+            triangles: vec![[0, 1, 2], [3, 4, 0]],
+        };
+        let mesh = finish(raw).unwrap();
+        assert_eq!(
+            mesh.positions,
+            vec![p(0., 0., 0.), p(1., 0., 0.), p(0., 1., 0.)]
+        );
+        assert_eq!(mesh.triangles, vec![[0, 1, 2], [1, 2, 0]]);
+    }
+
+    #[test]
+    fn weld_keeps_unreferenced_vertices() {
+        let raw = RawMesh {
+            positions: vec![p(5., 5., 5.), p(0., 0., 0.), p(1., 0., 0.), p(0., 1., 0.)],
+            triangles: vec![[1, 2, 3]],
+        };
+        let mesh = finish(raw).unwrap();
+        assert_eq!(mesh.positions.len(), 4);
+        assert_eq!(mesh.triangles, vec![[1, 2, 3]]);
+    }
+
+    #[test]
+    fn rejects_non_finite_and_empty() {
+        let raw = RawMesh {
+            positions: vec![p(0., 0., 0.), p(f64::NAN, 0., 0.), p(0., 1., 0.)],
+            triangles: vec![[0, 1, 2]],
+        };
+        assert!(matches!(
+            finish(raw),
+            Err(LoadError::NonFinite { index: 1 })
+        ));
+        let raw = RawMesh {
+            positions: vec![p(0., 0., 0.)],
+            triangles: vec![],
+        };
+        assert!(matches!(finish(raw), Err(LoadError::Empty)));
+    }
+}
