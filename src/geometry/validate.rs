@@ -1,0 +1,100 @@
+//! Checks that a triangle mesh bounds a printable solid.
+
+use std::collections::HashMap;
+
+use super::mass;
+use super::mesh::TriMesh;
+
+/// What is wrong with a mesh as a printable solid. Edges are vertex index pairs `[min, max]`,
+/// listed in ascending order.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct MeshCheck {
+    /// Undirected edges used by exactly one triangle (holes in the surface).
+    pub boundary_edges: Vec<[u32; 2]>,
+    /// Undirected edges used by more than two triangles.
+    pub non_manifold_edges: Vec<[u32; 2]>,
+    /// Edges used by exactly two triangles, both in the same direction: the two triangles
+    /// disagree about which side is outside.
+    pub misoriented_edges: Vec<[u32; 2]>,
+    /// Indices of triangles with (numerically) zero area, a repeated vertex index, or an index
+    /// past the positions. Those with a repeated or out-of-range index are left out of the
+    /// edge lists and the volume.
+    pub degenerate_triangles: Vec<u32>,
+    /// Signed volume of the enclosed solid (units³); negative means inside out.
+    pub signed_volume: f64,
+}
+
+impl MeshCheck {
+    /// Every edge is shared by exactly two triangles: no holes, no non-manifold edges.
+    pub fn is_closed(&self) -> bool {
+        self.boundary_edges.is_empty() && self.non_manifold_edges.is_empty()
+    }
+
+    /// Neighbouring triangles agree on their orientation (no edge is used twice in the
+    /// same direction).
+    pub fn is_oriented(&self) -> bool {
+        self.misoriented_edges.is_empty()
+    }
+
+    /// The triangles face inwards: the signed volume is negative.
+    pub fn is_inverted(&self) -> bool {
+        self.signed_volume < 0.0
+    }
+}
+
+/// A triangle counts as zero-area when twice its area is at most this fraction of its longest
+/// edge squared (its smallest angle is below about 1e-12 radians).
+const DEGENERATE_RATIO: f64 = 1e-12;
+
+/// Checks the topology and orientation of `mesh`. Deterministic: edge lists are sorted
+/// ascending, triangle lists are in mesh order. Never panics, even on out-of-range indices.
+pub fn check_mesh(mesh: &TriMesh) -> MeshCheck {
+    let n = mesh.positions.len();
+    let mut degenerate_triangles = Vec::new();
+    // Per undirected edge (min, max): uses in direction min→max and max→min.
+    let mut edges: HashMap<[u32; 2], [u32; 2]> = HashMap::with_capacity(mesh.triangles.len() * 2);
+    let mut valid = Vec::with_capacity(mesh.triangles.len());
+    for (i, t @ &[a, b, c]) in mesh.triangles.iter().enumerate() {
+        let in_range = t.iter().all(|&v| (v as usize) < n);
+        if !in_range || a == b || b == c || c == a {
+            degenerate_triangles.push(i as u32);
+            continue;
+        }
+        valid.push(i);
+        let [p, q, r] = mesh.triangle(i);
+        let (ab, ac, bc) = (q - p, r - p, r - q);
+        let longest = ab
+            .norm_squared()
+            .max(ac.norm_squared())
+            .max(bc.norm_squared());
+        if ab.cross(&ac).norm() <= DEGENERATE_RATIO * longest {
+            degenerate_triangles.push(i as u32);
+        }
+        for (u, v) in [(a, b), (b, c), (c, a)] {
+            let uses = edges.entry([u.min(v), u.max(v)]).or_default();
+            uses[usize::from(u > v)] += 1;
+        }
+    }
+
+    let mut check = MeshCheck {
+        degenerate_triangles,
+        signed_volume: mass::integrate(
+            mass::reference_point(mesh),
+            valid.iter().map(|&i| mesh.triangle(i)),
+        )
+        .volume,
+        ..MeshCheck::default()
+    };
+    for (edge, [forward, backward]) in edges {
+        match forward + backward {
+            1 => check.boundary_edges.push(edge),
+            2 if forward != 1 => check.misoriented_edges.push(edge),
+            2 => {}
+            _ => check.non_manifold_edges.push(edge),
+        }
+    }
+    check.boundary_edges.sort_unstable();
+    check.non_manifold_edges.sort_unstable();
+    check.misoriented_edges.sort_unstable();
+    check
+}
