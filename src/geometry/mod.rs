@@ -4,15 +4,24 @@
 //! - [`load_mesh`]: `.obj`, `.gltf` and `.glb` files, whole or one named part.
 //! - [`check_mesh`]: holes, non-manifold and misoriented edges, degenerate triangles, inversion.
 //! - [`mass_properties`]: volume, centroid and second moment of the enclosed solid.
+//! - [`winding_number`]: inside/outside test that tolerates small holes.
+//! - [`distance_to_point`], [`distance_to_segment`] and the primitive distances they use.
 
+mod distance;
 mod load;
 mod load_gltf;
 mod load_obj;
 mod mass;
 mod mesh;
 mod validate;
+mod winding;
 
+pub use distance::{
+    distance_to_point, distance_to_segment, point_triangle_distance, segment_segment_distance,
+    segment_triangle_distance,
+};
 pub use load::{load_mesh, LoadError, MeshSelector};
 pub use mass::{mass_properties, MassProperties};
 pub use mesh::TriMesh;
 pub use validate::{check_mesh, MeshCheck};
+pub use winding::winding_number;
