@@ -480,6 +480,9 @@ fn gltf_mirroring_transform_keeps_triangles_outward() {
     json["nodes"][1]["scale"] = serde_json::json!([-1.0, 2.0, 1.0]);
     let base = load_json(&json, &node("base")).unwrap();
     let check = check_mesh(&base);
-    assert!(check.is_closed() && check.is_oriented() && !check.is_inverted(), "{check:?}");
+    assert!(
+        check.is_closed() && check.is_oriented() && !check.is_inverted(),
+        "{check:?}"
+    );
     assert!((mass_properties(&base).volume - 2.0).abs() < 1e-6);
 }
