@@ -1,1 +1,7 @@
 //! Back end: glTF scenes, the JSON report, and atomic file writes.
+
+pub mod scene;
+#[allow(dead_code)] // drawn by the glTF writer
+mod shapes;
+
+pub use scene::{SceneCapsule, SceneComponent, SceneModel, ScenePose};
