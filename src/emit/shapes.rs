@@ -1,0 +1,306 @@
+//! Tessellations of the shapes the glTF writer draws besides the components themselves:
+//! capsules, balls, markers and arrows.
+//!
+//! Triangles are counter-clockwise seen from outside. No triangle is degenerate, so viewers and
+//! validators see clean meshes.
+
+use std::f64::consts::{FRAC_PI_2, PI};
+
+use nalgebra::{Point3, UnitQuaternion, Vector3};
+
+/// Segments around the axis of a sphere or capsule.
+const SEGMENTS: u32 = 32;
+/// Latitude bands from pole to equator of a sphere or capsule end.
+const HALF_RINGS: u32 = 8;
+/// Below this axis length (relative to the radius) a capsule is drawn as a sphere.
+const MIN_AXIS_FRACTION: f64 = 1e-9;
+
+/// A triangle mesh with optional per-vertex normals (empty when flat shading is wanted).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct ShapeMesh {
+    pub positions: Vec<Point3<f64>>,
+    pub normals: Vec<Vector3<f64>>,
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// A sphere of radius 1 about the origin, smooth normals.
+pub(crate) fn unit_sphere() -> ShapeMesh {
+    let rings = 2 * HALF_RINGS;
+    let latitudes: Vec<(f64, f64)> = (1..rings)
+        .map(|i| (PI * f64::from(i) / f64::from(rings), 0.0))
+        .collect();
+    revolve(&latitudes, 1.0)
+}
+
+/// A capsule around the segment `from`-`to` with the given radius: a cylinder capped by two
+/// hemispheres, positions baked in the frame of `from` and `to`, smooth normals.
+pub(crate) fn capsule(from: &Point3<f64>, to: &Point3<f64>, radius: f64) -> ShapeMesh {
+    let axis = to - from;
+    let length = axis.norm();
+    let canonical = if length <= radius.abs() * MIN_AXIS_FRACTION {
+        let mut sphere = unit_sphere();
+        for p in &mut sphere.positions {
+            *p = Point3::from(p.coords * radius);
+        }
+        sphere
+    } else {
+        // Along +Z: the `to` hemisphere on top at z = length, the `from` hemisphere below at z = 0.
+        let top =
+            (1..=HALF_RINGS).map(|i| (FRAC_PI_2 * f64::from(i) / f64::from(HALF_RINGS), length));
+        let bottom = (0..HALF_RINGS).map(|i| {
+            (
+                FRAC_PI_2 + FRAC_PI_2 * f64::from(i) / f64::from(HALF_RINGS),
+                0.0,
+            )
+        });
+        let latitudes: Vec<(f64, f64)> = top.chain(bottom).collect();
+        revolve(&latitudes, radius)
+    };
+    let rotation = rotation_from_z(&axis);
+    ShapeMesh {
+        positions: canonical
+            .positions
+            .iter()
+            .map(|p| from + rotation * p.coords)
+            .collect(),
+        normals: canonical.normals.iter().map(|n| rotation * n).collect(),
+        triangles: canonical.triangles,
+    }
+}
+
+/// A regular octahedron of circumradius 1 about the origin, flat shaded (no normals).
+pub(crate) fn unit_octahedron() -> ShapeMesh {
+    let positions = vec![
+        Point3::new(1.0, 0.0, 0.0),
+        Point3::new(-1.0, 0.0, 0.0),
+        Point3::new(0.0, 1.0, 0.0),
+        Point3::new(0.0, -1.0, 0.0),
+        Point3::new(0.0, 0.0, 1.0),
+        Point3::new(0.0, 0.0, -1.0),
+    ];
+    let triangles = vec![
+        [4, 0, 2],
+        [4, 2, 1],
+        [4, 1, 3],
+        [4, 3, 0],
+        [5, 2, 0],
+        [5, 1, 2],
+        [5, 3, 1],
+        [5, 0, 3],
+    ];
+    ShapeMesh {
+        positions,
+        normals: Vec::new(),
+        triangles,
+    }
+}
+
+/// Line segments (pairs of points) of an arrow of length 1 from the origin along `direction`,
+/// with a four-barbed head.
+pub(crate) fn unit_arrow(direction: &Vector3<f64>) -> Vec<Point3<f64>> {
+    let d = direction.normalize();
+    let (u, v) = perpendiculars(&d);
+    let tip = Point3::from(d);
+    let back = tip - d * 0.12;
+    let mut lines = vec![Point3::origin(), tip];
+    for barb in [u, -u, v, -v] {
+        lines.push(tip);
+        lines.push(back + barb * 0.05);
+    }
+    lines
+}
+
+/// One line segment of length 1 from the origin along `direction`.
+pub(crate) fn unit_line(direction: &Vector3<f64>) -> Vec<Point3<f64>> {
+    vec![Point3::origin(), Point3::from(direction.normalize())]
+}
+
+/// The rotation taking +Z onto `axis` (identity for a zero axis).
+fn rotation_from_z(axis: &Vector3<f64>) -> UnitQuaternion<f64> {
+    if axis.norm() == 0.0 {
+        return UnitQuaternion::identity();
+    }
+    UnitQuaternion::rotation_between(&Vector3::z(), axis).unwrap_or_else(|| {
+        // Antiparallel: half a turn about any perpendicular axis.
+        UnitQuaternion::from_axis_angle(&Vector3::x_axis(), PI)
+    })
+}
+
+/// Two unit vectors perpendicular to the unit vector `d` and to each other.
+fn perpendiculars(d: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
+    let helper = if d.x.abs() < 0.9 {
+        Vector3::x()
+    } else {
+        Vector3::y()
+    };
+    let u = d.cross(&helper).normalize();
+    let v = d.cross(&u);
+    (u, v)
+}
+
+/// A surface of revolution about +Z: a pole on top, one ring of `SEGMENTS` vertices per
+/// latitude `(polar angle, z offset)` in order from top to bottom, and a pole at the bottom.
+/// Each vertex sits at `radius * direction + offset`, its normal is `direction`.
+fn revolve(latitudes: &[(f64, f64)], radius: f64) -> ShapeMesh {
+    let first_offset = latitudes.first().map_or(0.0, |l| l.1);
+    let last_offset = latitudes.last().map_or(0.0, |l| l.1);
+    let mut positions = Vec::new();
+    let mut normals = Vec::new();
+    let mut push = |direction: Vector3<f64>, offset: f64| {
+        positions.push(Point3::from(direction * radius + Vector3::z() * offset));
+        normals.push(direction);
+    };
+
+    push(Vector3::z(), first_offset);
+    for &(theta, offset) in latitudes {
+        for j in 0..SEGMENTS {
+            let phi = 2.0 * PI * f64::from(j) / f64::from(SEGMENTS);
+            let (s, c) = theta.sin_cos();
+            push(Vector3::new(s * phi.cos(), s * phi.sin(), c), offset);
+        }
+    }
+    push(-Vector3::z(), last_offset);
+
+    let ring = |k: u32, j: u32| 1 + k * SEGMENTS + j % SEGMENTS;
+    let rings = u32::try_from(latitudes.len()).expect("few latitudes");
+    let bottom_pole = 1 + rings * SEGMENTS;
+    let mut triangles = Vec::new();
+    for j in 0..SEGMENTS {
+        triangles.push([0, ring(0, j), ring(0, j + 1)]);
+    }
+    for k in 0..rings.saturating_sub(1) {
+        for j in 0..SEGMENTS {
+            let (a, b) = (ring(k, j), ring(k, j + 1));
+            let (c, d) = (ring(k + 1, j), ring(k + 1, j + 1));
+            triangles.push([a, c, d]);
+            triangles.push([a, d, b]);
+        }
+    }
+    for j in 0..SEGMENTS {
+        triangles.push([bottom_pole, ring(rings - 1, j + 1), ring(rings - 1, j)]);
+    }
+    ShapeMesh {
+        positions,
+        normals,
+        triangles,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Signed volume by the divergence theorem: positive when triangles face outward.
+    fn volume(mesh: &ShapeMesh) -> f64 {
+        mesh.triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|i| mesh.positions[i as usize].coords);
+                a.dot(&b.cross(&c)) / 6.0
+            })
+            .sum()
+    }
+
+    fn min_triangle_area(mesh: &ShapeMesh) -> f64 {
+        mesh.triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|i| mesh.positions[i as usize]);
+                (b - a).cross(&(c - a)).norm() / 2.0
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    fn assert_closed(mesh: &ShapeMesh) {
+        // Every directed edge appears once and its reverse once: closed and consistently wound.
+        let mut edges = std::collections::BTreeMap::new();
+        for t in &mesh.triangles {
+            for k in 0..3 {
+                *edges.entry((t[k], t[(k + 1) % 3])).or_insert(0) += 1;
+            }
+        }
+        for (&(a, b), &n) in &edges {
+            assert_eq!(n, 1, "edge {a}-{b} used {n} times");
+            assert_eq!(edges.get(&(b, a)), Some(&1), "edge {a}-{b} has no twin");
+        }
+    }
+
+    #[test]
+    fn sphere_is_closed_outward_and_close_to_the_true_volume() {
+        let sphere = unit_sphere();
+        assert_closed(&sphere);
+        let v = volume(&sphere);
+        let exact = 4.0 / 3.0 * PI;
+        assert!(v > 0.95 * exact && v < exact, "volume {v}");
+        assert!(min_triangle_area(&sphere) > 1e-4);
+        for (p, n) in sphere.positions.iter().zip(&sphere.normals) {
+            assert!((p.coords.norm() - 1.0).abs() < 1e-12);
+            assert!((p.coords - n).norm() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn capsule_spans_its_segment_and_faces_outward() {
+        let from = Point3::new(1.0, 2.0, 3.0);
+        let to = Point3::new(1.0, 12.0, 3.0);
+        let r = 2.0;
+        let mesh = capsule(&from, &to, r);
+        assert_closed(&mesh);
+        let exact = PI * r * r * 10.0 + 4.0 / 3.0 * PI * r.powi(3);
+        let v = volume(&mesh);
+        assert!(v > 0.95 * exact && v < exact, "volume {v} vs {exact}");
+        assert!(min_triangle_area(&mesh) > 1e-4);
+        // Every vertex lies at distance r from the segment, its normal pointing away from it.
+        let axis = (to - from).normalize();
+        for (p, n) in mesh.positions.iter().zip(&mesh.normals) {
+            let t = (p - from).dot(&axis).clamp(0.0, 10.0);
+            let nearest = from + axis * t;
+            assert!(((p - nearest).norm() - r).abs() < 1e-9);
+            assert!(((p - nearest) / r - n).norm() < 1e-9);
+        }
+        let max_y = mesh.positions.iter().map(|p| p.y).fold(f64::MIN, f64::max);
+        let min_y = mesh.positions.iter().map(|p| p.y).fold(f64::MAX, f64::min);
+        assert!((max_y - 14.0).abs() < 1e-9 && (min_y - 0.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn capsule_pointing_down_z_and_degenerate_capsule() {
+        let down = capsule(&Point3::origin(), &Point3::new(0.0, 0.0, -5.0), 1.0);
+        assert_closed(&down);
+        assert!(volume(&down) > 0.0);
+        let min_z = down.positions.iter().map(|p| p.z).fold(f64::MAX, f64::min);
+        assert!((min_z + 6.0).abs() < 1e-9);
+
+        let point = capsule(
+            &Point3::new(1.0, 1.0, 1.0),
+            &Point3::new(1.0, 1.0, 1.0),
+            0.5,
+        );
+        assert_closed(&point);
+        assert!(min_triangle_area(&point) > 1e-6);
+        assert!((volume(&point) - volume(&unit_sphere()) * 0.125).abs() < 1e-9);
+    }
+
+    #[test]
+    fn octahedron_is_closed_and_outward() {
+        let o = unit_octahedron();
+        assert_closed(&o);
+        assert!((volume(&o) - 4.0 / 3.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn arrow_points_along_its_direction() {
+        let d = Vector3::new(0.0, 0.0, -1.0);
+        let lines = unit_arrow(&d);
+        assert_eq!(lines.len() % 2, 0);
+        assert_eq!(lines[1], Point3::new(0.0, 0.0, -1.0));
+        for pair in lines.chunks(2).skip(1) {
+            assert_eq!(pair[0], lines[1]);
+            assert!(pair[1].z > -1.0);
+        }
+        assert_eq!(
+            unit_line(&Vector3::new(0.0, 3.0, 0.0))[1],
+            Point3::new(0.0, 1.0, 0.0)
+        );
+    }
+}
