@@ -1,18 +1,15 @@
 //! ballast: compile a project file into 3D-printable objects that balance with movable masses.
 //!
-//! The crate is a compiler pipeline; each stage is a module with one job and a typed output:
+//! The crate is a compiler pipeline; each stage is a module with one job and a typed output.
+//! The stages present so far:
 //!
-//! 1. [`spec`]: KDL text to a typed, span-carrying [`spec::Project`], with every diagnostic at once.
-//! 2. [`geometry`]: meshes loaded, validated, and their mass properties.
-//! 3. [`balance`]: per-pose physics: centre of mass, support polygon, goal values.
-//! 4. [`fabrication`]: capsule checks (inside the assigned component, no overlaps, printable).
-//! 5. [`emit`]: glTF, JSON report, atomic file writes.
+//! - [`spec`]: the project-file grammar ([`spec::vocabulary`]); the parser builds on it.
+//! - [`geometry`]: meshes loaded, validated, their mass properties and distance queries.
+//! - [`emit`]: glTF scenes (one per pose) and atomic file writes.
 //!
-//! [`compile`] wires the stages together; the `ballast` binary only parses arguments and prints.
+//! `docs/architecture.md` describes the whole pipeline, including the stages still to come.
+//! The `ballast` binary will only parse arguments and print; the pipeline lives here.
 
-pub mod balance;
-pub mod compile;
 pub mod emit;
-pub mod fabrication;
 pub mod geometry;
 pub mod spec;
