@@ -1,3 +1,4 @@
-//! Front end: KDL project text to a typed, span-carrying project.
+//! The front end: the project-file grammar and the typed project it describes.
 
+pub mod model;
 pub mod vocabulary;

@@ -1,0 +1,309 @@
+//! The typed project: what a project file means, with every name resolved and every default filled
+//! in, and the source span of everything a later stage may need to point at.
+//!
+//! Lengths are in the project's [`Units`]; densities in g/cm³; angles in degrees. Positions of
+//! components, capsules and suspension points are in the *rest frame*: the frame the component
+//! meshes are written in, shared by all components.
+
+use std::path::PathBuf;
+
+use miette::SourceSpan;
+use nalgebra::{Isometry3, Point3, Vector3};
+
+use crate::geometry::MeshSelector;
+
+/// A value with the span of the source text it came from. Equality ignores the span, so two
+/// projects that mean the same thing compare equal however they are laid out.
+#[derive(Debug, Clone)]
+pub struct Spanned<T> {
+    /// The value.
+    pub value: T,
+    /// Where it was written.
+    pub span: SourceSpan,
+}
+
+impl<T> Spanned<T> {
+    /// Wraps `value` with `span`.
+    pub fn new(value: T, span: SourceSpan) -> Self {
+        Spanned { value, span }
+    }
+}
+
+impl<T: PartialEq> PartialEq for Spanned<T> {
+    fn eq(&self, other: &Self) -> bool {
+        self.value == other.value
+    }
+}
+
+/// The length unit the project's numbers are written in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Units {
+    /// Millimetres (the default).
+    Millimetre,
+    /// Centimetres.
+    Centimetre,
+    /// Metres.
+    Metre,
+    /// Inches.
+    Inch,
+}
+
+impl Units {
+    /// The unit for its keyword in the project file (`mm`, `cm`, `m`, `in`).
+    pub fn from_keyword(keyword: &str) -> Option<Units> {
+        match keyword {
+            "mm" => Some(Units::Millimetre),
+            "cm" => Some(Units::Centimetre),
+            "m" => Some(Units::Metre),
+            "in" => Some(Units::Inch),
+            _ => None,
+        }
+    }
+
+    /// The keyword written in the project file.
+    pub fn keyword(self) -> &'static str {
+        match self {
+            Units::Millimetre => "mm",
+            Units::Centimetre => "cm",
+            Units::Metre => "m",
+            Units::Inch => "in",
+        }
+    }
+
+    /// Length of one unit in metres.
+    pub fn in_metres(self) -> f64 {
+        match self {
+            Units::Millimetre => 0.001,
+            Units::Centimetre => 0.01,
+            Units::Metre => 1.0,
+            Units::Inch => 0.0254,
+        }
+    }
+
+    /// Volume of one cubic unit in cm³ (what a density in g/cm³ multiplies to give grams).
+    pub fn cubic_in_cm3(self) -> f64 {
+        let centimetres = self.in_metres() * 100.0;
+        centimetres * centimetres * centimetres
+    }
+
+    /// `millimetres` expressed in this unit (used to convert the built-in defaults).
+    pub fn from_millimetres(self, millimetres: f64) -> f64 {
+        millimetres * 0.001 / self.in_metres()
+    }
+}
+
+/// The axis that points up, against gravity.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Axis {
+    /// +X.
+    X,
+    /// +Y.
+    Y,
+    /// +Z (the default).
+    Z,
+}
+
+impl Axis {
+    /// The axis for its keyword (`x`, `y`, `z`).
+    pub fn from_keyword(keyword: &str) -> Option<Axis> {
+        match keyword {
+            "x" => Some(Axis::X),
+            "y" => Some(Axis::Y),
+            "z" => Some(Axis::Z),
+            _ => None,
+        }
+    }
+
+    /// The unit vector along the axis.
+    pub fn unit_vector(self) -> Vector3<f64> {
+        match self {
+            Axis::X => Vector3::x(),
+            Axis::Y => Vector3::y(),
+            Axis::Z => Vector3::z(),
+        }
+    }
+}
+
+/// A whole project file, resolved.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Project {
+    /// The unit of every length in the file.
+    pub units: Units,
+    /// The up axis; gravity points the other way.
+    pub up: Axis,
+    /// The printed material.
+    pub material: Material,
+    /// The steel balls.
+    pub ball: Ball,
+    /// How full the printed interior is.
+    pub infill: Infill,
+    /// Minimum material left between a capsule and the surface, and between two capsules.
+    pub wall: f64,
+    /// The printed parts, in file order.
+    pub components: Vec<Component>,
+    /// The named states of the model, in file order.
+    pub poses: Vec<Pose>,
+    /// The capsules placed by hand, in file order.
+    pub capsules: Vec<Capsule>,
+    /// Where the build writes.
+    pub output: Output,
+}
+
+/// The printed material.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Material {
+    /// A label for reports (e.g. `"PLA"`).
+    pub name: String,
+    /// Density in g/cm³.
+    pub density: f64,
+}
+
+/// The balls that roll inside capsules.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Ball {
+    /// Density in g/cm³ (steel by default).
+    pub density: f64,
+    /// Gap between a ball and its capsule's wall, project units: a ball's radius is at most the
+    /// capsule radius minus this.
+    pub clearance: f64,
+    /// A capsule whose axis is within this many degrees of horizontal cannot be trusted to send its
+    /// ball to either end.
+    pub min_angle: f64,
+    /// Ball diameters that can be bought, project units. Empty means any size.
+    pub diameters: Vec<f64>,
+}
+
+impl Ball {
+    /// Radius of the ball that goes in a capsule of `capsule_radius`: the largest available ball
+    /// that leaves the clearance, or `None` when no ball fits.
+    pub fn radius_for(&self, capsule_radius: f64) -> Option<f64> {
+        let largest = capsule_radius - self.clearance;
+        if largest <= 0.0 {
+            return None;
+        }
+        if self.diameters.is_empty() {
+            return Some(largest);
+        }
+        self.diameters
+            .iter()
+            .map(|diameter| diameter / 2.0)
+            .filter(|radius| *radius <= largest * (1.0 + 1e-9))
+            .max_by(f64::total_cmp)
+    }
+}
+
+/// How full the printed interior is: 1.0 is solid.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Infill {
+    /// The fraction used when the design is evaluated.
+    pub value: f64,
+    /// The range the optimizer may choose from, when the project gives one.
+    pub range: Option<(f64, f64)>,
+}
+
+/// A printed part.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Component {
+    /// Unique among components.
+    pub name: Spanned<String>,
+    /// The mesh file, resolved against the project file's folder; the span is the `mesh=` value.
+    pub mesh: Spanned<PathBuf>,
+    /// Which part of the mesh file.
+    pub selector: MeshSelector,
+    /// The whole `component` node.
+    pub span: SourceSpan,
+}
+
+/// A named state of the model: where each component is, and what must happen.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Pose {
+    /// Unique among poses.
+    pub name: Spanned<String>,
+    /// Rest frame to world, applied after each component's own transform.
+    pub transform: Isometry3<f64>,
+    /// Per component (same order as [`Project::components`]): component rest frame to model
+    /// frame; the identity unless the pose moves that component. A component's world transform
+    /// is `transform * component_transforms[i]`.
+    pub component_transforms: Vec<Isometry3<f64>>,
+    /// What must happen in this pose.
+    pub goals: Vec<Spanned<Goal>>,
+    /// The whole `pose` node.
+    pub span: SourceSpan,
+}
+
+/// What must happen in a pose.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Goal {
+    /// Rest on the ground and survive a tilt of at least `margin` degrees in every direction.
+    Stand {
+        /// Degrees of tilt the pose must survive.
+        margin: f64,
+        /// Vertices within this height of the lowest one touch the ground (project units).
+        contact_tolerance: f64,
+    },
+    /// Fall over when put down: the centre of mass is at least `margin` degrees outside the support.
+    Imbalance {
+        /// Degrees by which the centre of mass must lie outside the support polygon.
+        margin: f64,
+        /// As for [`Goal::Stand`].
+        contact_tolerance: f64,
+    },
+    /// Hang from a string tied at `point` with the centre of mass straight below it.
+    Suspend {
+        /// The attachment point, rest frame of `component`.
+        point: Point3<f64>,
+        /// Index into [`Project::components`] of the component the point is attached to.
+        component: usize,
+        /// Allowed angle between the string and gravity, degrees.
+        tolerance: f64,
+    },
+    /// Float upright in a fluid: the centre of buoyancy straight above the centre of mass.
+    Immerse {
+        /// Density of the fluid, g/cm³.
+        fluid_density: f64,
+        /// Minimum distance between the centres of buoyancy and mass, project units.
+        min_distance: f64,
+        /// Allowed angle between the centre-to-centre direction and up, degrees.
+        tolerance: f64,
+        /// When given, |mass − fluid density × volume| must be at most this many grams.
+        mass_tolerance: Option<f64>,
+    },
+}
+
+impl Goal {
+    /// The goal's node name in the project file.
+    pub fn keyword(&self) -> &'static str {
+        match self {
+            Goal::Stand { .. } => "stand",
+            Goal::Imbalance { .. } => "imbalance",
+            Goal::Suspend { .. } => "suspend",
+            Goal::Immerse { .. } => "immerse",
+        }
+    }
+}
+
+/// A capsule-shaped void holding one ball, placed by hand.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Capsule {
+    /// Unique among capsules.
+    pub name: Spanned<String>,
+    /// Index into [`Project::components`]; the span is the `component=` value.
+    pub component: Spanned<usize>,
+    /// One end of the axis, rest frame.
+    pub from: Point3<f64>,
+    /// The other end of the axis, rest frame.
+    pub to: Point3<f64>,
+    /// Radius of the void, project units.
+    pub radius: f64,
+    /// The whole `capsule` node.
+    pub span: SourceSpan,
+}
+
+/// Where the build writes, resolved against the project file's folder.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Output {
+    /// The binary glTF file.
+    pub gltf: PathBuf,
+    /// The JSON report.
+    pub report: PathBuf,
+}
