@@ -10,6 +10,7 @@
 //! `docs/architecture.md` describes the whole pipeline, including the stages still to come.
 //! The `ballast` binary will only parse arguments and print; the pipeline lives here.
 
+pub mod design;
 pub mod diagnostic;
 pub mod emit;
 pub mod geometry;
