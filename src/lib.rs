@@ -5,11 +5,13 @@
 //!
 //! - [`spec`]: the project-file grammar ([`spec::vocabulary`]); the parser builds on it.
 //! - [`geometry`]: meshes loaded, validated, their mass properties and distance queries.
+//! - [`balance`]: the physics of one pose: centre of mass, ball positions, support, goals.
 //! - [`emit`]: glTF scenes (one per pose) and atomic file writes.
 //!
 //! `docs/architecture.md` describes the whole pipeline, including the stages still to come.
 //! The `ballast` binary will only parse arguments and print; the pipeline lives here.
 
+pub mod balance;
 pub mod design;
 pub mod diagnostic;
 pub mod emit;

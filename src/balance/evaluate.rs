@@ -1,0 +1,94 @@
+//! One pose evaluated: the per-stage results wired together.
+
+use nalgebra::{Isometry3, Point3};
+
+use super::{ball, goals, mass, support, ComponentBody, PoseEvaluation};
+use crate::design::Design;
+use crate::spec::model::{Pose, Project};
+
+/// What `design` does in `pose`: mass and centre of mass, where each ball rests, the support on
+/// the ground with its toppling angles, and the outcome of each of the pose's goals.
+///
+/// `bodies` is indexed like [`Project::components`]. Component `i` is placed in world by
+/// `pose.transform * pose.component_transforms[i]`, or by `pose.transform` alone when the pose has
+/// no transform for it. A capsule naming a component without a body is placed but left out of the
+/// mass (see [`BallPlacement::mass`](super::BallPlacement::mass)). The design's infill is used,
+/// not the project's. Never panics; finite inputs give finite outputs.
+pub fn evaluate_pose(
+    project: &Project,
+    bodies: &[ComponentBody],
+    design: &Design,
+    pose: &Pose,
+) -> PoseEvaluation {
+    let up = project.up.unit_vector();
+    let cubic = project.units.cubic_in_cm3();
+    let balls: Vec<_> = design
+        .capsules
+        .iter()
+        .map(|capsule| {
+            let frame = component_frame(pose, capsule.component);
+            ball::place_ball(capsule, &frame, &up, &project.ball, cubic)
+        })
+        .collect();
+    let totals = mass::mass_totals(project, bodies, design, pose, &balls);
+    let vertices = posed_vertices(bodies, pose);
+    let support = support::support(
+        &vertices,
+        project.up,
+        support::contact_tolerance(project, pose),
+        &totals.centre_of_mass,
+    );
+    let measured = goals::Measured {
+        pose,
+        up,
+        totals: &totals,
+        tilt_margin: support.tilt_margin,
+        coincidence: 1e-9 * extent(&vertices),
+        cubic_in_cm3: cubic,
+    };
+    let goals = pose
+        .goals
+        .iter()
+        .map(|goal| goals::evaluate_goal(&goal.value, &measured))
+        .collect();
+    PoseEvaluation {
+        pose: pose.name.value.clone(),
+        mass: totals.mass,
+        volume: totals.volume,
+        centre_of_mass: totals.centre_of_mass.into(),
+        balls,
+        support,
+        goals,
+    }
+}
+
+/// Rest frame to world for `component` in `pose`: `pose.transform * component_transforms[i]`,
+/// with the identity standing in for a missing component transform.
+pub(crate) fn component_frame(pose: &Pose, component: usize) -> Isometry3<f64> {
+    match pose.component_transforms.get(component) {
+        Some(own) => pose.transform * own,
+        None => pose.transform,
+    }
+}
+
+/// Every vertex of every component, in world, component by component.
+fn posed_vertices(bodies: &[ComponentBody], pose: &Pose) -> Vec<Point3<f64>> {
+    let total = bodies.iter().map(|body| body.mesh.positions.len()).sum();
+    let mut vertices = Vec::with_capacity(total);
+    for (i, body) in bodies.iter().enumerate() {
+        let frame = component_frame(pose, i);
+        vertices.extend(body.mesh.positions.iter().map(|p| frame * p));
+    }
+    vertices
+}
+
+/// Diagonal of the bounding box of `points`; 0 when there are none.
+fn extent(points: &[Point3<f64>]) -> f64 {
+    let Some(first) = points.first() else {
+        return 0.0;
+    };
+    let (lo, hi) = points
+        .iter()
+        .fold((*first, *first), |(lo, hi), p| (lo.inf(p), hi.sup(p)));
+    (hi - lo).norm()
+}

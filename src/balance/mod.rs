@@ -1,0 +1,229 @@
+//! The physics stage: what a design does in one pose.
+//!
+//! [`evaluate_pose`] takes the project, each component's mesh and mass properties, a design and a
+//! pose, and returns a [`PoseEvaluation`]:
+//!
+//! - the mass and centre of mass of printed material plus balls (paper eq. 7-13);
+//! - where each ball rests: at the end of its capsule that gravity sends it to (eq. 19-20), touching
+//!   the capsule's spherical cap, or on the axis midpoint when the axis is too close to horizontal
+//!   to say;
+//! - the support polygon on the ground and the toppling angle about each of its edges (the angles
+//!   eq. 1 takes a smooth maximum of);
+//! - for each goal of the pose, the measured value beside the required one (eq. 1-5).
+//!
+//! These are the exact, non-smooth quantities a report states and a verifier re-checks; they are
+//! not the smoothed objectives an optimizer descends.
+//!
+//! # Units and conventions
+//!
+//! Lengths are in the project's units, volumes in cubic project units, masses in grams, angles in
+//! degrees. Points are `[x, y, z]`. "World" is the frame after the pose's transforms; gravity
+//! points along `−up`.
+//!
+//! # No panics, no NaN
+//!
+//! Any input is accepted. Missing pieces get documented stand-ins (a pose with fewer component
+//! transforms than components uses the identity for the rest; a model of zero mass has its centre
+//! of mass at the mean of its component centroids; a model without vertices has an empty support
+//! and topples), so finite inputs always give finite outputs.
+
+mod ball;
+mod evaluate;
+mod goals;
+mod hull;
+mod mass;
+mod support;
+
+pub use evaluate::evaluate_pose;
+
+use serde::Serialize;
+
+use crate::geometry::{MassProperties, TriMesh};
+
+/// Per-component data that does not change with the pose: the mesh in its rest frame and its mass
+/// properties, computed once (they are the expensive part) and shared by every pose.
+///
+/// The slice passed to [`evaluate_pose`] is indexed like
+/// [`Project::components`](crate::spec::model::Project::components).
+#[derive(Debug, Clone, Copy)]
+pub struct ComponentBody<'a> {
+    /// The component's mesh, rest frame. Every position counts as a vertex that may touch the
+    /// ground; triangle indices are never read.
+    pub mesh: &'a TriMesh,
+    /// [`mass_properties`](crate::geometry::mass_properties) of `mesh`: the outer volume and its
+    /// centroid, rest frame.
+    pub mass: MassProperties,
+}
+
+/// What the model does in one pose.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PoseEvaluation {
+    /// The pose's name.
+    pub pose: String,
+    /// Total mass, grams: printed material (scaled by the design's infill, capsule voids removed)
+    /// plus balls.
+    pub mass: f64,
+    /// Outer volume of all components together, cubic project units (capsules are sealed inside
+    /// and do not reduce it). Signed like the meshes' volumes.
+    pub volume: f64,
+    /// Centre of mass, world. When the mass is zero (no material, no balls), the mean of the
+    /// components' centroids in world instead (the origin when there are no components).
+    pub centre_of_mass: [f64; 3],
+    /// One per capsule of the design, in the design's order.
+    pub balls: Vec<BallPlacement>,
+    /// Where and how the model rests on the ground in this pose.
+    pub support: Support,
+    /// One per goal of the pose, in the pose's order.
+    pub goals: Vec<GoalEvaluation>,
+}
+
+/// Where the ball of one capsule rests in a pose.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BallPlacement {
+    /// The capsule's name.
+    pub capsule: String,
+    /// Index of the capsule's component.
+    pub component: usize,
+    /// Which end the ball rolled to.
+    pub rest: BallRest,
+    /// Angle of the capsule's axis above horizontal in this pose, degrees in [0, 90]. A capsule
+    /// with a zero-length axis (a spherical cavity) counts as vertical.
+    pub elevation: f64,
+    /// Ball centre, rest frame of the capsule's component.
+    pub centre: [f64; 3],
+    /// Ball centre, world.
+    pub centre_world: [f64; 3],
+    /// Mass of the ball, grams. A capsule whose component has no [`ComponentBody`] is left out of
+    /// the model's mass, ball included.
+    pub mass: f64,
+}
+
+/// Which end of its capsule a ball rests at.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum BallRest {
+    /// At the `from` end, touching the bottom of its spherical cap. Also reported for a capsule
+    /// with a zero-length axis, where both ends coincide and the ball sits at the bottom.
+    From,
+    /// At the `to` end, touching the bottom of its spherical cap.
+    To,
+    /// The axis is within [`Ball::min_angle`](crate::spec::model::Ball::min_angle) of horizontal:
+    /// the ball could be anywhere along it and is placed at the axis midpoint.
+    Undetermined,
+}
+
+/// How the model rests on a horizontal ground in a pose.
+///
+/// The ground touches the lowest posed vertex. The vertices within the contact tolerance of it
+/// are the contact points; their convex hull, seen from above, is the support polygon. Tilting the
+/// ground about one of the polygon's edges topples the model once the centre of mass passes over
+/// that edge: the angle at which that happens is the edge's toppling angle.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Support {
+    /// Height of the ground along up (the lowest vertex's), project units. 0 when there are no
+    /// vertices.
+    pub ground_height: f64,
+    /// Vertices at most this far above the ground touch it, project units: the tolerance of the
+    /// pose's first `stand` or `imbalance` goal, else 0.05 mm.
+    pub contact_tolerance: f64,
+    /// Height of the centre of mass above the ground, project units.
+    pub centre_height: f64,
+    /// The vertices touching the ground, world, in component and vertex order.
+    pub contacts: Vec<[f64; 3]>,
+    /// The convex hull of the contacts projected onto the ground, world, counter-clockwise seen
+    /// from above, without repeated or collinear points. One point when everything touches at a
+    /// point, two when along a line; empty when there are no vertices.
+    pub polygon: Vec<[f64; 3]>,
+    /// The edges the model can topple over, each with its toppling angle.
+    ///
+    /// For a polygon of three or more points, its edges in order. For a single point `p`, one
+    /// pseudo-edge from `p` to `p` whose distance is the centre's distance from `p`. For a segment
+    /// `a`-`b`, its two sides (`a`→`b`, `b`→`a`), whose distance is the centre's distance from the
+    /// line, counted as outside on both, then its two end caps (`a`→`a`, `b`→`b`), whose distance
+    /// is how far beyond that end the centre lies along the segment (negative when between the
+    /// ends). So a point or a line never stands with a positive margin.
+    pub edges: Vec<SupportEdge>,
+    /// The smallest toppling angle over all edges, degrees: the tilt of the ground the pose
+    /// survives in every direction. Negative: it topples. −90 when there is no support at all.
+    pub tilt_margin: f64,
+}
+
+/// One edge of the support polygon and how far the model is from toppling over it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SupportEdge {
+    /// Start of the edge, world, on the ground.
+    pub start: [f64; 3],
+    /// End of the edge, world, on the ground.
+    pub end: [f64; 3],
+    /// Signed horizontal distance of the centre of mass from the edge's line, project units:
+    /// positive outside the support, negative inside.
+    pub distance: f64,
+    /// `atan2(−distance, centre height)`, degrees: how far the ground can tilt about this edge
+    /// before the model topples over it. Positive: stable against this edge.
+    pub toppling_angle: f64,
+}
+
+/// The outcome of one goal of a pose.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GoalEvaluation {
+    /// Whether the goal holds.
+    pub met: bool,
+    /// What was measured and what was required.
+    #[serde(flatten)]
+    pub outcome: GoalOutcome,
+}
+
+/// The measured and required values of one goal, by kind. Serialised with a `kind` field naming
+/// the goal as in the project file.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "lowercase")]
+pub enum GoalOutcome {
+    /// Met when `tilt_margin > 0` and `tilt_margin ≥ margin`.
+    Stand {
+        /// The support's tilt margin, degrees.
+        tilt_margin: f64,
+        /// The required margin, degrees.
+        margin: f64,
+    },
+    /// Met when `tilt_margin < 0` and `tilt_margin < −margin`.
+    Imbalance {
+        /// The support's tilt margin, degrees.
+        tilt_margin: f64,
+        /// The required margin, degrees.
+        margin: f64,
+    },
+    /// Met when `angle ≤ tolerance`.
+    Suspend {
+        /// Angle between the string (from the suspension point to the centre of mass) and
+        /// gravity, degrees in [0, 180]. 90 when the centre of mass is at the suspension point,
+        /// where the hang is neutral.
+        angle: f64,
+        /// The allowed angle, degrees.
+        tolerance: f64,
+        /// The suspension point, world.
+        point: [f64; 3],
+    },
+    /// Met when `angle ≤ tolerance`, `distance ≥ min_distance` and, when `mass_tolerance` is
+    /// given, `|mass_residual| ≤ mass_tolerance`.
+    Immerse {
+        /// Angle between up and the direction from the centre of mass to the centre of buoyancy,
+        /// degrees in [0, 180]. 90 when the two centres coincide.
+        angle: f64,
+        /// The allowed angle, degrees.
+        tolerance: f64,
+        /// Distance between the centres of mass and buoyancy, project units.
+        distance: f64,
+        /// The required distance, project units.
+        min_distance: f64,
+        /// The centre of buoyancy (centroid of the outer volume), world.
+        buoyancy_centre: [f64; 3],
+        /// Mass of the fluid the model displaces when fully submerged, grams.
+        displaced_mass: f64,
+        /// Model mass minus displaced mass, grams: positive sinks, negative rises.
+        mass_residual: f64,
+        /// The allowed |mass_residual|, grams, when the goal gives one (left out of the JSON
+        /// otherwise).
+        #[serde(skip_serializing_if = "Option::is_none")]
+        mass_tolerance: Option<f64>,
+    },
+}

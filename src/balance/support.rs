@@ -1,0 +1,171 @@
+//! The support polygon of a posed model on horizontal ground and its toppling angles.
+
+use nalgebra::{Point3, Vector2, Vector3};
+
+use super::hull::convex_hull;
+use super::{Support, SupportEdge};
+use crate::spec::model::{Axis, Goal, Pose, Project};
+
+/// Toppling angle reported when nothing touches the ground: the model falls whichever way.
+const NO_SUPPORT: f64 = -90.0;
+
+/// The contact tolerance of `pose`: that of its first `stand` or `imbalance` goal, else 0.05 mm in
+/// the project's units.
+pub(crate) fn contact_tolerance(project: &Project, pose: &Pose) -> f64 {
+    pose.goals
+        .iter()
+        .find_map(|goal| match goal.value {
+            Goal::Stand {
+                contact_tolerance, ..
+            }
+            | Goal::Imbalance {
+                contact_tolerance, ..
+            } => Some(contact_tolerance),
+            Goal::Suspend { .. } | Goal::Immerse { .. } => None,
+        })
+        .unwrap_or_else(|| project.units.from_millimetres(0.05))
+}
+
+/// How the model with world vertices `vertices` and centre of mass `centre` rests on the ground
+/// under the lowest vertex, along `up`.
+///
+/// A vertex touches when at most `tolerance` (taken as 0 if negative) above the ground. The
+/// toppling angle about an edge is `atan2(−d, h)` with `d` the signed distance of the centre's
+/// projection from the edge line (positive outside) and `h` the centre's height above the
+/// ground; see [`Support::edges`] for the pseudo-edges of a point or a segment.
+pub(crate) fn support(
+    vertices: &[Point3<f64>],
+    up: Axis,
+    tolerance: f64,
+    centre: &Point3<f64>,
+) -> Support {
+    let plane = GroundPlane::new(up);
+    let tolerance = tolerance.max(0.0);
+    let ground = vertices
+        .iter()
+        .map(|p| plane.height(p))
+        .fold(f64::INFINITY, f64::min);
+    if ground == f64::INFINITY {
+        return Support {
+            ground_height: 0.0,
+            contact_tolerance: tolerance,
+            centre_height: plane.height(centre),
+            contacts: Vec::new(),
+            polygon: Vec::new(),
+            edges: Vec::new(),
+            tilt_margin: NO_SUPPORT,
+        };
+    }
+    let contacts: Vec<Point3<f64>> = vertices
+        .iter()
+        .filter(|p| plane.height(p) - ground <= tolerance)
+        .copied()
+        .collect();
+    let projected: Vec<[f64; 2]> = contacts.iter().map(|p| plane.project(p).into()).collect();
+    let polygon: Vec<Vector2<f64>> = convex_hull(&projected)
+        .into_iter()
+        .map(Vector2::from)
+        .collect();
+    let height = plane.height(centre) - ground;
+    let foot = plane.project(centre);
+    let edges: Vec<SupportEdge> = edge_distances(&polygon, &foot)
+        .into_iter()
+        .map(|(start, end, distance)| SupportEdge {
+            start: plane.lift(&start, ground).into(),
+            end: plane.lift(&end, ground).into(),
+            distance,
+            // `+ 0.0` turns −0 into 0.
+            toppling_angle: (-distance).atan2(height).to_degrees() + 0.0,
+        })
+        .collect();
+    let tilt_margin = edges
+        .iter()
+        .map(|edge| edge.toppling_angle)
+        .reduce(f64::min)
+        .unwrap_or(NO_SUPPORT);
+    Support {
+        ground_height: ground,
+        contact_tolerance: tolerance,
+        centre_height: height,
+        contacts: contacts.iter().map(|p| (*p).into()).collect(),
+        polygon: polygon
+            .iter()
+            .map(|q| plane.lift(q, ground).into())
+            .collect(),
+        edges,
+        tilt_margin,
+    }
+}
+
+/// The (pseudo-)edges of a convex `polygon` (counter-clockwise, as from [`convex_hull`]) with the
+/// signed distance of `foot` from each, positive outside.
+fn edge_distances(
+    polygon: &[Vector2<f64>],
+    foot: &Vector2<f64>,
+) -> Vec<(Vector2<f64>, Vector2<f64>, f64)> {
+    match polygon {
+        [] => Vec::new(),
+        [p] => vec![(*p, *p, (foot - p).norm())],
+        [a, b] => {
+            let length = (b - a).norm();
+            let along = (b - a) / length;
+            let offset = foot - a;
+            let beyond_b = offset.dot(&along) - length;
+            let side = along.perp(&offset).abs();
+            vec![
+                (*a, *b, side),
+                (*b, *a, side),
+                (*a, *a, -offset.dot(&along)),
+                (*b, *b, beyond_b),
+            ]
+        }
+        _ => (0..polygon.len())
+            .map(|i| {
+                let a = polygon[i];
+                let b = polygon[(i + 1) % polygon.len()];
+                let edge = b - a;
+                // Right of a counter-clockwise edge is outside.
+                let outward = Vector2::new(edge.y, -edge.x) / edge.norm();
+                (a, b, (foot - a).dot(&outward))
+            })
+            .collect(),
+    }
+}
+
+/// The ground's frame: two horizontal axes `e1`, `e2` with `e1 × e2 = up`, so counter-clockwise
+/// in (e1, e2) is counter-clockwise seen from above.
+struct GroundPlane {
+    e1: Vector3<f64>,
+    e2: Vector3<f64>,
+    up: Vector3<f64>,
+}
+
+impl GroundPlane {
+    fn new(up: Axis) -> GroundPlane {
+        let (e1, e2) = match up {
+            Axis::X => (Vector3::y(), Vector3::z()),
+            Axis::Y => (Vector3::z(), Vector3::x()),
+            Axis::Z => (Vector3::x(), Vector3::y()),
+        };
+        GroundPlane {
+            e1,
+            e2,
+            up: up.unit_vector(),
+        }
+    }
+
+    /// Height of `p` along up.
+    fn height(&self, p: &Point3<f64>) -> f64 {
+        self.up.dot(&p.coords)
+    }
+
+    /// Coordinates of `p` seen from above.
+    fn project(&self, p: &Point3<f64>) -> Vector2<f64> {
+        Vector2::new(self.e1.dot(&p.coords), self.e2.dot(&p.coords))
+    }
+
+    /// The point at plane coordinates `q` and `height`.
+    fn lift(&self, q: &Vector2<f64>, height: f64) -> Point3<f64> {
+        Point3::from(self.e1 * q.x + self.e2 * q.y + self.up * height)
+    }
+}
