@@ -5,6 +5,7 @@
 //!
 //! - [`spec`]: the project-file grammar ([`spec::vocabulary`]); the parser builds on it.
 //! - [`geometry`]: meshes loaded, validated, their mass properties and distance queries.
+//! - [`fabrication`]: whether the capsules of a design can be printed where they are.
 //! - [`emit`]: glTF scenes (one per pose) and atomic file writes.
 //!
 //! `docs/architecture.md` describes the whole pipeline, including the stages still to come.
@@ -13,5 +14,6 @@
 pub mod design;
 pub mod diagnostic;
 pub mod emit;
+pub mod fabrication;
 pub mod geometry;
 pub mod spec;
