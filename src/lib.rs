@@ -6,6 +6,7 @@
 //! - [`spec`]: the project-file grammar ([`spec::vocabulary`]); the parser builds on it.
 //! - [`geometry`]: meshes loaded, validated, their mass properties and distance queries.
 //! - [`balance`]: the physics of one pose: centre of mass, ball positions, support, goals.
+//! - [`fabrication`]: whether the capsules of a design can be printed where they are.
 //! - [`emit`]: glTF scenes (one per pose) and atomic file writes.
 //!
 //! `docs/architecture.md` describes the whole pipeline, including the stages still to come.
@@ -15,5 +16,6 @@ pub mod balance;
 pub mod design;
 pub mod diagnostic;
 pub mod emit;
+pub mod fabrication;
 pub mod geometry;
 pub mod spec;

@@ -1,0 +1,23 @@
+//! Fabrication: can the capsules of a design be printed where they are?
+//!
+//! [`check_design`] looks at every capsule of a [`Design`](crate::design::Design) against the
+//! component meshes, all in the shared rest frame, and returns one [`CapsuleIssue`] per problem:
+//!
+//! - the axis is long enough to drop the ball in during the print pause (eq. 16 of the paper);
+//! - the ball fits with the ball clearance left around it;
+//! - the capsule, with a wall of material around it, lies inside the component it is assigned
+//!   to (eq. 15 with the wall added), and if not, which component it is in instead;
+//! - two capsules of one component keep a wall between them (eq. 14 with the wall added).
+//!
+//! Issues are plain data without spans or messages: the driver knows which project node each
+//! capsule came from and turns an issue into a diagnostic there. Whether a ball clearly rolls to
+//! one end (eq. 22) depends on the pose and is left to the physics stage.
+
+mod check;
+mod issue;
+mod overlap;
+mod placement;
+mod tolerance;
+
+pub use check::check_design;
+pub use issue::CapsuleIssue;
