@@ -13,6 +13,8 @@
 //! The `ballast` binary will only parse arguments and print; the pipeline lives here.
 
 pub mod balance;
+pub mod cli;
+pub mod compile;
 pub mod design;
 pub mod diagnostic;
 pub mod emit;

@@ -1,0 +1,87 @@
+//! The `ballast` command line: parse arguments, run the pipeline, print, and choose the exit status.
+//!
+//! Exit status, for every subcommand: [`EXIT_MET`] when every goal is met, [`EXIT_UNMET`] when the
+//! project is valid but some goal is not, [`EXIT_INVALID`] for an invalid project or any failure.
+
+mod args;
+mod build;
+mod check;
+mod diagnostics;
+mod table;
+
+use std::path::Path;
+
+use clap::Parser;
+
+pub use args::{Cli, Command};
+
+use crate::compile::{compile, Compilation};
+
+/// Every goal of every pose is met.
+pub const EXIT_MET: i32 = 0;
+/// The project is valid, but some goal is not met.
+pub const EXIT_UNMET: i32 = 1;
+/// The project is invalid, or something failed (unreadable file, failed write).
+pub const EXIT_INVALID: i32 = 2;
+
+/// Runs the command line given by the process arguments; returns the exit status.
+pub fn run() -> i32 {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(error) => {
+            // Help and version requests print to stdout and succeed; misuse prints to stderr.
+            let _ = error.print();
+            return if error.use_stderr() { EXIT_INVALID } else { EXIT_MET };
+        }
+    };
+    match cli.command {
+        Command::Check { project, json } => check::run(&project, json),
+        Command::Build { project, out_dir } => build::run(&project, out_dir.as_deref()),
+    }
+}
+
+/// Reads and compiles the project at `path`, printing every diagnostic (warnings too) to standard
+/// error. `None` when the project is invalid or unreadable.
+fn compile_file(path: &Path) -> Option<Compilation> {
+    let source = match std::fs::read_to_string(path) {
+        Ok(source) => source,
+        Err(error) => {
+            eprintln!("error: cannot read {}: {error}", path.display());
+            return None;
+        }
+    };
+    let name = path.display().to_string();
+    match compile(&source, path) {
+        Ok(compilation) => {
+            if !compilation.warnings.is_empty() {
+                eprint!("{}", diagnostics::render(&compilation.warnings, &name, &source));
+            }
+            Some(compilation)
+        }
+        Err(problems) => {
+            eprint!("{}", diagnostics::render(&problems, &name, &source));
+            let errors = problems.iter().filter(|p| p.is_error()).count();
+            eprintln!(
+                "error: {name} is invalid: {errors} error{}",
+                if errors == 1 { "" } else { "s" }
+            );
+            None
+        }
+    }
+}
+
+/// The exit status for a valid project.
+fn goals_status(compilation: &Compilation) -> i32 {
+    if compilation.all_goals_met() {
+        EXIT_MET
+    } else {
+        EXIT_UNMET
+    }
+}
+
+/// The file name of `path`, for headings.
+fn file_name(path: &Path) -> String {
+    path.file_name()
+        .map(|name| name.to_string_lossy().into_owned())
+        .unwrap_or_else(|| path.display().to_string())
+}

@@ -1,0 +1,140 @@
+//! The human-readable summary `ballast check` and `ballast build` print: per pose, the centre of
+//! mass, the support, where the balls went and each goal with its measured value.
+
+use std::fmt::Write;
+
+use crate::balance::{BallRest, GoalOutcome, PoseEvaluation};
+use crate::compile::Compilation;
+use crate::spec::model::Units;
+
+/// The summary of `compilation`, ending with a line counting the goals met.
+pub fn summary(compilation: &Compilation, project_name: &str) -> String {
+    let project = &compilation.project;
+    let units = project.units;
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "{project_name}: {} component{}, {} capsule{}, {} pose{}; lengths in {}, masses in g, angles in degrees",
+        project.components.len(),
+        plural(project.components.len()),
+        compilation.design.capsules.len(),
+        plural(compilation.design.capsules.len()),
+        project.poses.len(),
+        plural(project.poses.len()),
+        units.keyword(),
+    );
+    let (mut total, mut met) = (0, 0);
+    for evaluation in &compilation.poses {
+        out.push('\n');
+        pose_section(&mut out, evaluation, units);
+        total += evaluation.goals.len();
+        met += evaluation.goals.iter().filter(|goal| goal.met).count();
+    }
+    let _ = writeln!(out, "\n{met} of {total} goal{} met.", plural(total));
+    out
+}
+
+fn pose_section(out: &mut String, evaluation: &PoseEvaluation, units: Units) {
+    let length = |value: f64| format_length(value, units);
+    let point = |p: [f64; 3]| format!("({}, {}, {})", length(p[0]), length(p[1]), length(p[2]));
+    let support = &evaluation.support;
+    let _ = writeln!(out, "pose \"{}\"", evaluation.pose);
+    let _ = writeln!(out, "  mass            {:.1} g", evaluation.mass);
+    let _ = writeln!(out, "  centre of mass  {}", point(evaluation.centre_of_mass));
+    let angles: Vec<String> = support
+        .edges
+        .iter()
+        .map(|edge| format!("{:.1}", edge.toppling_angle))
+        .collect();
+    let _ = writeln!(
+        out,
+        "  support         {} contact point{}, polygon of {} point{}, centre of mass {} above ground",
+        support.contacts.len(),
+        plural(support.contacts.len()),
+        support.polygon.len(),
+        plural(support.polygon.len()),
+        length(support.centre_height),
+    );
+    let _ = writeln!(out, "  toppling angles {}", angles.join(" "));
+    let _ = writeln!(out, "  tilt margin     {:.1}", support.tilt_margin);
+    for ball in &evaluation.balls {
+        let rest = match ball.rest {
+            BallRest::From => "at its `from` end",
+            BallRest::To => "at its `to` end",
+            BallRest::Undetermined => "undetermined (axis too close to horizontal)",
+        };
+        let _ = writeln!(
+            out,
+            "  ball {:<10} {rest}, axis {:.1} above horizontal",
+            format!("\"{}\"", ball.capsule),
+            ball.elevation
+        );
+    }
+    for goal in &evaluation.goals {
+        let status = if goal.met { "met " } else { "FAIL" };
+        let _ = writeln!(out, "  [{status}] {}", describe(&goal.outcome, units));
+    }
+}
+
+/// One goal's measured and required values, in words.
+fn describe(outcome: &GoalOutcome, units: Units) -> String {
+    let length = |value: f64| format_length(value, units);
+    match outcome {
+        GoalOutcome::Stand {
+            tilt_margin,
+            margin,
+        } => format!("stand: survives a tilt of {tilt_margin:.1} (needs more than 0 and at least {margin})"),
+        GoalOutcome::Imbalance {
+            tilt_margin,
+            margin,
+        } => format!(
+            "imbalance: tilt margin {tilt_margin:.1} (needs below 0 and below -{margin})"
+        ),
+        GoalOutcome::Suspend {
+            angle, tolerance, ..
+        } => format!("suspend: string {angle:.1} off vertical (tolerance {tolerance})"),
+        GoalOutcome::Immerse {
+            angle,
+            tolerance,
+            distance,
+            min_distance,
+            mass_residual,
+            mass_tolerance,
+            ..
+        } => {
+            let mut text = format!(
+                "immerse: buoyancy {angle:.1} off vertical (tolerance {tolerance}), centres {} apart (needs {}), mass residual {mass_residual:+.1} g",
+                length(*distance),
+                length(*min_distance),
+            );
+            if let Some(allowed) = mass_tolerance {
+                let _ = write!(text, " (tolerance {allowed} g)");
+            }
+            text
+        }
+    }
+}
+
+/// A length with as many decimals as the unit needs to show a tenth of a millimetre or better.
+fn format_length(value: f64, units: Units) -> String {
+    let decimals = match units {
+        Units::Millimetre => 2,
+        Units::Centimetre | Units::Inch => 3,
+        Units::Metre => 5,
+    };
+    let text = format!("{value:.decimals$}");
+    // Never print "-0.00".
+    if text.trim_start_matches('-').chars().all(|c| c == '0' || c == '.') {
+        text.trim_start_matches('-').to_string()
+    } else {
+        text
+    }
+}
+
+fn plural(count: usize) -> &'static str {
+    if count == 1 {
+        ""
+    } else {
+        "s"
+    }
+}

@@ -1,0 +1,200 @@
+//! Loading every component's mesh and checking it is a printable solid, with each failure turned
+//! into a diagnostic on the component's `mesh=` value.
+
+use std::path::Path;
+
+use crate::diagnostic::Problem;
+use crate::geometry::{check_mesh, load_mesh, LoadError, MeshCheck, TriMesh};
+use crate::spec::model::{Component, Project};
+
+/// How many offending edges or triangles a diagnostic lists before it only counts the rest.
+const LISTED: usize = 3;
+
+/// Loads and checks the mesh of every component, in order. Returns the meshes when all of them
+/// are usable, and the problems found (every component is tried, so all are reported at once).
+pub fn load_components(project: &Project) -> (Option<Vec<TriMesh>>, Vec<Problem>) {
+    let mut meshes = Vec::with_capacity(project.components.len());
+    let mut problems = Vec::new();
+    for component in &project.components {
+        match load_mesh(&component.mesh.value, &component.selector) {
+            Ok(mesh) => {
+                let found = mesh_problems(component, &mesh);
+                if found.is_empty() {
+                    meshes.push(mesh);
+                }
+                problems.extend(found);
+            }
+            Err(error) => problems.push(load_problem(component, &error)),
+        }
+    }
+    let usable = meshes.len() == project.components.len();
+    (usable.then_some(meshes), problems)
+}
+
+fn load_problem(component: &Component, error: &LoadError) -> Problem {
+    let name = &component.name.value;
+    let span = component.mesh.span;
+    let shown = display_path(&component.mesh.value);
+    match error {
+        LoadError::NotFound { .. } => Problem::error(
+            "ballast::mesh::not_found",
+            format!("mesh file `{shown}` of component `{name}` does not exist"),
+        )
+        .with_label(span, "no such file")
+        .with_help("paths are relative to the folder of the project file"),
+        LoadError::UnknownPart {
+            name: part,
+            available,
+        } => {
+            let mut problem = Problem::error(
+                "ballast::mesh::unknown_part",
+                format!("`{shown}` has no part named `{part}`"),
+            )
+            .with_label(span, "in this file");
+            let suggestion =
+                crate::spec::vocabulary::suggest(part, available.iter().map(String::as_str));
+            problem.help = Some(match suggestion {
+                Some(close) => format!("did you mean `{close}`?"),
+                None if available.is_empty() => "the file has no named parts".to_string(),
+                None => format!("the file has: {}", available.join(", ")),
+            });
+            problem
+        }
+        other => Problem::error(
+            "ballast::mesh::unreadable",
+            format!("cannot load the mesh of component `{name}`: {other}"),
+        )
+        .with_label(span, "this mesh"),
+    }
+    .with_label(component.name.span, "component")
+}
+
+/// The problems that make `mesh` unusable as the solid of `component`.
+fn mesh_problems(component: &Component, mesh: &TriMesh) -> Vec<Problem> {
+    let check = check_mesh(mesh);
+    let name = &component.name.value;
+    let span = component.mesh.span;
+    let mut problems = Vec::new();
+    let mut edge_problem = |code, what: &str, edges: &[[u32; 2]], help: &str| {
+        if !edges.is_empty() {
+            problems.push(
+                Problem::error(
+                    code,
+                    format!(
+                        "the mesh of component `{name}` has {} {what}: {}",
+                        edges.len(),
+                        list_edges(mesh, edges)
+                    ),
+                )
+                .with_label(span, "this mesh")
+                .with_help(help.to_string()),
+            );
+        }
+    };
+    edge_problem(
+        "ballast::mesh::open",
+        "boundary edges (holes)",
+        &check.boundary_edges,
+        "a printable solid must be closed: fill the holes in a mesh editor",
+    );
+    edge_problem(
+        "ballast::mesh::non_manifold",
+        "edges shared by more than two triangles",
+        &check.non_manifold_edges,
+        "split or repair the mesh so every edge borders exactly two triangles",
+    );
+    edge_problem(
+        "ballast::mesh::misoriented",
+        "edges where neighbouring triangles disagree on the outside",
+        &check.misoriented_edges,
+        "make the triangle winding consistent (recalculate normals in a mesh editor)",
+    );
+    problems.extend(solid_problems(component, &check));
+    problems
+}
+
+fn solid_problems(component: &Component, check: &MeshCheck) -> Vec<Problem> {
+    let name = &component.name.value;
+    let span = component.mesh.span;
+    let mut problems = Vec::new();
+    if !check.degenerate_triangles.is_empty() {
+        let listed: Vec<String> = check
+            .degenerate_triangles
+            .iter()
+            .take(LISTED)
+            .map(|t| t.to_string())
+            .collect();
+        problems.push(
+            Problem::error(
+                "ballast::mesh::degenerate",
+                format!(
+                    "the mesh of component `{name}` has {} degenerate triangles (zero area or a repeated vertex), e.g. triangle {}",
+                    check.degenerate_triangles.len(),
+                    listed.join(", ")
+                ),
+            )
+            .with_label(span, "this mesh")
+            .with_help("remove the degenerate triangles (merge by distance, then dissolve degenerate)"),
+        );
+    }
+    if check.is_closed() && check.is_oriented() {
+        if check.is_inverted() {
+            problems.push(
+                Problem::error(
+                    "ballast::mesh::inverted",
+                    format!(
+                        "the mesh of component `{name}` is inside out (its volume is {:.6})",
+                        check.signed_volume
+                    ),
+                )
+                .with_label(span, "this mesh")
+                .with_help("flip every triangle's winding so the normals point outwards"),
+            );
+        } else if check.signed_volume == 0.0 {
+            problems.push(
+                Problem::error(
+                    "ballast::mesh::flat",
+                    format!("the mesh of component `{name}` encloses no volume"),
+                )
+                .with_label(span, "this mesh"),
+            );
+        }
+    }
+    problems
+}
+
+/// `n edges: 3–7 at (x, y, z)–(x, y, z), …` for the first few edges.
+fn list_edges(mesh: &TriMesh, edges: &[[u32; 2]]) -> String {
+    let mut listed: Vec<String> = edges
+        .iter()
+        .take(LISTED)
+        .map(|&[a, b]| {
+            format!(
+                "{a}–{b} at {}–{}",
+                format_point(mesh, a),
+                format_point(mesh, b)
+            )
+        })
+        .collect();
+    if edges.len() > LISTED {
+        listed.push(format!("and {} more", edges.len() - LISTED));
+    }
+    listed.join(", ")
+}
+
+fn format_point(mesh: &TriMesh, index: u32) -> String {
+    match mesh.positions.get(index as usize) {
+        Some(p) => format!("({}, {}, {})", round(p.x), round(p.y), round(p.z)),
+        None => "(?)".to_string(),
+    }
+}
+
+fn round(value: f64) -> f64 {
+    (value * 1e4).round() / 1e4
+}
+
+fn display_path(path: &Path) -> String {
+    path.file_name()
+        .map(|name| name.to_string_lossy().into_owned())
+        .unwrap_or_else(|| path.display().to_string())
+}

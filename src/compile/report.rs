@@ -1,0 +1,236 @@
+//! The JSON report: the project's settings, its components and capsules, and what the design does
+//! in every pose. `schema/report.schema.json` describes it; `docs/report.md` explains each field.
+
+use std::path::{Component as PathPart, Path};
+
+use serde::Serialize;
+
+use super::Compilation;
+use crate::balance::PoseEvaluation;
+use crate::geometry::MeshSelector;
+
+/// Version of the report's layout; raised when a field changes meaning or disappears.
+pub const REPORT_FORMAT: u32 = 1;
+
+/// Everything `ballast check --json` prints and `ballast build` writes.
+#[derive(Debug, Clone, Serialize)]
+pub struct Report<'a> {
+    /// [`REPORT_FORMAT`].
+    pub format: u32,
+    /// The ballast version that wrote it.
+    pub ballast: &'static str,
+    /// The project file's name.
+    pub project: String,
+    /// The length unit of every length in the report.
+    pub units: &'static str,
+    /// The up axis.
+    pub up: [f64; 3],
+    /// The print material.
+    pub material: MaterialReport<'a>,
+    /// The balls.
+    pub ball: BallReport<'a>,
+    /// Infill fraction evaluated.
+    pub infill: f64,
+    /// Minimum wall around capsules, project units.
+    pub wall: f64,
+    /// The components, in project order.
+    pub components: Vec<ComponentReport>,
+    /// The capsules, in design order.
+    pub capsules: Vec<CapsuleReport>,
+    /// One per pose, in project order.
+    pub poses: Vec<PoseReport<'a>>,
+    /// How many goals there are, and how many are met.
+    pub goals: GoalCount,
+    /// Whether every goal of every pose is met (the exit status is 0 exactly then).
+    pub all_goals_met: bool,
+}
+
+/// The print material.
+#[derive(Debug, Clone, Serialize)]
+pub struct MaterialReport<'a> {
+    /// Its label.
+    pub name: &'a str,
+    /// g/cm³.
+    pub density: f64,
+}
+
+/// The balls.
+#[derive(Debug, Clone, Serialize)]
+pub struct BallReport<'a> {
+    /// g/cm³.
+    pub density: f64,
+    /// Gap between ball and capsule, project units.
+    pub clearance: f64,
+    /// Degrees from horizontal below which a ball's end is undetermined.
+    pub min_angle: f64,
+    /// Available ball diameters, project units; empty means any.
+    pub diameters: &'a [f64],
+}
+
+/// One component.
+#[derive(Debug, Clone, Serialize)]
+pub struct ComponentReport {
+    /// Its name.
+    pub name: String,
+    /// The mesh file, relative to the project file's folder when inside it.
+    pub mesh: String,
+    /// The object or node selected in the mesh file, if any.
+    pub part: Option<String>,
+    /// Vertex count after welding.
+    pub vertices: usize,
+    /// Triangle count.
+    pub triangles: usize,
+    /// Enclosed volume, cubic project units.
+    pub volume: f64,
+    /// Centroid of the enclosed volume, rest frame.
+    pub centroid: [f64; 3],
+}
+
+/// One capsule.
+#[derive(Debug, Clone, Serialize)]
+pub struct CapsuleReport {
+    /// Its name.
+    pub name: String,
+    /// The name of its component.
+    pub component: String,
+    /// One end of the axis, rest frame.
+    pub from: [f64; 3],
+    /// The other end, rest frame.
+    pub to: [f64; 3],
+    /// Radius of the void.
+    pub radius: f64,
+    /// Radius of its ball.
+    pub ball_radius: f64,
+    /// Volume of the void, cubic project units.
+    pub volume: f64,
+}
+
+/// One pose: the physics evaluation plus a summary flag.
+#[derive(Debug, Clone, Serialize)]
+pub struct PoseReport<'a> {
+    /// What the design does in the pose.
+    #[serde(flatten)]
+    pub evaluation: &'a PoseEvaluation,
+    /// Whether every goal of this pose is met.
+    pub all_goals_met: bool,
+}
+
+/// How many goals are met.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct GoalCount {
+    /// Goals over all poses.
+    pub total: usize,
+    /// Of which met.
+    pub met: usize,
+}
+
+impl<'a> Report<'a> {
+    /// The report of `compilation`, whose project file is `project_path`.
+    pub fn new(compilation: &'a Compilation, project_path: &Path) -> Report<'a> {
+        let project = &compilation.project;
+        let folder = project_path.parent().unwrap_or(Path::new(""));
+        let components = project
+            .components
+            .iter()
+            .zip(&compilation.meshes)
+            .map(|(component, mesh)| {
+                let mass = crate::geometry::mass_properties(mesh);
+                ComponentReport {
+                    name: component.name.value.clone(),
+                    mesh: relative_path(&component.mesh.value, folder),
+                    part: match &component.selector {
+                        MeshSelector::Whole => None,
+                        MeshSelector::ObjObject(name) | MeshSelector::GltfNode(name) => {
+                            Some(name.clone())
+                        }
+                    },
+                    vertices: mesh.positions.len(),
+                    triangles: mesh.triangles.len(),
+                    volume: mass.volume,
+                    centroid: mass.centroid.coords.into(),
+                }
+            })
+            .collect();
+        let capsules = compilation
+            .design
+            .capsules
+            .iter()
+            .map(|capsule| CapsuleReport {
+                name: capsule.name.clone(),
+                component: project
+                    .components
+                    .get(capsule.component)
+                    .map(|component| component.name.value.clone())
+                    .unwrap_or_default(),
+                from: capsule.from.coords.into(),
+                to: capsule.to.coords.into(),
+                radius: capsule.radius,
+                ball_radius: capsule.ball_radius,
+                volume: capsule.volume(),
+            })
+            .collect();
+        let poses = compilation
+            .poses
+            .iter()
+            .map(|evaluation| PoseReport {
+                evaluation,
+                all_goals_met: evaluation.goals.iter().all(|goal| goal.met),
+            })
+            .collect();
+        let all_goals: Vec<bool> = compilation
+            .poses
+            .iter()
+            .flat_map(|pose| pose.goals.iter().map(|goal| goal.met))
+            .collect();
+        Report {
+            format: REPORT_FORMAT,
+            ballast: env!("CARGO_PKG_VERSION"),
+            project: project_path
+                .file_name()
+                .map(|name| name.to_string_lossy().into_owned())
+                .unwrap_or_default(),
+            units: project.units.keyword(),
+            up: project.up.unit_vector().into(),
+            material: MaterialReport {
+                name: &project.material.name,
+                density: project.material.density,
+            },
+            ball: BallReport {
+                density: project.ball.density,
+                clearance: project.ball.clearance,
+                min_angle: project.ball.min_angle,
+                diameters: &project.ball.diameters,
+            },
+            infill: compilation.design.infill,
+            wall: project.wall,
+            components,
+            capsules,
+            poses,
+            goals: GoalCount {
+                total: all_goals.len(),
+                met: all_goals.iter().filter(|met| **met).count(),
+            },
+            all_goals_met: all_goals.iter().all(|met| *met),
+        }
+    }
+
+    /// The report as pretty-printed JSON with a final newline; the same bytes for the same input.
+    pub fn to_json(&self) -> String {
+        let mut text =
+            serde_json::to_string_pretty(self).expect("a report holds only plain, finite data");
+        text.push('\n');
+        text
+    }
+}
+
+/// `path` relative to `folder` with `/` separators when it lies inside it, else as given. Keeps
+/// machine-specific absolute paths out of the report.
+fn relative_path(path: &Path, folder: &Path) -> String {
+    let shown = path.strip_prefix(folder).unwrap_or(path);
+    shown
+        .components()
+        .filter(|part| !matches!(part, PathPart::CurDir))
+        .map(|part| part.as_os_str().to_string_lossy().into_owned())
+        .collect::<Vec<_>>()
+        .join("/")
+}
