@@ -1,6 +1,6 @@
 //! Each goal of a pose measured against what it requires (paper eq. 1-5, unsmoothed).
 
-use nalgebra::{Point3, Vector3};
+use nalgebra::Vector3;
 
 use super::evaluate::component_frame;
 use super::mass::MassTotals;
@@ -73,7 +73,7 @@ pub(crate) fn evaluate_goal(goal: &Goal, measured: &Measured) -> GoalEvaluation 
             tolerance,
             mass_tolerance,
         } => {
-            let buoyancy: Point3<f64> = measured.totals.buoyancy_centre;
+            let buoyancy = measured.totals.buoyancy_centre;
             let offset = buoyancy - centre;
             let angle = angle_to(&offset, &measured.up, measured.coincidence);
             let distance = offset.norm();

@@ -124,7 +124,8 @@ pub struct Support {
     /// vertices.
     pub ground_height: f64,
     /// Vertices at most this far above the ground touch it, project units: the tolerance of the
-    /// pose's first `stand` or `imbalance` goal, else 0.05 mm.
+    /// pose's first `stand` or `imbalance` goal (0 if that is negative), else 0.05 mm. Every
+    /// `stand` and `imbalance` goal of the pose is judged on this one support.
     pub contact_tolerance: f64,
     /// Height of the centre of mass above the ground, project units.
     pub centre_height: f64,

@@ -1,0 +1,206 @@
+//! The per-mesh pipeline on a real model: load, mass properties, and evaluating poses with two
+//! capsules, each beside a baseline (one pass summing every vertex coordinate) measured in the
+//! same process so results can be read as ratios. `docs/benchmarks.md` describes the figures.
+//!
+//! Run with `cargo bench --bench pipeline`. Meshes come from `../shared/meshes` beside the
+//! checkout; a mesh that is missing is skipped with a note.
+
+use std::hint::black_box;
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use ballast::balance::{evaluate_pose, ComponentBody};
+use ballast::design::{Design, PlacedCapsule};
+use ballast::geometry::{load_mesh, mass_properties, MeshSelector, TriMesh};
+use ballast::spec::model::{
+    Axis, Ball, Component, Goal, Infill, Material, Output, Pose, Project, Spanned, Units,
+};
+use criterion::{criterion_group, criterion_main, Criterion};
+use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
+
+/// The meshes measured: (label, path under `../shared/meshes`).
+const MESHES: [(&str, &str); 2] = [
+    ("hammer_60k", "hammer.obj"),
+    ("hammer_240k", "large/hammer_240k.obj"),
+];
+
+fn shared_mesh(relative: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../shared/meshes")
+        .join(relative)
+}
+
+/// A one-component project in centimetres, z up, PLA and steel balls.
+fn project() -> Project {
+    let span = miette::SourceSpan::from((0, 0));
+    Project {
+        units: Units::Centimetre,
+        up: Axis::Z,
+        material: Material {
+            name: "PLA".to_string(),
+            density: 1.24,
+        },
+        ball: Ball {
+            density: 7.85,
+            clearance: 0.02,
+            min_angle: 3.0,
+            diameters: Vec::new(),
+        },
+        infill: Infill {
+            value: 1.0,
+            range: None,
+        },
+        wall: 0.1,
+        components: vec![Component {
+            name: Spanned::new("hammer".to_string(), span),
+            mesh: Spanned::new(PathBuf::from("hammer.obj"), span),
+            selector: MeshSelector::Whole,
+            span,
+        }],
+        poses: Vec::new(),
+        capsules: Vec::new(),
+        output: Output {
+            gltf: PathBuf::from("hammer.glb"),
+            report: PathBuf::from("hammer.json"),
+        },
+    }
+}
+
+/// Two capsules through the centroid: one along z, one along x.
+fn design(centroid: Point3<f64>) -> Design {
+    let capsule = |name: &str, axis: Vector3<f64>| PlacedCapsule {
+        name: name.to_string(),
+        component: 0,
+        from: centroid - axis,
+        to: centroid + axis,
+        radius: 0.15,
+        ball_radius: 0.13,
+    };
+    Design {
+        capsules: vec![
+            capsule("shaft", Vector3::new(0.0, 0.0, 1.0)),
+            capsule("head", Vector3::new(0.6, 0.0, 0.3)),
+        ],
+        infill: 0.8,
+    }
+}
+
+/// Four poses (upright, on its side, upside down, tilted), each with one goal of every kind.
+fn poses(suspension: Point3<f64>) -> Vec<(&'static str, Pose)> {
+    let span = miette::SourceSpan::from((0, 0));
+    let goals = [
+        Goal::Stand {
+            margin: 2.0,
+            contact_tolerance: 0.005,
+        },
+        Goal::Imbalance {
+            margin: 2.0,
+            contact_tolerance: 0.005,
+        },
+        Goal::Suspend {
+            point: suspension,
+            component: 0,
+            tolerance: 2.0,
+        },
+        Goal::Immerse {
+            fluid_density: 1.0,
+            min_distance: 0.1,
+            tolerance: 5.0,
+            mass_tolerance: Some(1.0),
+        },
+    ];
+    let turned = |axis: Vector3<f64>, degrees: f64| {
+        Isometry3::from_parts(
+            Translation3::identity(),
+            UnitQuaternion::from_axis_angle(
+                &nalgebra::Unit::new_normalize(axis),
+                degrees.to_radians(),
+            ),
+        )
+    };
+    [
+        ("upright", Isometry3::identity()),
+        ("side", turned(Vector3::x(), 90.0)),
+        ("upside-down", turned(Vector3::x(), 180.0)),
+        ("tilted", turned(Vector3::new(1.0, 1.0, 0.0), 30.0)),
+    ]
+    .into_iter()
+    .map(|(name, transform)| {
+        let pose = Pose {
+            name: Spanned::new(name.to_string(), span),
+            transform,
+            component_transforms: vec![Isometry3::identity()],
+            goals: goals
+                .iter()
+                .map(|goal| Spanned::new(goal.clone(), span))
+                .collect(),
+            span,
+        };
+        (name, pose)
+    })
+    .collect()
+}
+
+/// The baseline: one pass over the vertices, summing every coordinate.
+fn sum_coordinates(mesh: &TriMesh) -> f64 {
+    mesh.positions.iter().map(|p| p.x + p.y + p.z).sum()
+}
+
+fn pipeline(c: &mut Criterion) {
+    for (label, relative) in MESHES {
+        let path = shared_mesh(relative);
+        let mesh = match load_mesh(&path, &MeshSelector::Whole) {
+            Ok(mesh) => mesh,
+            Err(error) => {
+                eprintln!("note: skipping {label}: {error}");
+                continue;
+            }
+        };
+        eprintln!(
+            "{label}: {} vertices, {} triangles",
+            mesh.positions.len(),
+            mesh.triangles.len()
+        );
+        let mass = mass_properties(&mesh);
+        let project = project();
+        let design = design(mass.centroid);
+        let top = mesh
+            .positions
+            .iter()
+            .map(|p| p.z)
+            .fold(f64::NEG_INFINITY, f64::max);
+        let poses = poses(Point3::new(mass.centroid.x, mass.centroid.y, top));
+        let bodies = [ComponentBody { mesh: &mesh, mass }];
+        for (name, pose) in &poses {
+            let result = evaluate_pose(&project, &bodies, &design, pose);
+            eprintln!(
+                "  {name}: {} contacts, {}-point support, tilt margin {:.2}°",
+                result.support.contacts.len(),
+                result.support.polygon.len(),
+                result.support.tilt_margin
+            );
+        }
+
+        let mut group = c.benchmark_group(label);
+        group
+            .sample_size(10)
+            .warm_up_time(Duration::from_secs(1))
+            .measurement_time(Duration::from_secs(3));
+        group.bench_function("baseline", |b| b.iter(|| sum_coordinates(black_box(&mesh))));
+        group.bench_function("load", |b| {
+            b.iter(|| load_mesh(black_box(&path), &MeshSelector::Whole).map(|m| m.triangles.len()))
+        });
+        group.bench_function("mass_properties", |b| {
+            b.iter(|| mass_properties(black_box(&mesh)))
+        });
+        for (name, pose) in &poses {
+            group.bench_function(format!("evaluate_pose/{name}"), |b| {
+                b.iter(|| evaluate_pose(&project, black_box(&bodies), &design, pose))
+            });
+        }
+        group.finish();
+    }
+}
+
+criterion_group!(benches, pipeline);
+criterion_main!(benches);
