@@ -1,0 +1,173 @@
+//! The `ballast` binary end to end: exit statuses, outputs, atomicity and determinism.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn ballast(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_ballast"))
+        .args(args)
+        .env("NO_COLOR", "1")
+        .output()
+        .expect("the ballast binary runs")
+}
+
+fn examples() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")
+}
+
+fn stdout(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stdout).into_owned()
+}
+
+fn stderr(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+/// A project in a fresh folder, with a copy of the example meshes next to it.
+fn scratch_project(text: &str) -> (tempfile::TempDir, PathBuf) {
+    let folder = tempfile::tempdir().unwrap();
+    let meshes = folder.path().join("meshes");
+    fs::create_dir(&meshes).unwrap();
+    for name in ["t_shape.obj", "hinged_arm.obj"] {
+        fs::copy(examples().join("meshes").join(name), meshes.join(name)).unwrap();
+    }
+    let project = folder.path().join("model.kdl");
+    fs::write(&project, text).unwrap();
+    (folder, project)
+}
+
+const ARM: &str = r#"
+component "base" mesh="meshes/hinged_arm.obj" object="base"
+component "arm" mesh="meshes/hinged_arm.obj" object="arm"
+pose "out" { stand }
+pose "round" {
+    component "arm" { pivot -22 0 20; rotate 0 0 180 }
+    imbalance
+}
+"#;
+
+#[test]
+fn build_writes_both_outputs_and_exits_zero_when_every_goal_is_met() {
+    let (folder, project) = scratch_project(ARM);
+    let output = ballast(&["build", project.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(0), "stderr: {}", stderr(&output));
+    let glb = fs::read(folder.path().join("build/model.glb")).unwrap();
+    assert_eq!(&glb[..4], b"glTF");
+    let report: serde_json::Value =
+        serde_json::from_slice(&fs::read(folder.path().join("build/model.report.json")).unwrap())
+            .unwrap();
+    assert_eq!(report["all_goals_met"], true);
+    assert_eq!(report["poses"].as_array().unwrap().len(), 2);
+    assert_eq!(report["poses"][1]["goals"][0]["kind"], "imbalance");
+    assert!(stdout(&output).contains("2 of 2 goals met."));
+}
+
+#[test]
+fn an_unmet_goal_exits_one_and_still_builds() {
+    let text = ARM.replace("imbalance", "stand");
+    let (folder, project) = scratch_project(&text);
+    let output = ballast(&["build", project.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(1), "stderr: {}", stderr(&output));
+    assert!(folder.path().join("build/model.glb").exists());
+    assert!(stdout(&output).contains("[FAIL] stand"));
+    assert!(stdout(&output).contains("1 of 2 goals met."));
+}
+
+#[test]
+fn builds_are_byte_identical_and_check_json_prints_the_report() {
+    let (folder, project) = scratch_project(ARM);
+    let project = project.to_str().unwrap();
+    assert_eq!(ballast(&["build", project]).status.code(), Some(0));
+    let glb = fs::read(folder.path().join("build/model.glb")).unwrap();
+    let report = fs::read(folder.path().join("build/model.report.json")).unwrap();
+    assert_eq!(ballast(&["build", project]).status.code(), Some(0));
+    assert_eq!(fs::read(folder.path().join("build/model.glb")).unwrap(), glb);
+    assert_eq!(
+        fs::read(folder.path().join("build/model.report.json")).unwrap(),
+        report
+    );
+    let check = ballast(&["check", "--json", project]);
+    assert_eq!(check.status.code(), Some(0));
+    assert_eq!(check.stdout, report);
+}
+
+#[test]
+fn out_dir_overrides_the_output_folder() {
+    let (folder, project) = scratch_project(ARM);
+    let out = folder.path().join("elsewhere");
+    let output = ballast(&[
+        "build",
+        project.to_str().unwrap(),
+        "--out-dir",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(output.status.code(), Some(0), "stderr: {}", stderr(&output));
+    assert!(out.join("model.glb").exists());
+    assert!(out.join("model.report.json").exists());
+    assert!(!folder.path().join("build").exists());
+}
+
+#[test]
+fn an_invalid_project_exits_two_reports_every_error_and_keeps_the_last_good_outputs() {
+    let (folder, project) = scratch_project(ARM);
+    let path = project.to_str().unwrap();
+    assert_eq!(ballast(&["build", path]).status.code(), Some(0));
+    let glb = fs::read(folder.path().join("build/model.glb")).unwrap();
+    let report = fs::read(folder.path().join("build/model.report.json")).unwrap();
+
+    let broken = ARM
+        .replace("stand", "stnad")
+        .replace("object=\"arm\"", "object=\"amr\"");
+    fs::write(&project, broken).unwrap();
+    let output = ballast(&["build", path]);
+    assert_eq!(output.status.code(), Some(2));
+    let errors = stderr(&output);
+    assert!(errors.contains("ballast::unknown_node"), "{errors}");
+    assert!(errors.contains("did you mean `stand`?"), "{errors}");
+    assert_eq!(fs::read(folder.path().join("build/model.glb")).unwrap(), glb);
+    assert_eq!(
+        fs::read(folder.path().join("build/model.report.json")).unwrap(),
+        report
+    );
+    assert!(stdout(&output).is_empty());
+}
+
+#[test]
+fn mesh_problems_are_reported_against_the_component() {
+    let text = ARM.replace("object=\"arm\"", "object=\"amr\"");
+    let (_folder, project) = scratch_project(&text);
+    let output = ballast(&["check", project.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(2));
+    let errors = stderr(&output);
+    assert!(errors.contains("ballast::mesh::unknown_part"), "{errors}");
+    assert!(errors.contains("did you mean `arm`?"), "{errors}");
+}
+
+#[test]
+fn a_missing_project_file_exits_two() {
+    let output = ballast(&["check", "/nonexistent/ballast/project.kdl"]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(stderr(&output).contains("cannot read"));
+}
+
+#[test]
+fn bad_arguments_exit_two_and_help_exits_zero() {
+    assert_eq!(ballast(&["frobnicate"]).status.code(), Some(2));
+    assert_eq!(ballast(&["--help"]).status.code(), Some(0));
+    assert!(stdout(&ballast(&["--help"])).contains("check"));
+}
+
+#[test]
+fn a_capsule_in_the_wrong_component_names_the_right_one() {
+    let text = format!(
+        "{ARM}\ncapsule \"weight\" component=\"arm\" radius=5 {{\n    from -10 0 10\n    to 10 0 10\n}}\n"
+    );
+    let (folder, project) = scratch_project(&text);
+    let output = ballast(&["build", project.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(2));
+    let errors = stderr(&output);
+    assert!(errors.contains("ballast::capsule::wrong_component"), "{errors}");
+    assert!(errors.contains("lies inside `base`"), "{errors}");
+    assert!(!folder.path().join("build").exists());
+}
