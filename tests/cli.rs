@@ -82,7 +82,10 @@ fn builds_are_byte_identical_and_check_json_prints_the_report() {
     let glb = fs::read(folder.path().join("build/model.glb")).unwrap();
     let report = fs::read(folder.path().join("build/model.report.json")).unwrap();
     assert_eq!(ballast(&["build", project]).status.code(), Some(0));
-    assert_eq!(fs::read(folder.path().join("build/model.glb")).unwrap(), glb);
+    assert_eq!(
+        fs::read(folder.path().join("build/model.glb")).unwrap(),
+        glb
+    );
     assert_eq!(
         fs::read(folder.path().join("build/model.report.json")).unwrap(),
         report
@@ -125,7 +128,10 @@ fn an_invalid_project_exits_two_reports_every_error_and_keeps_the_last_good_outp
     let errors = stderr(&output);
     assert!(errors.contains("ballast::unknown_node"), "{errors}");
     assert!(errors.contains("did you mean `stand`?"), "{errors}");
-    assert_eq!(fs::read(folder.path().join("build/model.glb")).unwrap(), glb);
+    assert_eq!(
+        fs::read(folder.path().join("build/model.glb")).unwrap(),
+        glb
+    );
     assert_eq!(
         fs::read(folder.path().join("build/model.report.json")).unwrap(),
         report
@@ -167,7 +173,10 @@ fn a_capsule_in_the_wrong_component_names_the_right_one() {
     let output = ballast(&["build", project.to_str().unwrap()]);
     assert_eq!(output.status.code(), Some(2));
     let errors = stderr(&output);
-    assert!(errors.contains("ballast::capsule::wrong_component"), "{errors}");
+    assert!(
+        errors.contains("ballast::capsule::wrong_component"),
+        "{errors}"
+    );
     assert!(errors.contains("lies inside `base`"), "{errors}");
     assert!(!folder.path().join("build").exists());
 }

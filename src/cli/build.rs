@@ -47,7 +47,10 @@ fn destination(path: &Path, out_dir: Option<&Path>) -> PathBuf {
 }
 
 fn write_output(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    if let Some(folder) = path.parent().filter(|folder| !folder.as_os_str().is_empty()) {
+    if let Some(folder) = path
+        .parent()
+        .filter(|folder| !folder.as_os_str().is_empty())
+    {
         std::fs::create_dir_all(folder)?;
     }
     write_atomic(path, bytes)

@@ -31,7 +31,11 @@ pub fn run() -> i32 {
         Err(error) => {
             // Help and version requests print to stdout and succeed; misuse prints to stderr.
             let _ = error.print();
-            return if error.use_stderr() { EXIT_INVALID } else { EXIT_MET };
+            return if error.use_stderr() {
+                EXIT_INVALID
+            } else {
+                EXIT_MET
+            };
         }
     };
     match cli.command {
@@ -54,7 +58,10 @@ fn compile_file(path: &Path) -> Option<Compilation> {
     match compile(&source, path) {
         Ok(compilation) => {
             if !compilation.warnings.is_empty() {
-                eprint!("{}", diagnostics::render(&compilation.warnings, &name, &source));
+                eprint!(
+                    "{}",
+                    diagnostics::render(&compilation.warnings, &name, &source)
+                );
             }
             Some(compilation)
         }

@@ -40,11 +40,15 @@ fn pose_section(out: &mut String, evaluation: &PoseEvaluation, units: Units) {
     let support = &evaluation.support;
     let _ = writeln!(out, "pose \"{}\"", evaluation.pose);
     let _ = writeln!(out, "  mass            {:.1} g", evaluation.mass);
-    let _ = writeln!(out, "  centre of mass  {}", point(evaluation.centre_of_mass));
-    let angles: Vec<String> = support
+    let _ = writeln!(
+        out,
+        "  centre of mass  {}",
+        point(evaluation.centre_of_mass)
+    );
+    let angles: Vec<f64> = support
         .edges
         .iter()
-        .map(|edge| format!("{:.1}", edge.toppling_angle))
+        .map(|edge| edge.toppling_angle)
         .collect();
     let _ = writeln!(
         out,
@@ -55,7 +59,7 @@ fn pose_section(out: &mut String, evaluation: &PoseEvaluation, units: Units) {
         plural(support.polygon.len()),
         length(support.centre_height),
     );
-    let _ = writeln!(out, "  toppling angles {}", angles.join(" "));
+    let _ = writeln!(out, "  toppling angles {}", list_angles(&angles));
     let _ = writeln!(out, "  tilt margin     {:.1}", support.tilt_margin);
     for ball in &evaluation.balls {
         let rest = match ball.rest {
@@ -83,12 +87,24 @@ fn describe(outcome: &GoalOutcome, units: Units) -> String {
         GoalOutcome::Stand {
             tilt_margin,
             margin,
-        } => format!("stand: survives a tilt of {tilt_margin:.1} (needs more than 0 and at least {margin})"),
+        } => format!(
+            "stand: survives a tilt of {tilt_margin:.1} (needs {})",
+            if *margin > 0.0 {
+                format!("at least {margin}")
+            } else {
+                "more than 0".to_string()
+            }
+        ),
         GoalOutcome::Imbalance {
             tilt_margin,
             margin,
         } => format!(
-            "imbalance: tilt margin {tilt_margin:.1} (needs below 0 and below -{margin})"
+            "imbalance: tilt margin {tilt_margin:.1} (needs {})",
+            if *margin > 0.0 {
+                format!("below -{margin}")
+            } else {
+                "below 0".to_string()
+            }
         ),
         GoalOutcome::Suspend {
             angle, tolerance, ..
@@ -115,6 +131,18 @@ fn describe(outcome: &GoalOutcome, units: Units) -> String {
     }
 }
 
+/// Toppling angles in edge order; a long list is summarised by its count and range.
+fn list_angles(angles: &[f64]) -> String {
+    const SHOWN: usize = 8;
+    if angles.len() <= SHOWN {
+        let shown: Vec<String> = angles.iter().map(|angle| format!("{angle:.1}")).collect();
+        return shown.join(" ");
+    }
+    let smallest = angles.iter().copied().fold(f64::INFINITY, f64::min);
+    let largest = angles.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    format!("{} edges, from {smallest:.1} to {largest:.1}", angles.len())
+}
+
 /// A length with as many decimals as the unit needs to show a tenth of a millimetre or better.
 fn format_length(value: f64, units: Units) -> String {
     let decimals = match units {
@@ -124,7 +152,11 @@ fn format_length(value: f64, units: Units) -> String {
     };
     let text = format!("{value:.decimals$}");
     // Never print "-0.00".
-    if text.trim_start_matches('-').chars().all(|c| c == '0' || c == '.') {
+    if text
+        .trim_start_matches('-')
+        .chars()
+        .all(|c| c == '0' || c == '.')
+    {
         text.trim_start_matches('-').to_string()
     } else {
         text

@@ -59,7 +59,11 @@ pub(crate) fn round(value: f64) -> f64 {
 }
 
 /// The fabrication stage's findings on `design` as diagnostics on the capsules' nodes.
-pub fn fabrication_problems(project: &Project, meshes: &[TriMesh], design: &Design) -> Vec<Problem> {
+pub fn fabrication_problems(
+    project: &Project,
+    meshes: &[TriMesh],
+    design: &Design,
+) -> Vec<Problem> {
     let issues = check_design(meshes, design, project.wall, project.ball.clearance);
     issues
         .iter()
@@ -70,7 +74,11 @@ pub fn fabrication_problems(project: &Project, meshes: &[TriMesh], design: &Desi
 fn issue_problem(project: &Project, design: &Design, issue: &CapsuleIssue) -> Problem {
     let units = project.units.keyword();
     let capsule = |index: usize| {
-        let name = design.capsules.get(index).map(|c| c.name.as_str()).unwrap_or("?");
+        let name = design
+            .capsules
+            .get(index)
+            .map(|c| c.name.as_str())
+            .unwrap_or("?");
         let node = project.capsules.iter().find(|c| c.name.value == name);
         (name.to_string(), node)
     };

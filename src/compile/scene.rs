@@ -57,19 +57,34 @@ impl Compilation {
                                     .unwrap_or_default()
                         })
                         .collect(),
-                    ball_centres: evaluation.balls.iter().map(|ball| point(ball.centre)).collect(),
+                    ball_centres: evaluation
+                        .balls
+                        .iter()
+                        .map(|ball| point(ball.centre))
+                        .collect(),
                     centre_of_mass: point(evaluation.centre_of_mass),
-                    support_polygon: evaluation.support.polygon.iter().copied().map(point).collect(),
-                    suspension_point: evaluation.goals.iter().find_map(|goal| match &goal.outcome {
-                        GoalOutcome::Suspend { point: p, .. } => Some(point(*p)),
-                        _ => None,
+                    support_polygon: evaluation
+                        .support
+                        .polygon
+                        .iter()
+                        .copied()
+                        .map(point)
+                        .collect(),
+                    suspension_point: evaluation.goals.iter().find_map(|goal| {
+                        match &goal.outcome {
+                            GoalOutcome::Suspend { point: p, .. } => Some(point(*p)),
+                            _ => None,
+                        }
                     }),
-                    buoyancy_centre: evaluation.goals.iter().find_map(|goal| match &goal.outcome {
-                        GoalOutcome::Immerse {
-                            buoyancy_centre, ..
-                        } => Some(point(*buoyancy_centre)),
-                        _ => None,
-                    }),
+                    buoyancy_centre: evaluation
+                        .goals
+                        .iter()
+                        .find_map(|goal| match &goal.outcome {
+                            GoalOutcome::Immerse {
+                                buoyancy_centre, ..
+                            } => Some(point(*buoyancy_centre)),
+                            _ => None,
+                        }),
                     extras,
                 }
             })
