@@ -14,14 +14,14 @@ pub fn summary(compilation: &Compilation, project_name: &str) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "{project_name}: {} component{}, {} capsule{}, {} pose{}; lengths in {}, masses in g, angles in degrees",
+        "{project_name}: {} component{}, {} capsule{}, {} pose{}; lengths in {}, masses in grams, angles in degrees",
         project.components.len(),
         plural(project.components.len()),
         compilation.design.capsules.len(),
         plural(compilation.design.capsules.len()),
         project.poses.len(),
         plural(project.poses.len()),
-        units.keyword(),
+        unit_name(units),
     );
     let (mut total, mut met) = (0, 0);
     for evaluation in &compilation.poses {
@@ -45,22 +45,31 @@ fn pose_section(out: &mut String, evaluation: &PoseEvaluation, units: Units) {
         "  centre of mass  {}",
         point(evaluation.centre_of_mass)
     );
-    let angles: Vec<f64> = support
-        .edges
-        .iter()
-        .map(|edge| edge.toppling_angle)
-        .collect();
-    let _ = writeln!(
-        out,
-        "  support         {} contact point{}, polygon of {} point{}, centre of mass {} above ground",
-        support.contacts.len(),
-        plural(support.contacts.len()),
-        support.polygon.len(),
-        plural(support.polygon.len()),
-        length(support.centre_height),
-    );
-    let _ = writeln!(out, "  toppling angles {}", list_angles(&angles));
-    let _ = writeln!(out, "  tilt margin     {:.1}", support.tilt_margin);
+    // The support only matters to the goals that put the model down on the ground.
+    let on_ground = evaluation.goals.iter().any(|goal| {
+        matches!(
+            goal.outcome,
+            GoalOutcome::Stand { .. } | GoalOutcome::Imbalance { .. }
+        )
+    });
+    if on_ground {
+        let angles: Vec<f64> = support
+            .edges
+            .iter()
+            .map(|edge| edge.toppling_angle)
+            .collect();
+        let _ = writeln!(
+            out,
+            "  support         {} contact point{}, polygon of {} point{}, centre of mass {} above ground",
+            support.contacts.len(),
+            plural(support.contacts.len()),
+            support.polygon.len(),
+            plural(support.polygon.len()),
+            length(support.centre_height),
+        );
+        let _ = writeln!(out, "  toppling angles {}", list_angles(&angles));
+        let _ = writeln!(out, "  tilt margin     {:.1}", support.tilt_margin);
+    }
     for ball in &evaluation.balls {
         let rest = match ball.rest {
             BallRest::From => "at its `from` end",
@@ -160,6 +169,15 @@ fn format_length(value: f64, units: Units) -> String {
         text.trim_start_matches('-').to_string()
     } else {
         text
+    }
+}
+
+fn unit_name(units: Units) -> &'static str {
+    match units {
+        Units::Millimetre => "millimetres",
+        Units::Centimetre => "centimetres",
+        Units::Metre => "metres",
+        Units::Inch => "inches",
     }
 }
 
