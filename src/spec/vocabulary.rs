@@ -282,23 +282,25 @@ pub fn suggest<'a>(unknown: &str, known: impl IntoIterator<Item = &'a str>) -> O
         .map(|(_, name)| name)
 }
 
-/// Where a node called `name` may be written: the names of the nodes whose children block accepts
-/// it, in grammar order, with `None` for the top level of the document.
-pub fn places(name: &str) -> Vec<Option<&'static str>> {
+/// Where a node called `name` may be written: for each place, the names of the nodes from the
+/// top level down to the one whose children block accepts it (empty for the top level itself).
+pub fn places(name: &str) -> Vec<Vec<&'static str>> {
     fn visit(
         siblings: &'static [NodeSpec],
-        parent: Option<&'static str>,
+        path: &mut Vec<&'static str>,
         name: &str,
-        found: &mut Vec<Option<&'static str>>,
+        found: &mut Vec<Vec<&'static str>>,
     ) {
-        if find(siblings, name).is_some() && !found.contains(&parent) {
-            found.push(parent);
+        if find(siblings, name).is_some() {
+            found.push(path.clone());
         }
         for spec in siblings {
-            visit(spec.children, Some(spec.name), name, found);
+            path.push(spec.name);
+            visit(spec.children, path, name, found);
+            path.pop();
         }
     }
     let mut found = Vec::new();
-    visit(DOCUMENT, None, name, &mut found);
+    visit(DOCUMENT, &mut Vec::new(), name, &mut found);
     found
 }
