@@ -1,6 +1,6 @@
 //! The front end's entry point: project-file text to a [`Project`] and every problem in it.
 //!
-//! Reading goes in stages, each in its own module: [`syntax`](super::syntax) parses the KDL text
+//! Reading goes in stages, each in its own module: [`syntax`] parses the KDL text
 //! (stopping there on syntax errors), [`check`](super::check) checks every node against the
 //! vocabulary, and [`resolve`](super::resolve) builds the project and checks the rules that span
 //! several nodes. Every stage reports all it finds, so one run shows every mistake.
