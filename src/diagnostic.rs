@@ -5,7 +5,9 @@
 
 use std::fmt;
 
-use miette::{LabeledSpan, Severity, SourceSpan};
+use miette::{
+    GraphicalReportHandler, GraphicalTheme, LabeledSpan, NamedSource, Severity, SourceSpan,
+};
 
 /// A diagnostic: a stable code, a one-line message, labelled spans and an optional hint.
 #[derive(Debug, Clone, PartialEq)]
@@ -98,4 +100,33 @@ impl miette::Diagnostic for Problem {
             },
         )))
     }
+}
+
+/// Width, in columns, of the text [`render_plain`] produces.
+const PLAIN_WIDTH: usize = 100;
+
+/// Renders `problems` against `source` (named `source_name` in the output) as plain Unicode text
+/// without colours, at a fixed width: for piped output and snapshot tests.
+pub fn render_plain(problems: &[Problem], source_name: &str, source: &str) -> String {
+    let handler = GraphicalReportHandler::new_themed(GraphicalTheme::unicode_nocolor())
+        .with_width(PLAIN_WIDTH)
+        .with_links(false);
+    let mut out = String::new();
+    for (index, problem) in problems.iter().enumerate() {
+        if index > 0 {
+            out.push('\n');
+        }
+        let report = miette::Report::new(problem.clone())
+            .with_source_code(NamedSource::new(source_name, source.to_owned()));
+        let mut rendered = String::new();
+        if handler
+            .render_report(&mut rendered, report.as_ref())
+            .is_err()
+        {
+            // A span outside the source cannot be drawn; the message still can.
+            rendered = format!("{}: {}\n", problem.code, problem.message);
+        }
+        out.push_str(&rendered);
+    }
+    out
 }

@@ -3,7 +3,9 @@
 //! The crate is a compiler pipeline; each stage is a module with one job and a typed output.
 //! The stages present so far:
 //!
-//! - [`spec`]: the project-file grammar ([`spec::vocabulary`]); the parser builds on it.
+//! - [`spec`]: the front end: [`spec::parse_project`] reads a project file into a typed
+//!   [`spec::model::Project`] and reports every problem in it, driven by the grammar table
+//!   [`spec::vocabulary`].
 //! - [`geometry`]: meshes loaded, validated, their mass properties and distance queries.
 //! - [`balance`]: the physics of one pose: centre of mass, ball positions, support, goals.
 //! - [`fabrication`]: whether the capsules of a design can be printed where they are.

@@ -201,8 +201,8 @@ pub struct Infill {
     pub range: Option<(f64, f64)>,
 }
 
-/// A printed part.
-#[derive(Debug, Clone, PartialEq)]
+/// A printed part. Equality ignores the spans.
+#[derive(Debug, Clone)]
 pub struct Component {
     /// Unique among components.
     pub name: Spanned<String>,
@@ -214,8 +214,9 @@ pub struct Component {
     pub span: SourceSpan,
 }
 
-/// A named state of the model: where each component is, and what must happen.
-#[derive(Debug, Clone, PartialEq)]
+/// A named state of the model: where each component is, and what must happen. Equality ignores
+/// the spans.
+#[derive(Debug, Clone)]
 pub struct Pose {
     /// Unique among poses.
     pub name: Spanned<String>,
@@ -282,8 +283,8 @@ impl Goal {
     }
 }
 
-/// A capsule-shaped void holding one ball, placed by hand.
-#[derive(Debug, Clone, PartialEq)]
+/// A capsule-shaped void holding one ball, placed by hand. Equality ignores the spans.
+#[derive(Debug, Clone)]
 pub struct Capsule {
     /// Unique among capsules.
     pub name: Spanned<String>,
@@ -297,6 +298,59 @@ pub struct Capsule {
     pub radius: f64,
     /// The whole `capsule` node.
     pub span: SourceSpan,
+}
+
+// Exhaustive destructuring: a new field must be added to these comparisons to compile.
+impl PartialEq for Component {
+    fn eq(&self, other: &Self) -> bool {
+        let Component {
+            name,
+            mesh,
+            selector,
+            span: _,
+        } = self;
+        (name, mesh, selector) == (&other.name, &other.mesh, &other.selector)
+    }
+}
+
+impl PartialEq for Pose {
+    fn eq(&self, other: &Self) -> bool {
+        let Pose {
+            name,
+            transform,
+            component_transforms,
+            goals,
+            span: _,
+        } = self;
+        (name, transform, component_transforms, goals)
+            == (
+                &other.name,
+                &other.transform,
+                &other.component_transforms,
+                &other.goals,
+            )
+    }
+}
+
+impl PartialEq for Capsule {
+    fn eq(&self, other: &Self) -> bool {
+        let Capsule {
+            name,
+            component,
+            from,
+            to,
+            radius,
+            span: _,
+        } = self;
+        (name, component, from, to, radius)
+            == (
+                &other.name,
+                &other.component,
+                &other.from,
+                &other.to,
+                &other.radius,
+            )
+    }
 }
 
 /// Where the build writes, resolved against the project file's folder.

@@ -30,6 +30,9 @@ pub struct ArgsSpec {
     pub min: usize,
     /// The most arguments accepted (`usize::MAX` for no limit).
     pub max: usize,
+    /// Whether every argument is a length: in the project's units, or in the unit its annotation
+    /// names (`(mm)2`).
+    pub length: bool,
 }
 
 /// One property (`key=value`) of a node.
@@ -41,6 +44,9 @@ pub struct PropSpec {
     pub kind: ValueKind,
     /// Whether the node is invalid without it.
     pub required: bool,
+    /// Whether the value is a length: in the project's units, or in the unit its annotation names
+    /// (`radius=(mm)2`).
+    pub length: bool,
 }
 
 /// One node of the grammar.
@@ -56,37 +62,54 @@ pub struct NodeSpec {
     pub children: &'static [NodeSpec],
     /// Whether the node may appear more than once among its siblings.
     pub repeatable: bool,
+    /// Whether its parent (or the document) is invalid without it.
+    pub required: bool,
 }
 
-const NO_ARGS: ArgsSpec = ArgsSpec {
-    kind: ValueKind::Number,
-    min: 0,
-    max: 0,
-};
-const NAME_ARG: ArgsSpec = ArgsSpec {
-    kind: ValueKind::String,
-    min: 1,
-    max: 1,
-};
-const VEC3_ARGS: ArgsSpec = ArgsSpec {
-    kind: ValueKind::Number,
-    min: 3,
-    max: 3,
-};
+const fn args(kind: ValueKind, min: usize, max: usize) -> ArgsSpec {
+    ArgsSpec {
+        kind,
+        min,
+        max,
+        length: false,
+    }
+}
+
+const fn length_args(kind: ValueKind, min: usize, max: usize) -> ArgsSpec {
+    ArgsSpec {
+        length: true,
+        ..args(kind, min, max)
+    }
+}
+
+const NO_ARGS: ArgsSpec = args(ValueKind::Number, 0, 0);
+const NAME_ARG: ArgsSpec = args(ValueKind::String, 1, 1);
+const PATH_ARG: ArgsSpec = args(ValueKind::Path, 1, 1);
+/// Three angles in degrees.
+const ANGLES: ArgsSpec = args(ValueKind::Number, 3, 3);
+/// The three coordinates of a point or a displacement.
+const POINT: ArgsSpec = length_args(ValueKind::Number, 3, 3);
 
 const fn prop(name: &'static str, kind: ValueKind) -> PropSpec {
     PropSpec {
         name,
         kind,
         required: false,
+        length: false,
     }
 }
 
-const fn required(name: &'static str, kind: ValueKind) -> PropSpec {
+const fn length_prop(name: &'static str, kind: ValueKind) -> PropSpec {
     PropSpec {
-        name,
-        kind,
+        length: true,
+        ..prop(name, kind)
+    }
+}
+
+const fn required(prop: PropSpec) -> PropSpec {
+    PropSpec {
         required: true,
+        ..prop
     }
 }
 
@@ -97,12 +120,20 @@ const fn leaf(name: &'static str, args: ArgsSpec, props: &'static [PropSpec]) ->
         props,
         children: &[],
         repeatable: false,
+        required: false,
     }
 }
 
 const fn repeated(node: NodeSpec) -> NodeSpec {
     NodeSpec {
         repeatable: true,
+        ..node
+    }
+}
+
+const fn mandatory(node: NodeSpec) -> NodeSpec {
+    NodeSpec {
+        required: true,
         ..node
     }
 }
@@ -114,12 +145,12 @@ pub const AXES: &[&str] = &["x", "y", "z"];
 
 /// The steps of a rigid transform, in a pose or in a pose's component block.
 const TRANSFORM_STEPS: [NodeSpec; 3] = [
-    repeated(leaf("rotate", VEC3_ARGS, &[])),
-    repeated(leaf("translate", VEC3_ARGS, &[])),
-    repeated(leaf("pivot", VEC3_ARGS, &[])),
+    repeated(leaf("rotate", ANGLES, &[])),
+    repeated(leaf("translate", POINT, &[])),
+    repeated(leaf("pivot", POINT, &[])),
 ];
 
-const CONTACT: PropSpec = prop("contact-tolerance", ValueKind::Positive);
+const CONTACT: PropSpec = length_prop("contact-tolerance", ValueKind::Positive);
 const TOLERANCE: PropSpec = prop("tolerance", ValueKind::NonNegative);
 
 const POSE_CHILDREN: &[NodeSpec] = &[
@@ -132,6 +163,7 @@ const POSE_CHILDREN: &[NodeSpec] = &[
         props: &[],
         children: &TRANSFORM_STEPS,
         repeatable: true,
+        required: false,
     },
     repeated(leaf(
         "stand",
@@ -145,15 +177,15 @@ const POSE_CHILDREN: &[NodeSpec] = &[
     )),
     repeated(leaf(
         "suspend",
-        VEC3_ARGS,
+        POINT,
         &[prop("component", ValueKind::String), TOLERANCE],
     )),
     repeated(leaf(
         "immerse",
         NO_ARGS,
         &[
-            required("fluid-density", ValueKind::Positive),
-            prop("min-distance", ValueKind::NonNegative),
+            required(prop("fluid-density", ValueKind::Positive)),
+            length_prop("min-distance", ValueKind::NonNegative),
             TOLERANCE,
             prop("mass-tolerance", ValueKind::NonNegative),
         ],
@@ -162,124 +194,76 @@ const POSE_CHILDREN: &[NodeSpec] = &[
 
 /// The top-level nodes of a project file.
 pub const DOCUMENT: &[NodeSpec] = &[
-    leaf(
-        "units",
-        ArgsSpec {
-            kind: ValueKind::Enum(UNITS),
-            min: 1,
-            max: 1,
-        },
-        &[],
-    ),
-    leaf(
-        "up",
-        ArgsSpec {
-            kind: ValueKind::Enum(AXES),
-            min: 1,
-            max: 1,
-        },
-        &[],
-    ),
+    leaf("units", args(ValueKind::Enum(UNITS), 1, 1), &[]),
+    leaf("up", args(ValueKind::Enum(AXES), 1, 1), &[]),
     leaf(
         "material",
-        ArgsSpec {
-            kind: ValueKind::String,
-            min: 0,
-            max: 1,
-        },
-        &[required("density", ValueKind::Positive)],
+        args(ValueKind::String, 0, 1),
+        &[required(prop("density", ValueKind::Positive))],
     ),
     NodeSpec {
         name: "ball",
         args: NO_ARGS,
         props: &[
             prop("density", ValueKind::Positive),
-            prop("clearance", ValueKind::NonNegative),
+            length_prop("clearance", ValueKind::NonNegative),
             prop("min-angle", ValueKind::NonNegative),
         ],
         children: &[leaf(
             "diameters",
-            ArgsSpec {
-                kind: ValueKind::Positive,
-                min: 1,
-                max: usize::MAX,
-            },
+            length_args(ValueKind::Positive, 1, usize::MAX),
             &[],
         )],
         repeatable: false,
+        required: false,
     },
     leaf(
         "infill",
-        ArgsSpec {
-            kind: ValueKind::Positive,
-            min: 0,
-            max: 1,
-        },
+        args(ValueKind::Positive, 0, 1),
         &[
             prop("min", ValueKind::Positive),
             prop("max", ValueKind::Positive),
         ],
     ),
-    leaf(
-        "wall",
-        ArgsSpec {
-            kind: ValueKind::NonNegative,
-            min: 1,
-            max: 1,
-        },
-        &[],
-    ),
-    repeated(leaf(
+    leaf("wall", length_args(ValueKind::NonNegative, 1, 1), &[]),
+    mandatory(repeated(leaf(
         "component",
         NAME_ARG,
         &[
-            required("mesh", ValueKind::Path),
+            required(prop("mesh", ValueKind::Path)),
             prop("object", ValueKind::String),
             prop("node", ValueKind::String),
         ],
-    )),
+    ))),
     NodeSpec {
         name: "pose",
         args: NAME_ARG,
         props: &[],
         children: POSE_CHILDREN,
         repeatable: true,
+        required: true,
     },
     NodeSpec {
         name: "capsule",
         args: NAME_ARG,
         props: &[
-            required("component", ValueKind::String),
-            required("radius", ValueKind::Positive),
+            required(prop("component", ValueKind::String)),
+            required(length_prop("radius", ValueKind::Positive)),
         ],
-        children: &[leaf("from", VEC3_ARGS, &[]), leaf("to", VEC3_ARGS, &[])],
+        children: &[
+            mandatory(leaf("from", POINT, &[])),
+            mandatory(leaf("to", POINT, &[])),
+        ],
         repeatable: true,
+        required: false,
     },
     NodeSpec {
         name: "output",
         args: NO_ARGS,
         props: &[],
-        children: &[
-            leaf(
-                "gltf",
-                ArgsSpec {
-                    kind: ValueKind::Path,
-                    min: 1,
-                    max: 1,
-                },
-                &[],
-            ),
-            leaf(
-                "report",
-                ArgsSpec {
-                    kind: ValueKind::Path,
-                    min: 1,
-                    max: 1,
-                },
-                &[],
-            ),
-        ],
+        children: &[leaf("gltf", PATH_ARG, &[]), leaf("report", PATH_ARG, &[])],
         repeatable: false,
+        required: false,
     },
 ];
 
@@ -296,4 +280,27 @@ pub fn suggest<'a>(unknown: &str, known: impl IntoIterator<Item = &'a str>) -> O
         .filter(|(score, _)| *score > 0.8)
         .max_by(|a, b| a.0.total_cmp(&b.0))
         .map(|(_, name)| name)
+}
+
+/// Where a node called `name` may be written: for each place, the names of the nodes from the
+/// top level down to the one whose children block accepts it (empty for the top level itself).
+pub fn places(name: &str) -> Vec<Vec<&'static str>> {
+    fn visit(
+        siblings: &'static [NodeSpec],
+        path: &mut Vec<&'static str>,
+        name: &str,
+        found: &mut Vec<Vec<&'static str>>,
+    ) {
+        if find(siblings, name).is_some() {
+            found.push(path.clone());
+        }
+        for spec in siblings {
+            path.push(spec.name);
+            visit(spec.children, path, name, found);
+            path.pop();
+        }
+    }
+    let mut found = Vec::new();
+    visit(DOCUMENT, &mut Vec::new(), name, &mut found);
+    found
 }

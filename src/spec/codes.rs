@@ -1,0 +1,39 @@
+//! The code of every problem the front end reports. Codes are stable: tools and tests match on
+//! them, so a code is never reused for a different mistake.
+
+/// The text is not valid KDL v2 (or is too large or too deeply nested to read).
+pub const SYNTAX: &str = "ballast::syntax";
+/// A node the grammar does not have, or has only elsewhere.
+pub const UNKNOWN_NODE: &str = "ballast::unknown_node";
+/// A property the node does not take.
+pub const UNKNOWN_PROPERTY: &str = "ballast::unknown_property";
+/// Too few or too many arguments.
+pub const ARGUMENT_COUNT: &str = "ballast::argument_count";
+/// A value of the wrong type: a string where a number belongs, and so on.
+pub const WRONG_TYPE: &str = "ballast::wrong_type";
+/// A number that is not finite (`#inf`, `#nan`, or too large).
+pub const NOT_FINITE: &str = "ballast::not_finite";
+/// A number outside its allowed range.
+pub const OUT_OF_RANGE: &str = "ballast::out_of_range";
+/// A keyword the value does not accept (`units "feet"`).
+pub const UNKNOWN_KEYWORD: &str = "ballast::unknown_keyword";
+/// A required property is missing (or only one bound of a range is given).
+pub const MISSING_PROPERTY: &str = "ballast::missing_property";
+/// A required node is missing.
+pub const MISSING_NODE: &str = "ballast::missing_node";
+/// A node that may appear once appears again.
+pub const DUPLICATE_NODE: &str = "ballast::duplicate_node";
+/// A property written twice on one node.
+pub const DUPLICATE_PROPERTY: &str = "ballast::duplicate_property";
+/// A children block on a node that takes none.
+pub const UNEXPECTED_CHILDREN: &str = "ballast::unexpected_children";
+/// A type annotation on a node, which means nothing in a project file.
+pub const ANNOTATION: &str = "ballast::annotation";
+/// A unit annotation that is unknown or on a value that is not a length.
+pub const UNIT: &str = "ballast::unit";
+/// Two components, poses or capsules with one name, or one component moved twice in a pose.
+pub const DUPLICATE_NAME: &str = "ballast::duplicate_name";
+/// A reference to a component that does not exist.
+pub const UNKNOWN_COMPONENT: &str = "ballast::unknown_component";
+/// Two properties that exclude each other (`object=` and `node=`).
+pub const CONFLICTING_PROPERTIES: &str = "ballast::conflicting_properties";

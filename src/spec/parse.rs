@@ -1,0 +1,67 @@
+//! The front end's entry point: project-file text to a [`Project`] and every problem in it.
+//!
+//! Reading goes in stages, each in its own module: [`syntax`] parses the KDL text
+//! (stopping there on syntax errors), [`check`](super::check) checks every node against the
+//! vocabulary, and [`resolve`](super::resolve) builds the project and checks the rules that span
+//! several nodes. Every stage reports all it finds, so one run shows every mistake.
+
+use std::path::Path;
+
+use kdl::KdlDocument;
+
+use super::check::check_document;
+use super::model::{Project, Units};
+use super::resolve::resolve;
+use super::syntax;
+use crate::diagnostic::Problem;
+
+/// The outcome of reading a project file: the project when there were no errors, and every
+/// problem found.
+#[derive(Debug, Clone)]
+pub struct Parsed {
+    /// The project; `Some` exactly when `problems` holds no error (warnings may accompany it).
+    pub project: Option<Project>,
+    /// Every problem found, in source order (problems without a location last).
+    pub problems: Vec<Problem>,
+}
+
+/// Reads the project file `source`, found at `project_path` (against whose folder its relative
+/// paths are resolved). Mesh files are not opened. Never panics, whatever the text.
+pub fn parse_project(source: &str, project_path: &Path) -> Parsed {
+    let document = match syntax::read(source) {
+        Ok(document) => document,
+        Err(problems) => {
+            return Parsed {
+                project: None,
+                problems,
+            }
+        }
+    };
+    let units = declared_units(&document);
+    let mut problems = Vec::new();
+    let nodes = check_document(&document, source, units, &mut problems);
+    let project = resolve(&nodes, units, project_path, &mut problems);
+    problems.sort_by_key(|problem| {
+        problem
+            .labels
+            .first()
+            .map_or(usize::MAX, |(span, _)| span.offset())
+    });
+    let project = (!problems.iter().any(Problem::is_error)).then_some(project);
+    Parsed { project, problems }
+}
+
+/// The units the file declares (its first `units` node), which every length is converted to,
+/// wherever in the file that node is written. Millimetres when there is none or it is bad (the
+/// checker reports a bad one).
+fn declared_units(document: &KdlDocument) -> Units {
+    document
+        .nodes()
+        .iter()
+        .find(|node| node.name().value() == "units")
+        .and_then(|node| node.entries().first())
+        .filter(|entry| entry.name().is_none())
+        .and_then(|entry| entry.value().as_string())
+        .and_then(Units::from_keyword)
+        .unwrap_or(Units::Millimetre)
+}

@@ -1,0 +1,421 @@
+//! The checked tree to the typed [`Project`]: defaults filled in, names resolved to indices, paths
+//! resolved against the project file's folder, transforms composed, and the rules that span
+//! several nodes checked (unique names, known components, infill bounds, exclusive properties).
+//!
+//! The resolver always builds a project, using a placeholder wherever a value was missing or bad;
+//! such a value has already been reported, so the caller discards the project.
+
+use std::path::{Path, PathBuf};
+
+use miette::SourceSpan;
+use nalgebra::{Isometry3, Point3};
+
+use super::codes;
+use super::model::{
+    Axis, Ball, Capsule, Component, Goal, Infill, Material, Output, Pose, Project, Spanned, Units,
+};
+use super::transform::{compose, Step};
+use super::tree::Node;
+use super::value::listing;
+use super::vocabulary;
+use crate::diagnostic::Problem;
+use crate::geometry::MeshSelector;
+
+/// Builds the project from the checked top-level `nodes`, reporting cross-node problems.
+pub fn resolve(
+    nodes: &[Node],
+    units: Units,
+    project_path: &Path,
+    problems: &mut Vec<Problem>,
+) -> Project {
+    let folder = project_path.parent().unwrap_or(Path::new(""));
+    let mut resolver = Resolver {
+        nodes,
+        units,
+        folder,
+        components: Vec::new(),
+        problems,
+    };
+    resolver.components();
+    let poses = resolver.poses();
+    let capsules = resolver.capsules();
+    let wall = resolver.top("wall").and_then(Node::number_arg);
+    Project {
+        units,
+        up: resolver.up(),
+        material: resolver.material(),
+        ball: resolver.ball(),
+        infill: resolver.infill(),
+        wall: wall.unwrap_or(units.from_millimetres(1.0)),
+        output: output(resolver.top("output"), folder, project_path),
+        components: resolver.components,
+        poses,
+        capsules,
+    }
+}
+
+struct Resolver<'a> {
+    nodes: &'a [Node],
+    units: Units,
+    folder: &'a Path,
+    components: Vec<Component>,
+    problems: &'a mut Vec<Problem>,
+}
+
+impl<'a> Resolver<'a> {
+    /// The first top-level node called `name`.
+    fn top(&self, name: &str) -> Option<&'a Node> {
+        self.nodes.iter().find(|node| node.name == name)
+    }
+
+    /// The top-level nodes called `name`.
+    fn all(&self, name: &'static str) -> impl Iterator<Item = &'a Node> + 'a {
+        self.nodes.iter().filter(move |node| node.name == name)
+    }
+
+    fn up(&self) -> Axis {
+        self.top("up")
+            .and_then(Node::text_arg)
+            .and_then(|axis| Axis::from_keyword(&axis.value))
+            .unwrap_or(Axis::Z)
+    }
+
+    fn material(&self) -> Material {
+        let Some(node) = self.top("material") else {
+            return Material {
+                name: "PLA".to_owned(),
+                density: 1.24,
+            };
+        };
+        Material {
+            name: node
+                .text_arg()
+                .map_or_else(|| "material".to_owned(), |name| name.value),
+            density: node.number("density").unwrap_or(1.24),
+        }
+    }
+
+    fn ball(&self) -> Ball {
+        let node = self.top("ball");
+        let number = |name| node.and_then(|node| node.number(name));
+        Ball {
+            density: number("density").unwrap_or(7.85),
+            clearance: number("clearance").unwrap_or(self.units.from_millimetres(0.2)),
+            min_angle: number("min-angle").unwrap_or(3.0),
+            diameters: node
+                .and_then(|node| node.child("diameters"))
+                .and_then(Node::numbers)
+                .unwrap_or_default(),
+        }
+    }
+
+    /// The infill: a fixed fraction, or a range with the value at its top unless given.
+    fn infill(&mut self) -> Infill {
+        let Some(node) = self.top("infill") else {
+            return Infill {
+                value: 1.0,
+                range: None,
+            };
+        };
+        let (has_min, has_max) = (node.has("min"), node.has("max"));
+        if has_min != has_max {
+            let (given, absent) = if has_min {
+                ("min", "max")
+            } else {
+                ("max", "min")
+            };
+            self.problems.push(
+                Problem::error(
+                    codes::MISSING_PROPERTY,
+                    format!("`infill` gives `{given}=` without `{absent}=`"),
+                )
+                .with_label(node.name_span, format!("no `{absent}=` here"))
+                .with_help("a range needs both bounds, e.g. `infill min=0.2 max=1`"),
+            );
+        }
+        let min = node.prop("min").zip(node.number("min"));
+        let max = node.prop("max").zip(node.number("max"));
+        let written = node
+            .args
+            .first()
+            .and_then(Option::as_ref)
+            .zip(node.number_arg());
+        let mut out_of_range = |span: SourceSpan, message: String, label: &str| {
+            self.problems.push(
+                Problem::error(codes::OUT_OF_RANGE, message).with_label(span, label.to_owned()),
+            );
+        };
+        if let Some((value, fraction)) = written {
+            if fraction > 1.0 {
+                out_of_range(
+                    value.span,
+                    format!("infill must be at most 1 (solid), found {fraction}"),
+                    "more than solid",
+                );
+            }
+        }
+        let range = match (min, max) {
+            (Some((min_value, min)), Some((max_value, max))) => {
+                if max > 1.0 {
+                    out_of_range(
+                        max_value.span,
+                        format!("the infill range must end at 1 (solid) or below, found {max}"),
+                        "more than solid",
+                    );
+                }
+                if min > max {
+                    out_of_range(
+                        min_value.span,
+                        format!("the infill range starts at {min}, above its end {max}"),
+                        "above `max`",
+                    );
+                }
+                if let Some((value, fraction)) = written.filter(|_| min <= max) {
+                    if fraction < min || fraction > max {
+                        out_of_range(
+                            value.span,
+                            format!("infill {fraction} is outside its range {min}..{max}"),
+                            "outside `min`..`max`",
+                        );
+                    }
+                }
+                Some((min, max))
+            }
+            _ => None,
+        };
+        let value = written
+            .map(|(_, fraction)| fraction)
+            .or(range.map(|(_, max)| max))
+            .unwrap_or(1.0);
+        Infill { value, range }
+    }
+
+    /// The components, in file order; one per `component` node, so indices match the file.
+    fn components(&mut self) {
+        for node in self.all("component") {
+            let name = name_among(&self.components, "component", node, self.problems, |c| {
+                &c.name
+            });
+            let mesh = node.text("mesh").map_or_else(
+                || Spanned::new(PathBuf::new(), node.name_span),
+                |mesh| Spanned::new(self.folder.join(&mesh.value), mesh.span),
+            );
+            let selector = match (node.text("object"), node.text("node")) {
+                (Some(object), Some(gltf_node)) => {
+                    self.problems.push(
+                        Problem::error(
+                            codes::CONFLICTING_PROPERTIES,
+                            "a component takes `object=` or `node=`, not both",
+                        )
+                        .with_label(gltf_node.span, "`node=` names a glTF node")
+                        .with_label(object.span, "`object=` names an OBJ object")
+                        .with_help("keep the one that matches the mesh file's format"),
+                    );
+                    MeshSelector::Whole
+                }
+                (Some(object), None) => MeshSelector::ObjObject(object.value),
+                (None, Some(gltf_node)) => MeshSelector::GltfNode(gltf_node.value),
+                (None, None) => MeshSelector::Whole,
+            };
+            self.components.push(Component {
+                name,
+                mesh,
+                selector,
+                span: node.span,
+            });
+        }
+    }
+
+    fn poses(&mut self) -> Vec<Pose> {
+        let mut poses: Vec<Pose> = Vec::new();
+        for node in self.all("pose") {
+            let name = name_among(&poses, "pose", node, self.problems, |pose| &pose.name);
+            let mut component_transforms = vec![Isometry3::identity(); self.components.len()];
+            let mut moved: Vec<(usize, SourceSpan)> = Vec::new();
+            for block in node.children_named("component") {
+                let Some(component) = block.text_arg() else {
+                    continue;
+                };
+                let Some(index) = self.component_index(&component) else {
+                    continue;
+                };
+                if let Some((_, first)) = moved.iter().find(|(moved, _)| *moved == index) {
+                    self.problems.push(
+                        Problem::error(
+                            codes::DUPLICATE_NAME,
+                            format!(
+                                "pose `{}` moves component `{}` twice",
+                                name.value, component.value
+                            ),
+                        )
+                        .with_label(component.span, "moved again here")
+                        .with_label(*first, "first moved here")
+                        .with_help("put all of its steps in one `component` block"),
+                    );
+                    continue;
+                }
+                moved.push((index, component.span));
+                component_transforms[index] = compose(steps(block));
+            }
+            let goals = node
+                .children
+                .iter()
+                .filter_map(|child| self.goal(child))
+                .collect();
+            poses.push(Pose {
+                name,
+                transform: compose(steps(node)),
+                component_transforms,
+                goals,
+                span: node.span,
+            });
+        }
+        poses
+    }
+
+    /// The goal a child of a pose states, if it is a goal node.
+    fn goal(&mut self, node: &Node) -> Option<Spanned<Goal>> {
+        let number = |name, default: f64| node.number(name).unwrap_or(default);
+        let contact = self.units.from_millimetres(0.05);
+        let goal = match node.name {
+            "stand" => Goal::Stand {
+                margin: number("margin", 0.0),
+                contact_tolerance: number("contact-tolerance", contact),
+            },
+            "imbalance" => Goal::Imbalance {
+                margin: number("margin", 0.0),
+                contact_tolerance: number("contact-tolerance", contact),
+            },
+            "suspend" => Goal::Suspend {
+                point: node.point().unwrap_or(Point3::origin()),
+                component: node
+                    .text("component")
+                    .and_then(|name| self.component_index(&name))
+                    .unwrap_or(0),
+                tolerance: number("tolerance", 2.0),
+            },
+            "immerse" => Goal::Immerse {
+                fluid_density: number("fluid-density", 1.0),
+                min_distance: number("min-distance", 0.0),
+                tolerance: number("tolerance", 2.0),
+                mass_tolerance: node.number("mass-tolerance"),
+            },
+            _ => return None,
+        };
+        Some(Spanned::new(goal, node.span))
+    }
+
+    fn capsules(&mut self) -> Vec<Capsule> {
+        let mut capsules: Vec<Capsule> = Vec::new();
+        for node in self.all("capsule") {
+            let name = name_among(&capsules, "capsule", node, self.problems, |c| &c.name);
+            let component = node.text("component").map_or_else(
+                || Spanned::new(0, node.name_span),
+                |name| Spanned::new(self.component_index(&name).unwrap_or(0), name.span),
+            );
+            let end = |name| {
+                node.child(name)
+                    .and_then(Node::point)
+                    .unwrap_or(Point3::origin())
+            };
+            capsules.push(Capsule {
+                name,
+                component,
+                from: end("from"),
+                to: end("to"),
+                radius: node.number("radius").unwrap_or(1.0),
+                span: node.span,
+            });
+        }
+        capsules
+    }
+
+    /// The index of the component called `name`, or `None` after reporting that there is none.
+    fn component_index(&mut self, name: &Spanned<String>) -> Option<usize> {
+        if let Some(index) = self
+            .components
+            .iter()
+            .position(|component| component.name.value == name.value)
+        {
+            return Some(index);
+        }
+        let mut known: Vec<&str> = Vec::new();
+        for component in &self.components {
+            if !known.contains(&component.name.value.as_str()) {
+                known.push(&component.name.value);
+            }
+        }
+        let help = match vocabulary::suggest(&name.value, known.iter().copied()) {
+            Some(close) => format!("did you mean `{close}`?"),
+            None if known.is_empty() => "no component is defined yet".to_owned(),
+            None => format!(
+                "the components are {}",
+                listing(&known, |name| format!("`{name}`"), "and")
+            ),
+        };
+        self.problems.push(
+            Problem::error(
+                codes::UNKNOWN_COMPONENT,
+                format!("no component is called `{}`", name.value),
+            )
+            .with_label(name.span, "not a component")
+            .with_help(help),
+        );
+        None
+    }
+}
+
+/// The name argument of `node`, reporting a name already used by one of `earlier`.
+fn name_among<T>(
+    earlier: &[T],
+    kind: &str,
+    node: &Node,
+    problems: &mut Vec<Problem>,
+    name_of: impl Fn(&T) -> &Spanned<String>,
+) -> Spanned<String> {
+    let Some(name) = node.text_arg() else {
+        return Spanned::new(String::new(), node.name_span);
+    };
+    if let Some(first) = earlier.iter().map(name_of).find(|other| **other == name) {
+        problems.push(
+            Problem::error(
+                codes::DUPLICATE_NAME,
+                format!("two {kind}s are called `{}`", name.value),
+            )
+            .with_label(name.span, "named again here")
+            .with_label(first.span, "first named here")
+            .with_help(format!("give each {kind} its own name")),
+        );
+    }
+    name
+}
+
+/// The transform steps among `node`'s children, in file order.
+fn steps(node: &Node) -> impl Iterator<Item = Step> + '_ {
+    node.children.iter().filter_map(|child| match child.name {
+        "pivot" => child.point().map(Step::Pivot),
+        "rotate" => child.vector().map(Step::Rotate),
+        "translate" => child.vector().map(Step::Translate),
+        _ => None,
+    })
+}
+
+/// Where the build writes: the `output` block's paths, else `build/<stem>.glb` and
+/// `build/<stem>.report.json` next to the project file.
+fn output(node: Option<&Node>, folder: &Path, project_path: &Path) -> Output {
+    let stem = project_path
+        .file_stem()
+        .map_or_else(|| "project".into(), |stem| stem.to_string_lossy());
+    let path = |name: &str, default: String| {
+        node.and_then(|node| node.child(name))
+            .and_then(Node::text_arg)
+            .map_or_else(
+                || folder.join("build").join(default),
+                |path| folder.join(path.value),
+            )
+    };
+    Output {
+        gltf: path("gltf", format!("{stem}.glb")),
+        report: path("report", format!("{stem}.report.json")),
+    }
+}

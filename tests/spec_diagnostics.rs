@@ -1,0 +1,344 @@
+//! The front end on broken project files: every mistake reported at once, with the right code, at
+//! the right span. Each `tests/data/spec/err/<case>.kdl` has its rendering in `<case>.txt`; run
+//! with `BALLAST_BLESS=1` to rewrite those files after a deliberate change.
+
+use std::path::{Path, PathBuf};
+
+use ballast::diagnostic::render_plain;
+use ballast::spec::parse_project;
+
+const ERR: &str = "tests/data/spec/err";
+
+/// Every case and the codes of its problems, in the order they are reported.
+const CASES: &[(&str, &[&str])] = &[
+    (
+        "annotation",
+        &["ballast::annotation", "ballast::annotation"],
+    ),
+    (
+        "argument_count",
+        &[
+            "ballast::argument_count",
+            "ballast::argument_count",
+            "ballast::argument_count",
+            "ballast::argument_count",
+            "ballast::argument_count",
+            "ballast::argument_count",
+            "ballast::argument_count",
+        ],
+    ),
+    (
+        "conflicting_properties",
+        &["ballast::conflicting_properties"],
+    ),
+    (
+        "duplicate_name",
+        &[
+            "ballast::duplicate_name",
+            "ballast::duplicate_name",
+            "ballast::duplicate_name",
+            "ballast::duplicate_name",
+        ],
+    ),
+    (
+        "duplicate_node",
+        &[
+            "ballast::duplicate_node",
+            "ballast::duplicate_node",
+            "ballast::duplicate_node",
+            "ballast::duplicate_node",
+        ],
+    ),
+    (
+        "duplicate_property",
+        &["ballast::duplicate_property", "ballast::duplicate_property"],
+    ),
+    ("empty", &["ballast::missing_node", "ballast::missing_node"]),
+    ("infill", &["ballast::out_of_range"]),
+    ("infill_half_range", &["ballast::missing_property"]),
+    ("infill_inverted", &["ballast::out_of_range"]),
+    ("infill_range", &["ballast::out_of_range"]),
+    (
+        "many_mistakes",
+        &[
+            "ballast::unknown_keyword",
+            "ballast::unknown_node",
+            "ballast::wrong_type",
+            "ballast::out_of_range",
+            "ballast::missing_property",
+            "ballast::unit",
+            "ballast::conflicting_properties",
+            "ballast::duplicate_name",
+            "ballast::unknown_property",
+            "ballast::argument_count",
+            "ballast::unknown_component",
+            "ballast::unit",
+            "ballast::wrong_type",
+            "ballast::duplicate_name",
+            "ballast::missing_property",
+            "ballast::missing_node",
+            "ballast::unknown_component",
+            "ballast::out_of_range",
+        ],
+    ),
+    (
+        "missing_node",
+        &[
+            "ballast::missing_node",
+            "ballast::missing_node",
+            "ballast::missing_node",
+        ],
+    ),
+    (
+        "missing_property",
+        &[
+            "ballast::missing_property",
+            "ballast::missing_property",
+            "ballast::missing_property",
+            "ballast::missing_property",
+            "ballast::missing_property",
+        ],
+    ),
+    (
+        "no_component_no_pose",
+        &["ballast::missing_node", "ballast::missing_node"],
+    ),
+    (
+        "not_finite",
+        &[
+            "ballast::not_finite",
+            "ballast::not_finite",
+            "ballast::not_finite",
+            "ballast::not_finite",
+            "ballast::not_finite",
+        ],
+    ),
+    (
+        "out_of_range",
+        &[
+            "ballast::out_of_range",
+            "ballast::out_of_range",
+            "ballast::out_of_range",
+            "ballast::out_of_range",
+            "ballast::out_of_range",
+            "ballast::out_of_range",
+            "ballast::out_of_range",
+            "ballast::out_of_range",
+            "ballast::out_of_range",
+            "ballast::out_of_range",
+            "ballast::out_of_range",
+        ],
+    ),
+    ("syntax_binary", &["ballast::syntax"; 3]),
+    ("syntax_too_deep", &["ballast::syntax"]),
+    ("syntax_unclosed", &["ballast::syntax"; 4]),
+    ("syntax_unmatched_close", &["ballast::syntax"]),
+    ("syntax_big_integer", &["ballast::syntax"]),
+    ("syntax_float", &["ballast::syntax"]),
+    ("syntax_unterminated_string", &["ballast::syntax"]),
+    (
+        "unexpected_children",
+        &[
+            "ballast::unexpected_children",
+            "ballast::unexpected_children",
+            "ballast::unexpected_children",
+        ],
+    ),
+    (
+        "unit",
+        &[
+            "ballast::unit",
+            "ballast::unit",
+            "ballast::unit",
+            "ballast::unit",
+            "ballast::unit",
+            "ballast::unit",
+        ],
+    ),
+    (
+        "unknown_component",
+        &[
+            "ballast::unknown_component",
+            "ballast::unknown_component",
+            "ballast::unknown_component",
+        ],
+    ),
+    (
+        "unknown_keyword",
+        &["ballast::unknown_keyword", "ballast::unknown_keyword"],
+    ),
+    (
+        "unknown_keyword_far",
+        &["ballast::unknown_keyword", "ballast::unknown_keyword"],
+    ),
+    (
+        "unknown_node",
+        &[
+            "ballast::unknown_node",
+            "ballast::unknown_node",
+            "ballast::unknown_node",
+            "ballast::unknown_node",
+            "ballast::unknown_node",
+        ],
+    ),
+    (
+        "unknown_property",
+        &[
+            "ballast::unknown_property",
+            "ballast::unknown_property",
+            "ballast::unknown_property",
+            "ballast::unknown_property",
+            "ballast::unknown_property",
+        ],
+    ),
+    (
+        "wrong_type",
+        &[
+            "ballast::wrong_type",
+            "ballast::wrong_type",
+            "ballast::wrong_type",
+            "ballast::wrong_type",
+            "ballast::wrong_type",
+            "ballast::wrong_type",
+            "ballast::wrong_type",
+            "ballast::wrong_type",
+        ],
+    ),
+];
+
+/// The text of a case: files are read as bytes so that binary garbage reaches the parser too.
+fn source(case: &str) -> String {
+    let bytes = std::fs::read(Path::new(ERR).join(format!("{case}.kdl"))).unwrap();
+    String::from_utf8_lossy(&bytes).into_owned()
+}
+
+/// Parses one case, checks its codes and returns a description of any mismatch.
+fn check(case: &str, expected_codes: &[&str]) -> Option<String> {
+    let source = source(case);
+    let parsed = parse_project(&source, Path::new("project.kdl"));
+    let mut failures = Vec::new();
+    if parsed.project.is_some() {
+        failures.push("a project was returned despite errors".to_owned());
+    }
+    let codes: Vec<&str> = parsed.problems.iter().map(|problem| problem.code).collect();
+    if codes != expected_codes {
+        failures.push(format!("codes {codes:?}, expected {expected_codes:?}"));
+    }
+    let rendered = render_plain(&parsed.problems, &format!("{case}.kdl"), &source);
+    let snapshot = PathBuf::from(ERR).join(format!("{case}.txt"));
+    if std::env::var_os("BALLAST_BLESS").is_some() {
+        std::fs::write(&snapshot, &rendered).unwrap();
+    } else {
+        match std::fs::read_to_string(&snapshot) {
+            Ok(expected) if expected == rendered => {}
+            Ok(_) => failures.push(format!(
+                "rendering differs from {}:\n{rendered}",
+                snapshot.display()
+            )),
+            Err(_) => failures.push(format!("{} is missing", snapshot.display())),
+        }
+    }
+    (!failures.is_empty()).then(|| format!("{case}: {}", failures.join("\n")))
+}
+
+#[test]
+fn every_case_matches_its_codes_and_snapshot() {
+    let failures: Vec<String> = CASES
+        .iter()
+        .filter_map(|(case, codes)| check(case, codes))
+        .collect();
+    assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+}
+
+#[test]
+fn every_file_is_a_case() {
+    for entry in std::fs::read_dir(ERR).unwrap() {
+        let path = entry.unwrap().path();
+        let stem = path.file_stem().unwrap().to_string_lossy().into_owned();
+        assert!(
+            CASES.iter().any(|(case, _)| *case == stem),
+            "{} has no entry in CASES",
+            path.display()
+        );
+    }
+}
+
+#[test]
+fn every_code_is_exercised() {
+    use ballast::spec::codes::*;
+    for code in [
+        SYNTAX,
+        UNKNOWN_NODE,
+        UNKNOWN_PROPERTY,
+        ARGUMENT_COUNT,
+        WRONG_TYPE,
+        NOT_FINITE,
+        OUT_OF_RANGE,
+        UNKNOWN_KEYWORD,
+        MISSING_PROPERTY,
+        MISSING_NODE,
+        DUPLICATE_NODE,
+        DUPLICATE_PROPERTY,
+        UNEXPECTED_CHILDREN,
+        ANNOTATION,
+        UNIT,
+        DUPLICATE_NAME,
+        UNKNOWN_COMPONENT,
+        CONFLICTING_PROPERTIES,
+    ] {
+        assert!(
+            CASES.iter().any(|(_, codes)| codes.contains(&code)),
+            "no case reports {code}"
+        );
+    }
+}
+
+/// Every prefix of a valid file, and the file with each byte replaced, reads without a panic, and
+/// a project comes back exactly when there is no error.
+#[test]
+fn truncated_and_mangled_files_never_panic() {
+    let source = std::fs::read_to_string("tests/data/spec/ok/full.kdl").unwrap();
+    let project_path = Path::new("project.kdl");
+    let mut texts: Vec<String> = (0..=source.len())
+        .filter(|&end| source.is_char_boundary(end))
+        .map(|end| source[..end].to_owned())
+        .collect();
+    for (at, _) in source.char_indices().step_by(3) {
+        for replacement in ["{", "}", "\"", "=", "#", "/-", "(mm)", "\u{0}", "é"] {
+            let mut text = source.clone();
+            let end = at + text[at..].chars().next().map_or(0, char::len_utf8);
+            text.replace_range(at..end, replacement);
+            texts.push(text);
+        }
+    }
+    for text in &texts {
+        let parsed = parse_project(text, project_path);
+        let has_error = parsed.problems.iter().any(|problem| problem.is_error());
+        assert_eq!(parsed.project.is_some(), !has_error, "{text}");
+        let _ = render_plain(&parsed.problems, "project.kdl", text);
+    }
+}
+
+#[test]
+fn hostile_inputs_are_refused_without_crashing() {
+    let deep = "a {".repeat(10_000);
+    let closers = "}".repeat(10_000);
+    let chain = "/- ".repeat(10_000) + "a";
+    let comment = format!("/*{}*/", "* /* ".repeat(10_000));
+    let garbage = "= ) ( ".repeat(10_000);
+    let huge_number = format!("wall {}", "9".repeat(400));
+    let too_long = " ".repeat(1 << 20);
+    for text in [
+        &deep,
+        &closers,
+        &chain,
+        &comment,
+        &garbage,
+        &huge_number,
+        &too_long,
+    ] {
+        let parsed = parse_project(text, Path::new("project.kdl"));
+        assert!(parsed.project.is_none());
+        assert!(!parsed.problems.is_empty());
+    }
+}

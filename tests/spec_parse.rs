@@ -1,0 +1,438 @@
+//! The front end on valid project files: the typed project, defaults, units, transforms, paths.
+
+use std::path::{Path, PathBuf};
+
+use ballast::geometry::MeshSelector;
+use ballast::spec::model::{
+    Axis, Ball, Capsule, Component, Goal, Infill, Material, Output, Pose, Project, Spanned, Units,
+};
+use ballast::spec::parse_project;
+use ballast::spec::transform::{compose, Step};
+use nalgebra::{Isometry3, Point3, Vector3};
+
+/// Parses `source` as the project file `/projects/teddy.kdl` and expects no problem at all.
+fn parse(source: &str) -> Project {
+    let parsed = parse_project(source, Path::new("/projects/teddy.kdl"));
+    assert!(parsed.problems.is_empty(), "{:#?}", parsed.problems);
+    parsed.project.expect("a project when there is no problem")
+}
+
+fn read(name: &str) -> String {
+    std::fs::read_to_string(format!("tests/data/spec/ok/{name}")).unwrap()
+}
+
+/// A span for expected values; spans take no part in equality.
+fn any_span() -> miette::SourceSpan {
+    (0, 0).into()
+}
+
+fn name(text: &str) -> Spanned<String> {
+    Spanned::new(text.to_owned(), any_span())
+}
+
+fn goal(goal: Goal) -> Spanned<Goal> {
+    Spanned::new(goal, any_span())
+}
+
+fn point(x: f64, y: f64, z: f64) -> Point3<f64> {
+    Point3::new(x, y, z)
+}
+
+fn vector(x: f64, y: f64, z: f64) -> Vector3<f64> {
+    Vector3::new(x, y, z)
+}
+
+fn component(called: &str, mesh: &str, selector: MeshSelector) -> Component {
+    Component {
+        name: name(called),
+        mesh: Spanned::new(PathBuf::from(mesh), any_span()),
+        selector,
+        span: any_span(),
+    }
+}
+
+fn pose(called: &str, transform: Isometry3<f64>, components: usize, goals: Vec<Goal>) -> Pose {
+    Pose {
+        name: name(called),
+        transform,
+        component_transforms: vec![Isometry3::identity(); components],
+        goals: goals.into_iter().map(goal).collect(),
+        span: any_span(),
+    }
+}
+
+#[test]
+fn full_project() {
+    let mm = Units::Millimetre;
+    let contact = mm.from_millimetres(0.05);
+    let mut waving = pose(
+        "waving",
+        Isometry3::identity(),
+        3,
+        vec![Goal::Imbalance {
+            margin: 2.0,
+            contact_tolerance: contact,
+        }],
+    );
+    waving.component_transforms[1] = compose([
+        Step::Pivot(point(10.0, 0.0, 40.0)),
+        Step::Rotate(vector(0.0, 0.0, 45.0)),
+    ]);
+    let expected = Project {
+        units: mm,
+        up: Axis::Z,
+        material: Material {
+            name: "PETG".to_owned(),
+            density: 1.27,
+        },
+        ball: Ball {
+            density: 7.8,
+            clearance: 0.25,
+            min_angle: 4.0,
+            diameters: vec![4.0, 5.0, 0.25 * Units::Inch.in_metres() / mm.in_metres()],
+        },
+        infill: Infill {
+            value: 0.4,
+            range: Some((0.2, 0.6)),
+        },
+        wall: 1.5,
+        components: vec![
+            component(
+                "body",
+                "/projects/meshes/teddy-body.obj",
+                MeshSelector::ObjObject("body".to_owned()),
+            ),
+            component(
+                "arm",
+                "/projects/meshes/teddy.glb",
+                MeshSelector::GltfNode("arm_L".to_owned()),
+            ),
+            component("head", "/meshes/head.obj", MeshSelector::Whole),
+        ],
+        poses: vec![
+            pose(
+                "sitting",
+                Isometry3::identity(),
+                3,
+                vec![Goal::Stand {
+                    margin: 5.0,
+                    contact_tolerance: 0.1,
+                }],
+            ),
+            pose(
+                "headstand",
+                compose([
+                    Step::Rotate(vector(180.0, 0.0, 0.0)),
+                    Step::Translate(vector(0.0, 0.0, 80.0)),
+                ]),
+                3,
+                vec![Goal::Stand {
+                    margin: 0.0,
+                    contact_tolerance: contact,
+                }],
+            ),
+            waving,
+            pose(
+                "hanging",
+                Isometry3::identity(),
+                3,
+                vec![Goal::Suspend {
+                    point: point(0.0, 0.0, 42.0),
+                    component: 2,
+                    tolerance: 1.0,
+                }],
+            ),
+            pose(
+                "swimming",
+                Isometry3::identity(),
+                3,
+                vec![Goal::Immerse {
+                    fluid_density: 1.0,
+                    min_distance: 2.0,
+                    tolerance: 3.0,
+                    mass_tolerance: Some(5.0),
+                }],
+            ),
+        ],
+        capsules: vec![Capsule {
+            name: name("c0"),
+            component: Spanned::new(0, any_span()),
+            from: point(0.0, 0.0, 10.0),
+            to: point(0.0, 0.0, 30.0),
+            radius: 4.0,
+            span: any_span(),
+        }],
+        output: Output {
+            gltf: PathBuf::from("/projects/out/teddy.glb"),
+            report: PathBuf::from("/projects/out/teddy.json"),
+        },
+    };
+    assert_eq!(parse(&read("full.kdl")), expected);
+}
+
+#[test]
+fn defaults() {
+    let project = parse(&read("minimal.kdl"));
+    let mm = Units::Millimetre;
+    let expected = Project {
+        units: mm,
+        up: Axis::Z,
+        material: Material {
+            name: "PLA".to_owned(),
+            density: 1.24,
+        },
+        ball: Ball {
+            density: 7.85,
+            clearance: mm.from_millimetres(0.2),
+            min_angle: 3.0,
+            diameters: Vec::new(),
+        },
+        infill: Infill {
+            value: 1.0,
+            range: None,
+        },
+        wall: mm.from_millimetres(1.0),
+        components: vec![component("body", "/projects/body.obj", MeshSelector::Whole)],
+        poses: vec![pose(
+            "rest",
+            Isometry3::identity(),
+            1,
+            vec![Goal::Stand {
+                margin: 0.0,
+                contact_tolerance: mm.from_millimetres(0.05),
+            }],
+        )],
+        capsules: Vec::new(),
+        output: Output {
+            gltf: PathBuf::from("/projects/build/teddy.glb"),
+            report: PathBuf::from("/projects/build/teddy.report.json"),
+        },
+    };
+    assert_eq!(project, expected);
+}
+
+#[test]
+fn goal_defaults() {
+    let project = parse(
+        r#"
+        component "body" mesh="body.obj"
+        component "head" mesh="head.obj"
+        pose "all" {
+            imbalance
+            suspend 1 2 3
+            immerse fluid-density=1.03
+        }
+        "#,
+    );
+    let goals: Vec<Goal> = project.poses[0]
+        .goals
+        .iter()
+        .map(|goal| goal.value.clone())
+        .collect();
+    assert_eq!(
+        goals,
+        vec![
+            Goal::Imbalance {
+                margin: 0.0,
+                contact_tolerance: Units::Millimetre.from_millimetres(0.05),
+            },
+            Goal::Suspend {
+                point: point(1.0, 2.0, 3.0),
+                component: 0,
+                tolerance: 2.0,
+            },
+            Goal::Immerse {
+                fluid_density: 1.03,
+                min_distance: 0.0,
+                tolerance: 2.0,
+                mass_tolerance: None,
+            },
+        ]
+    );
+}
+
+#[test]
+fn material_without_a_name() {
+    let project = parse(&read("articulated.kdl"));
+    assert_eq!(
+        project.material,
+        Material {
+            name: "material".to_owned(),
+            density: 1.1,
+        }
+    );
+    assert_eq!(project.up, Axis::Y);
+}
+
+#[test]
+fn infill_range_without_a_value_takes_its_top() {
+    let source = |infill: &str| format!("{infill}\ncomponent \"a\" mesh=\"a.obj\"\npose \"p\"");
+    assert_eq!(
+        parse(&source("infill min=0.2 max=0.7")).infill,
+        Infill {
+            value: 0.7,
+            range: Some((0.2, 0.7)),
+        }
+    );
+    assert_eq!(
+        parse(&source("infill 0.3")).infill,
+        Infill {
+            value: 0.3,
+            range: None,
+        }
+    );
+}
+
+#[test]
+fn lengths_convert_to_the_project_units() {
+    let project = parse(&read("centimetres.kdl"));
+    let cm = Units::Centimetre;
+    let close = |a: f64, b: f64| (a - b).abs() < 1e-12;
+    assert_eq!(project.units, cm);
+    assert!(close(project.wall, 0.2));
+    assert!(close(project.ball.clearance, 0.05));
+    let diameters = &project.ball.diameters;
+    assert!(close(diameters[0], 0.6) && close(diameters[1], 0.8) && close(diameters[2], 0.635));
+    let capsule = &project.capsules[0];
+    assert!(close(capsule.radius, 0.635));
+    assert!(close(capsule.from.z, 1.0) && close(capsule.to.z, 3.0));
+    let upright = &project.poses[0];
+    let moved = upright.transform * Point3::origin();
+    assert!(close(moved.x, 1.0) && close(moved.z, 50.0));
+    match upright.goals[0].value {
+        Goal::Stand {
+            contact_tolerance, ..
+        } => assert!(close(contact_tolerance, 0.1)),
+        ref other => panic!("expected stand, found {other:?}"),
+    }
+    match project.poses[1].goals[0].value {
+        Goal::Immerse { min_distance, .. } => assert!(close(min_distance, 0.5)),
+        ref other => panic!("expected immerse, found {other:?}"),
+    }
+}
+
+#[test]
+fn defaults_follow_the_project_units() {
+    let project = parse("units \"in\"\ncomponent \"a\" mesh=\"a.obj\"\npose \"p\" { stand }");
+    let inch = Units::Inch;
+    assert_eq!(project.wall, inch.from_millimetres(1.0));
+    assert_eq!(project.ball.clearance, inch.from_millimetres(0.2));
+    assert_eq!(
+        project.poses[0].goals[0].value,
+        Goal::Stand {
+            margin: 0.0,
+            contact_tolerance: inch.from_millimetres(0.05),
+        }
+    );
+}
+
+/// Parses a one-pose project whose pose holds `steps` and returns the pose.
+fn pose_with(steps: &str) -> Pose {
+    let source = format!(
+        "component \"body\" mesh=\"b.obj\"\ncomponent \"arm\" mesh=\"a.obj\"\npose \"p\" {{\n{steps}\n}}"
+    );
+    parse(&source).poses.remove(0)
+}
+
+fn assert_maps(transform: &Isometry3<f64>, from: Point3<f64>, to: Point3<f64>) {
+    let mapped = transform * from;
+    assert!(
+        (mapped - to).norm() < 1e-9,
+        "{from} mapped to {mapped}, expected {to}"
+    );
+}
+
+#[test]
+fn rotation_turns_about_the_pivot() {
+    let pose = pose_with("pivot 1 0 0\nrotate 0 0 90");
+    assert_maps(&pose.transform, point(2.0, 0.0, 0.0), point(1.0, 1.0, 0.0));
+}
+
+#[test]
+fn steps_apply_in_file_order() {
+    let rotate_then_move = pose_with("rotate 0 0 90\ntranslate 1 0 0");
+    let move_then_rotate = pose_with("translate 1 0 0\nrotate 0 0 90");
+    let origin = Point3::origin();
+    assert_maps(&rotate_then_move.transform, origin, point(1.0, 0.0, 0.0));
+    assert_maps(&move_then_rotate.transform, origin, point(0.0, 1.0, 0.0));
+}
+
+#[test]
+fn the_pivot_is_a_fixed_point_not_moved_by_earlier_steps() {
+    let pose = pose_with("translate 5 0 0\npivot 1 0 0\nrotate 0 0 180");
+    // (0,0,0) -> (5,0,0), then a half turn about (1,0,0) -> (-3,0,0).
+    assert_maps(&pose.transform, Point3::origin(), point(-3.0, 0.0, 0.0));
+}
+
+#[test]
+fn euler_angles_are_extrinsic_x_then_y_then_z() {
+    let pose = pose_with("rotate 90 0 90");
+    assert_maps(&pose.transform, point(0.0, 1.0, 0.0), point(0.0, 0.0, 1.0));
+    assert_maps(&pose.transform, point(1.0, 0.0, 0.0), point(0.0, 1.0, 0.0));
+}
+
+#[test]
+fn component_blocks_move_one_component() {
+    let pose = pose_with("rotate 0 0 90\ncomponent \"arm\" {\n pivot 0 0 1\n rotate 90 0 0\n}");
+    assert_eq!(pose.component_transforms[0], Isometry3::identity());
+    let arm = pose.component_transforms[1];
+    // The arm turns about the line through (0,0,1) along x: (0,0,2) -> (0,-1,1).
+    assert_maps(&arm, point(0.0, 0.0, 2.0), point(0.0, -1.0, 1.0));
+    // Then the whole pose turns a quarter about z: (0,-1,1) -> (1,0,1).
+    assert_maps(
+        &(pose.transform * arm),
+        point(0.0, 0.0, 2.0),
+        point(1.0, 0.0, 1.0),
+    );
+}
+
+#[test]
+fn paths_resolve_against_the_project_folder() {
+    let source =
+        "component \"a\" mesh=\"../shared/a.obj\"\npose \"p\"\noutput { gltf \"/tmp/a.glb\" }";
+    let parsed = parse_project(source, Path::new("designs/toy.kdl"));
+    let project = parsed.project.unwrap();
+    assert_eq!(
+        project.components[0].mesh.value,
+        PathBuf::from("designs/../shared/a.obj")
+    );
+    assert_eq!(project.output.gltf, PathBuf::from("/tmp/a.glb"));
+    assert_eq!(
+        project.output.report,
+        PathBuf::from("designs/build/toy.report.json")
+    );
+    let bare = parse_project(source, Path::new("toy.kdl")).project.unwrap();
+    assert_eq!(
+        bare.components[0].mesh.value,
+        PathBuf::from("../shared/a.obj")
+    );
+}
+
+#[test]
+fn spans_point_at_the_source() {
+    let source = "component \"body\" mesh=\"body.obj\"\npose \"rest\" { stand }\n";
+    let project = parse_project(source, Path::new("p.kdl")).project.unwrap();
+    let text = |span: miette::SourceSpan| &source[span.offset()..span.offset() + span.len()];
+    assert_eq!(text(project.components[0].name.span), "\"body\"");
+    assert_eq!(text(project.components[0].mesh.span), "\"body.obj\"");
+    assert_eq!(text(project.poses[0].goals[0].span), "stand");
+}
+
+#[test]
+fn every_ok_file_parses_without_problems() {
+    let mut checked = 0;
+    for entry in std::fs::read_dir("tests/data/spec/ok").unwrap() {
+        let path = entry.unwrap().path();
+        let source = std::fs::read_to_string(&path).unwrap();
+        let parsed = parse_project(&source, &path);
+        assert!(
+            parsed.problems.is_empty(),
+            "{}: {:#?}",
+            path.display(),
+            parsed.problems
+        );
+        assert!(parsed.project.is_some());
+        checked += 1;
+    }
+    assert!(checked >= 4);
+}
