@@ -274,12 +274,20 @@ pub fn find<'a>(siblings: &'a [NodeSpec], name: &str) -> Option<&'a NodeSpec> {
 
 /// The closest known name to `unknown`, if one is close enough to be a likely typo.
 pub fn suggest<'a>(unknown: &str, known: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
+    // Jaro-Winkler finds typos in long names; an edit distance catches short ones ("amr" for
+    // "arm"), where Jaro-Winkler's matching window is too small to see a transposition.
+    // Below three letters every name is one edit away, so edits say nothing there.
+    let length = unknown.chars().count();
+    let allowed_edits = if length >= 3 { 1.max(length / 4) } else { 0 };
     known
         .into_iter()
-        .map(|name| (strsim::jaro_winkler(unknown, name), name))
-        .filter(|(score, _)| *score > 0.8)
-        .max_by(|a, b| a.0.total_cmp(&b.0))
-        .map(|(_, name)| name)
+        .filter_map(|name| {
+            let edits = strsim::damerau_levenshtein(unknown, name);
+            let similarity = strsim::jaro_winkler(unknown, name);
+            (similarity > 0.8 || edits <= allowed_edits).then_some((edits, similarity, name))
+        })
+        .min_by(|a, b| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1)))
+        .map(|(_, _, name)| name)
 }
 
 /// Where a node called `name` may be written: for each place, the names of the nodes from the
