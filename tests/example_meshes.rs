@@ -55,7 +55,13 @@ fn every_example_mesh_is_a_closed_outward_solid() {
     let names: Vec<_> = files.iter().filter_map(|p| p.file_name()).collect();
     assert_eq!(
         names,
-        ["hinged_arm.obj", "sheared_cylinder.obj", "t_shape.obj"]
+        [
+            "blub_fish.obj",
+            "hammer.obj",
+            "hinged_arm.obj",
+            "sheared_cylinder.obj",
+            "t_shape.obj"
+        ]
     );
     for path in &files {
         let mesh = load_mesh(path, &MeshSelector::Whole)
