@@ -180,3 +180,20 @@ fn a_capsule_in_the_wrong_component_names_the_right_one() {
     assert!(errors.contains("lies inside `base`"), "{errors}");
     assert!(!folder.path().join("build").exists());
 }
+
+#[test]
+fn a_level_capsule_is_a_warning_and_the_goals_decide_the_status() {
+    let text = format!(
+        "{ARM}\ncapsule \"weight\" component=\"base\" radius=5 {{\n    from -10 0 10\n    to 10 0 10\n}}\n"
+    );
+    let (_folder, project) = scratch_project(&text);
+    let output = ballast(&["check", project.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(0), "stderr: {}", stderr(&output));
+    let warnings = stderr(&output);
+    assert!(
+        warnings.contains("ballast::capsule::undetermined"),
+        "{warnings}"
+    );
+    assert!(warnings.contains("in pose `out`"), "{warnings}");
+    assert!(stdout(&output).contains("undetermined (axis too close to horizontal)"));
+}

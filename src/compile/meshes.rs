@@ -109,28 +109,31 @@ fn mesh_problems(component: &Component, mesh: &TriMesh) -> Vec<Problem> {
         &check.misoriented_edges,
         "make the triangle winding consistent (recalculate normals in a mesh editor)",
     );
-    problems.extend(solid_problems(component, &check));
+    problems.extend(solid_problems(component, mesh, &check));
     problems
 }
 
-fn solid_problems(component: &Component, check: &MeshCheck) -> Vec<Problem> {
+fn solid_problems(component: &Component, mesh: &TriMesh, check: &MeshCheck) -> Vec<Problem> {
     let name = &component.name.value;
     let span = component.mesh.span;
     let mut problems = Vec::new();
     if !check.degenerate_triangles.is_empty() {
-        let listed: Vec<String> = check
-            .degenerate_triangles
-            .iter()
-            .take(LISTED)
-            .map(|t| t.to_string())
+        let count = check.degenerate_triangles.len();
+        let first = check.degenerate_triangles[0] as usize;
+        let corners: Vec<String> = mesh
+            .triangles
+            .get(first)
+            .into_iter()
+            .flatten()
+            .map(|&corner| format_point(mesh, corner))
             .collect();
         problems.push(
             Problem::error(
                 "ballast::mesh::degenerate",
                 format!(
-                    "the mesh of component `{name}` has {} degenerate triangles (zero area or a repeated vertex), e.g. triangle {}",
-                    check.degenerate_triangles.len(),
-                    listed.join(", ")
+                    "the mesh of component `{name}` has {count} degenerate triangle{} (zero area or a repeated vertex), the first at {}",
+                    if count == 1 { "" } else { "s" },
+                    corners.join(", ")
                 ),
             )
             .with_label(span, "this mesh")
@@ -143,8 +146,8 @@ fn solid_problems(component: &Component, check: &MeshCheck) -> Vec<Problem> {
                 Problem::error(
                     "ballast::mesh::inverted",
                     format!(
-                        "the mesh of component `{name}` is inside out (its volume is {:.6})",
-                        check.signed_volume
+                        "the mesh of component `{name}` is inside out (its volume is {})",
+                        round(check.signed_volume)
                     ),
                 )
                 .with_label(span, "this mesh")
@@ -163,18 +166,12 @@ fn solid_problems(component: &Component, check: &MeshCheck) -> Vec<Problem> {
     problems
 }
 
-/// `n edges: 3–7 at (x, y, z)–(x, y, z), …` for the first few edges.
+/// `(x, y, z)–(x, y, z), …, and n more`: the end points of the first few edges.
 fn list_edges(mesh: &TriMesh, edges: &[[u32; 2]]) -> String {
     let mut listed: Vec<String> = edges
         .iter()
         .take(LISTED)
-        .map(|&[a, b]| {
-            format!(
-                "{a}–{b} at {}–{}",
-                format_point(mesh, a),
-                format_point(mesh, b)
-            )
-        })
+        .map(|&[a, b]| format!("{}–{}", format_point(mesh, a), format_point(mesh, b)))
         .collect();
     if edges.len() > LISTED {
         listed.push(format!("and {} more", edges.len() - LISTED));
