@@ -551,59 +551,65 @@ impl<'m> Writer<'m> {
         Ok(self.meshes.capsules[capsule])
     }
 
-    fn ball_mesh(&mut self) -> Result<json::Index<json::Mesh>, GltfError> {
-        if let Some(mesh) = self.meshes.ball {
+    /// The mesh in the cache slot `slot`, built by `build` the first time it is asked for.
+    fn cached(
+        &mut self,
+        slot: fn(&mut SharedMeshes) -> &mut Option<json::Index<json::Mesh>>,
+        build: impl FnOnce(&mut Self) -> Result<json::Index<json::Mesh>, GltfError>,
+    ) -> Result<json::Index<json::Mesh>, GltfError> {
+        if let Some(mesh) = *slot(&mut self.meshes) {
             return Ok(mesh);
         }
-        let mesh = self.shape_mesh("ball", &shapes::unit_sphere(), Paint::Steel)?;
-        self.meshes.ball = Some(mesh);
+        let mesh = build(self)?;
+        *slot(&mut self.meshes) = Some(mesh);
         Ok(mesh)
+    }
+
+    fn ball_mesh(&mut self) -> Result<json::Index<json::Mesh>, GltfError> {
+        self.cached(
+            |meshes| &mut meshes.ball,
+            |writer| writer.shape_mesh("ball", &shapes::unit_sphere(), Paint::Steel),
+        )
     }
 
     fn centre_of_mass_mesh(&mut self) -> Result<json::Index<json::Mesh>, GltfError> {
-        if let Some(mesh) = self.meshes.centre_of_mass {
-            return Ok(mesh);
-        }
-        let mesh = self.shape_mesh(
-            "centre of mass marker",
-            &shapes::unit_octahedron(),
-            Paint::CentreOfMass,
-        )?;
-        self.meshes.centre_of_mass = Some(mesh);
-        Ok(mesh)
+        self.cached(
+            |meshes| &mut meshes.centre_of_mass,
+            |writer| {
+                let shape = shapes::unit_octahedron();
+                writer.shape_mesh("centre of mass marker", &shape, Paint::CentreOfMass)
+            },
+        )
     }
 
     fn buoyancy_mesh(&mut self) -> Result<json::Index<json::Mesh>, GltfError> {
-        if let Some(mesh) = self.meshes.buoyancy {
-            return Ok(mesh);
-        }
-        let mesh = self.shape_mesh(
-            "buoyancy centre marker",
-            &shapes::unit_octahedron(),
-            Paint::Buoyancy,
-        )?;
-        self.meshes.buoyancy = Some(mesh);
-        Ok(mesh)
+        self.cached(
+            |meshes| &mut meshes.buoyancy,
+            |writer| {
+                let shape = shapes::unit_octahedron();
+                writer.shape_mesh("buoyancy centre marker", &shape, Paint::Buoyancy)
+            },
+        )
     }
 
     fn gravity_mesh(&mut self) -> Result<json::Index<json::Mesh>, GltfError> {
-        if let Some(mesh) = self.meshes.gravity {
-            return Ok(mesh);
-        }
-        let lines = shapes::unit_arrow(&-self.up);
-        let mesh = self.lines_mesh("gravity arrow", &lines, Paint::Gravity)?;
-        self.meshes.gravity = Some(mesh);
-        Ok(mesh)
+        self.cached(
+            |meshes| &mut meshes.gravity,
+            |writer| {
+                let lines = shapes::unit_arrow(&-writer.up);
+                writer.lines_mesh("gravity arrow", &lines, Paint::Gravity)
+            },
+        )
     }
 
     fn string_mesh(&mut self) -> Result<json::Index<json::Mesh>, GltfError> {
-        if let Some(mesh) = self.meshes.string {
-            return Ok(mesh);
-        }
-        let lines = shapes::unit_line(&self.up);
-        let mesh = self.lines_mesh("string", &lines, Paint::String)?;
-        self.meshes.string = Some(mesh);
-        Ok(mesh)
+        self.cached(
+            |meshes| &mut meshes.string,
+            |writer| {
+                let lines = shapes::unit_line(&writer.up);
+                writer.lines_mesh("string", &lines, Paint::String)
+            },
+        )
     }
 
     fn shape_mesh(
