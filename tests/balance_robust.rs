@@ -5,7 +5,7 @@ mod geometry_support;
 
 use balance_support::*;
 use ballast::balance::{evaluate_pose, BallRest, ComponentBody, PoseEvaluation};
-use ballast::geometry::{mass_properties, TriMesh};
+use ballast::geometry::TriMesh;
 use ballast::spec::model::Goal;
 use geometry_support::box_mesh;
 use nalgebra::{Isometry3, Point3, Vector3};
@@ -183,13 +183,7 @@ fn references_past_the_end_are_tolerated() {
 #[test]
 fn missing_component_transforms_default_to_the_identity() {
     let meshes = [box_mesh(10.0, 10.0, 10.0), box_mesh(20.0, 20.0, 20.0)];
-    let bodies: Vec<ComponentBody> = meshes
-        .iter()
-        .map(|mesh| ComponentBody {
-            mesh,
-            mass: mass_properties(mesh),
-        })
-        .collect();
+    let bodies: Vec<ComponentBody> = meshes.iter().map(ComponentBody::new).collect();
     let project = project(&["a", "b"]);
     let short = pose(Isometry3::identity(), vec![Isometry3::identity()], vec![]);
     let full = rest_pose(2, vec![]);

@@ -55,6 +55,20 @@ pub struct ComponentBody<'a> {
     pub mass: MassProperties,
 }
 
+impl<'a> ComponentBody<'a> {
+    /// The body of `mesh`, with its mass properties computed.
+    ///
+    /// # Panics
+    /// If a triangle indexes past the positions (as [`mass_properties`](crate::geometry::mass_properties)
+    /// does); meshes from [`load_mesh`](crate::geometry::load_mesh) never do.
+    pub fn new(mesh: &'a TriMesh) -> Self {
+        ComponentBody {
+            mesh,
+            mass: crate::geometry::mass_properties(mesh),
+        }
+    }
+}
+
 /// What the model does in one pose.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PoseEvaluation {

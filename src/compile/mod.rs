@@ -19,7 +19,7 @@ pub use report::{Report, REPORT_FORMAT};
 use crate::balance::{evaluate_pose, BallRest, ComponentBody, PoseEvaluation};
 use crate::design::Design;
 use crate::diagnostic::Problem;
-use crate::geometry::{mass_properties, TriMesh};
+use crate::geometry::{MassProperties, TriMesh};
 use crate::spec::model::Project;
 use crate::spec::parse_project;
 
@@ -30,6 +30,8 @@ pub struct Compilation {
     pub project: Project,
     /// Each component's mesh, rest frame, in project order.
     pub meshes: Vec<TriMesh>,
+    /// Each component's volume, centroid and second moment, in project order.
+    pub mass: Vec<MassProperties>,
     /// The capsules evaluated.
     pub design: Design,
     /// One per pose, in project order.
@@ -66,13 +68,8 @@ pub fn compile(source: &str, project_path: &Path) -> Result<Compilation, Vec<Pro
         Some(meshes) if !problems.iter().any(Problem::is_error) => meshes,
         _ => return Err(problems),
     };
-    let bodies: Vec<ComponentBody> = meshes
-        .iter()
-        .map(|mesh| ComponentBody {
-            mesh,
-            mass: mass_properties(mesh),
-        })
-        .collect();
+    let bodies: Vec<ComponentBody> = meshes.iter().map(ComponentBody::new).collect();
+    let mass = bodies.iter().map(|body| body.mass).collect();
     let poses: Vec<PoseEvaluation> = project
         .poses
         .iter()
@@ -82,6 +79,7 @@ pub fn compile(source: &str, project_path: &Path) -> Result<Compilation, Vec<Pro
     Ok(Compilation {
         project,
         meshes,
+        mass,
         design,
         poses,
         warnings: problems,

@@ -133,22 +133,20 @@ impl<'a> Report<'a> {
             .components
             .iter()
             .zip(&compilation.meshes)
-            .map(|(component, mesh)| {
-                let mass = crate::geometry::mass_properties(mesh);
-                ComponentReport {
-                    name: component.name.value.clone(),
-                    mesh: relative_path(&component.mesh.value, folder),
-                    part: match &component.selector {
-                        MeshSelector::Whole => None,
-                        MeshSelector::ObjObject(name) | MeshSelector::GltfNode(name) => {
-                            Some(name.clone())
-                        }
-                    },
-                    vertices: mesh.positions.len(),
-                    triangles: mesh.triangles.len(),
-                    volume: mass.volume,
-                    centroid: mass.centroid.coords.into(),
-                }
+            .zip(&compilation.mass)
+            .map(|((component, mesh), mass)| ComponentReport {
+                name: component.name.value.clone(),
+                mesh: relative_path(&component.mesh.value, folder),
+                part: match &component.selector {
+                    MeshSelector::Whole => None,
+                    MeshSelector::ObjObject(name) | MeshSelector::GltfNode(name) => {
+                        Some(name.clone())
+                    }
+                },
+                vertices: mesh.positions.len(),
+                triangles: mesh.triangles.len(),
+                volume: mass.volume,
+                centroid: mass.centroid.coords.into(),
             })
             .collect();
         let capsules = compilation

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use ballast::balance::{evaluate_pose, ComponentBody, PoseEvaluation};
 use ballast::design::{Design, PlacedCapsule};
-use ballast::geometry::{mass_properties, MeshSelector, TriMesh};
+use ballast::geometry::{MeshSelector, TriMesh};
 use ballast::spec::model::{
     Axis, Ball, Component, Goal, Infill, Material, Output, Pose, Project, Spanned, Units,
 };
@@ -147,13 +147,7 @@ pub fn evaluate(
     design: &Design,
     pose: &Pose,
 ) -> PoseEvaluation {
-    let bodies: Vec<ComponentBody> = meshes
-        .iter()
-        .map(|mesh| ComponentBody {
-            mesh,
-            mass: mass_properties(mesh),
-        })
-        .collect();
+    let bodies: Vec<ComponentBody> = meshes.iter().map(ComponentBody::new).collect();
     evaluate_pose(project, &bodies, design, pose)
 }
 
