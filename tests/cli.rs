@@ -197,3 +197,31 @@ fn a_level_capsule_is_a_warning_and_the_goals_decide_the_status() {
     assert!(warnings.contains("in pose `out`"), "{warnings}");
     assert!(stdout(&output).contains("undetermined (axis too close to horizontal)"));
 }
+
+#[test]
+fn components_can_be_named_nodes_of_a_gltf_file() {
+    let folder = tempfile::tempdir().unwrap();
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/meshes");
+    for name in ["two_parts.gltf", "two_parts.bin"] {
+        fs::copy(data.join(name), folder.path().join(name)).unwrap();
+    }
+    let project = folder.path().join("rig.kdl");
+    fs::write(
+        &project,
+        "units cm\ncomponent \"base\" mesh=\"two_parts.gltf\" node=\"base\"\n\
+         component \"arm\" mesh=\"two_parts.gltf\" node=\"arm\"\npose \"rest\" { stand }\n",
+    )
+    .unwrap();
+    let output = ballast(&["check", "--json", project.to_str().unwrap()]);
+    assert_ne!(output.status.code(), Some(2), "stderr: {}", stderr(&output));
+    let report: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let components = report["components"].as_array().unwrap();
+    assert_eq!(components[0]["part"], "base");
+    assert_eq!(components[0]["mesh"], "two_parts.gltf");
+    // The unit cube, its 24 split vertices welded to 8, and the tetrahedron.
+    assert_eq!(components[0]["vertices"], 8);
+    assert_eq!(components[0]["triangles"], 12);
+    assert!((components[0]["volume"].as_f64().unwrap() - 1.0).abs() < 1e-12);
+    assert_eq!(components[1]["part"], "arm");
+    assert_eq!(components[1]["triangles"], 4);
+}
