@@ -12,6 +12,7 @@ use gltf::scene::Transform;
 use gltf::{Accessor, Document, Semantic};
 use nalgebra::{Matrix4, Point3, Quaternion, Translation3, UnitQuaternion};
 
+use super::gltf_buffers::resolve_buffers;
 use super::load::{index_u32, LoadError, MeshSelector, RawMesh};
 
 /// Largest element count accepted for an accessor without a buffer view (all zeros).
@@ -39,9 +40,7 @@ pub(crate) fn parse_gltf(
     check_glb_header(bytes)?;
     let gltf::Gltf { document, blob } =
         gltf::Gltf::from_slice(bytes).map_err(|e| err(e.to_string()))?;
-    check_buffer_uris(&document)?;
-    let buffers =
-        gltf::import_buffers(&document, Some(base), blob).map_err(|e| err(e.to_string()))?;
+    let buffers = resolve_buffers(&document, base, blob)?;
     let hierarchy = Hierarchy::new(&document)?;
 
     let instances = match selector.part_name() {
@@ -88,41 +87,6 @@ fn check_glb_header(bytes: &[u8]) -> Result<(), LoadError> {
         )));
     }
     Ok(())
-}
-
-/// `gltf::import_buffers` unwraps the percent-decoding of relative URIs, which fails on escapes
-/// that do not form UTF-8; reject such URIs first.
-fn check_buffer_uris(document: &Document) -> Result<(), LoadError> {
-    for buffer in document.buffers() {
-        if let gltf::buffer::Source::Uri(uri) = buffer.source() {
-            if !uri.contains(':') && std::str::from_utf8(&percent_decode(uri)).is_err() {
-                return Err(err(format!(
-                    "buffer {} has a URI that is not UTF-8 once decoded",
-                    buffer.index()
-                )));
-            }
-        }
-    }
-    Ok(())
-}
-
-fn percent_decode(s: &str) -> Vec<u8> {
-    let hex = |c: u8| (c as char).to_digit(16).map(|d| d as u8);
-    let bytes = s.as_bytes();
-    let mut out = Vec::with_capacity(bytes.len());
-    let mut i = 0;
-    while i < bytes.len() {
-        if bytes[i] == b'%' && i + 2 < bytes.len() {
-            if let (Some(h), Some(l)) = (hex(bytes[i + 1]), hex(bytes[i + 2])) {
-                out.push(h << 4 | l);
-                i += 3;
-                continue;
-            }
-        }
-        out.push(bytes[i]);
-        i += 1;
-    }
-    out
 }
 
 /// The node forest with every node's world transform. A node with two parents, and a cycle,
@@ -292,7 +256,7 @@ fn mode_name(mode: Mode) -> &'static str {
 fn append_primitive(
     primitive: &gltf::Primitive,
     transform: &Matrix4<f64>,
-    buffers: &[gltf::buffer::Data],
+    buffers: &[Vec<u8>],
     raw: &mut RawMesh,
 ) -> Result<(), LoadError> {
     if primitive.mode() != Mode::Triangles {
@@ -380,7 +344,7 @@ static ZEROS: [u8; 16] = [0; 16];
 /// applied. Every range is checked against the buffers.
 fn elements<'b>(
     accessor: &Accessor,
-    buffers: &'b [gltf::buffer::Data],
+    buffers: &'b [Vec<u8>],
     size: usize,
 ) -> Result<Vec<&'b [u8]>, LoadError> {
     let count = accessor.count();
@@ -453,7 +417,7 @@ fn strided<'b>(
     stride: usize,
     count: usize,
     size: usize,
-    buffers: &'b [gltf::buffer::Data],
+    buffers: &'b [Vec<u8>],
     accessor: usize,
 ) -> Result<Vec<&'b [u8]>, LoadError> {
     let out_of_range = || err(format!("accessor {accessor} reaches past its buffer"));

@@ -8,6 +8,7 @@
 //! - [`distance_to_point`], [`distance_to_segment`] and the primitive distances they use.
 
 mod distance;
+mod gltf_buffers;
 mod load;
 mod load_gltf;
 mod load_obj;
