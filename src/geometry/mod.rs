@@ -6,6 +6,7 @@
 //! - [`mass_properties`]: volume, centroid and second moment of the enclosed solid.
 //! - [`winding_number`]: inside/outside test that tolerates small holes.
 //! - [`distance_to_point`], [`distance_to_segment`] and the primitive distances they use.
+//! - [`TriangleTree`]: the same distances, fast, for many queries against one mesh.
 
 mod distance;
 mod gltf_buffers;
@@ -14,6 +15,7 @@ mod load_gltf;
 mod load_obj;
 mod mass;
 mod mesh;
+mod tree;
 mod validate;
 mod winding;
 
@@ -24,5 +26,6 @@ pub use distance::{
 pub use load::{load_mesh, LoadError, MeshSelector};
 pub use mass::{mass_properties, MassProperties};
 pub use mesh::TriMesh;
+pub use tree::TriangleTree;
 pub use validate::{check_mesh, MeshCheck};
 pub use winding::winding_number;

@@ -1,0 +1,219 @@
+//! A bounding-volume hierarchy over a mesh's triangles, for many exact distance queries against
+//! one mesh (a distance field samples hundreds of thousands of points).
+//!
+//! Building costs `O(n log n)`; a query then visits the boxes nearest first and skips every box
+//! farther than the best distance found, so it touches a few leaves instead of every triangle.
+//! Results are exactly those of [`distance_to_point`](super::distance_to_point) and
+//! [`distance_to_segment`](super::distance_to_segment).
+
+use nalgebra::{Point3, Vector3};
+
+use super::distance::{point_triangle_distance, segment_triangle_distance};
+use super::mesh::TriMesh;
+
+/// Triangles per leaf, at most.
+const LEAF_SIZE: usize = 4;
+
+/// An axis-aligned bounding box.
+#[derive(Debug, Clone, Copy)]
+struct Aabb {
+    lo: Point3<f64>,
+    hi: Point3<f64>,
+}
+
+impl Aabb {
+    fn of_triangle(tri: &[Point3<f64>; 3]) -> Aabb {
+        Aabb {
+            lo: tri[0].inf(&tri[1]).inf(&tri[2]),
+            hi: tri[0].sup(&tri[1]).sup(&tri[2]),
+        }
+    }
+
+    fn union(&self, other: &Aabb) -> Aabb {
+        Aabb {
+            lo: self.lo.inf(&other.lo),
+            hi: self.hi.sup(&other.hi),
+        }
+    }
+
+    /// Distance from `p` to the box (0 inside).
+    fn distance_to_point(&self, p: &Point3<f64>) -> f64 {
+        (self.lo - p)
+            .sup(&(p - self.hi))
+            .sup(&Vector3::zeros())
+            .norm()
+    }
+
+    /// A lower bound on the distance from any point of `other` to the box: the gap between the
+    /// two boxes.
+    fn distance_to_box(&self, other: &Aabb) -> f64 {
+        (self.lo - other.hi)
+            .sup(&(other.lo - self.hi))
+            .sup(&Vector3::zeros())
+            .norm()
+    }
+}
+
+/// A node: a box and either two children or a run of triangles.
+#[derive(Debug, Clone)]
+struct Node {
+    bounds: Aabb,
+    /// Children node indices, or `None` for a leaf.
+    children: Option<[usize; 2]>,
+    /// For a leaf, the range of `order` holding its triangles.
+    first: usize,
+    count: usize,
+}
+
+/// A bounding-volume hierarchy over the triangles of one mesh, for exact distance queries.
+///
+/// Holds a copy of each triangle's corners, so it does not borrow the mesh.
+#[derive(Debug, Clone)]
+pub struct TriangleTree {
+    triangles: Vec<[Point3<f64>; 3]>,
+    nodes: Vec<Node>,
+}
+
+impl TriangleTree {
+    /// Builds the tree over every triangle of `mesh` (median split along the longest axis of the
+    /// triangles' centroids). Deterministic.
+    ///
+    /// # Panics
+    /// If a triangle has an index out of range.
+    pub fn new(mesh: &TriMesh) -> TriangleTree {
+        let all: Vec<[Point3<f64>; 3]> = (0..mesh.triangles.len())
+            .map(|i| mesh.triangle(i))
+            .collect();
+        let centroids: Vec<Point3<f64>> = all
+            .iter()
+            .map(|t| Point3::from((t[0].coords + t[1].coords + t[2].coords) / 3.0))
+            .collect();
+        let mut order: Vec<usize> = (0..all.len()).collect();
+        let mut nodes = Vec::new();
+        if !all.is_empty() {
+            build(&all, &centroids, &mut order, 0, all.len(), &mut nodes);
+        }
+        // Store the triangles in leaf order so a leaf's triangles are contiguous.
+        let triangles = order.iter().map(|&i| all[i]).collect();
+        TriangleTree { triangles, nodes }
+    }
+
+    /// Unsigned distance from `p` to the surface (`+∞` without triangles).
+    pub fn distance_to_point(&self, p: &Point3<f64>) -> f64 {
+        self.nearest(
+            |bounds| bounds.distance_to_point(p),
+            |tri| point_triangle_distance(p, tri),
+        )
+    }
+
+    /// Distance from the segment `a`–`b` to the surface: 0 when it crosses the surface (`+∞`
+    /// without triangles).
+    pub fn distance_to_segment(&self, a: &Point3<f64>, b: &Point3<f64>) -> f64 {
+        let segment = Aabb {
+            lo: a.inf(b),
+            hi: a.sup(b),
+        };
+        self.nearest(
+            |bounds| bounds.distance_to_box(&segment),
+            |tri| segment_triangle_distance(a, b, tri),
+        )
+    }
+
+    /// The minimum of `exact` over all triangles, visiting nodes nearest first by `lower_bound`
+    /// (never more than `exact` of any triangle inside the box) and skipping those that cannot
+    /// beat the best so far.
+    fn nearest(
+        &self,
+        lower_bound: impl Fn(&Aabb) -> f64,
+        exact: impl Fn(&[Point3<f64>; 3]) -> f64,
+    ) -> f64 {
+        let mut best = f64::INFINITY;
+        if self.nodes.is_empty() {
+            return best;
+        }
+        // A depth-first stack that pushes the farther child first, so the nearer is visited next.
+        let mut stack = vec![(lower_bound(&self.nodes[0].bounds), 0)];
+        while let Some((bound, index)) = stack.pop() {
+            if bound >= best {
+                continue;
+            }
+            let node = &self.nodes[index];
+            match node.children {
+                Some([left, right]) => {
+                    let left_bound = lower_bound(&self.nodes[left].bounds);
+                    let right_bound = lower_bound(&self.nodes[right].bounds);
+                    if left_bound <= right_bound {
+                        stack.push((right_bound, right));
+                        stack.push((left_bound, left));
+                    } else {
+                        stack.push((left_bound, left));
+                        stack.push((right_bound, right));
+                    }
+                }
+                None => {
+                    for tri in &self.triangles[node.first..node.first + node.count] {
+                        best = best.min(exact(tri));
+                    }
+                    if best == 0.0 {
+                        return best;
+                    }
+                }
+            }
+        }
+        best
+    }
+}
+
+/// Builds the subtree over `order[first..first + count]`, returns its node index.
+fn build(
+    triangles: &[[Point3<f64>; 3]],
+    centroids: &[Point3<f64>],
+    order: &mut [usize],
+    first: usize,
+    count: usize,
+    nodes: &mut Vec<Node>,
+) -> usize {
+    let slice = &mut order[first..first + count];
+    let bounds = slice
+        .iter()
+        .map(|&i| Aabb::of_triangle(&triangles[i]))
+        .reduce(|a, b| a.union(&b))
+        .expect("a node has at least one triangle");
+    let index = nodes.len();
+    nodes.push(Node {
+        bounds,
+        children: None,
+        first,
+        count,
+    });
+    if count <= LEAF_SIZE {
+        return index;
+    }
+    let (lo, hi) = slice.iter().fold(
+        (
+            Point3::from([f64::INFINITY; 3]),
+            Point3::from([f64::NEG_INFINITY; 3]),
+        ),
+        |(lo, hi), &i| (lo.inf(&centroids[i]), hi.sup(&centroids[i])),
+    );
+    let extent = hi - lo;
+    let axis = extent.imax();
+    let half = count / 2;
+    // Ties broken by triangle index, so the tree does not depend on the sort's stability.
+    slice.select_nth_unstable_by(half, |&a, &b| {
+        centroids[a][axis]
+            .total_cmp(&centroids[b][axis])
+            .then(a.cmp(&b))
+    });
+    let left = build(triangles, centroids, order, first, half, nodes);
+    let right = build(
+        triangles,
+        centroids,
+        order,
+        first + half,
+        count - half,
+        nodes,
+    );
+    nodes[index].children = Some([left, right]);
+    index
+}
