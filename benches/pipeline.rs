@@ -11,7 +11,9 @@ use std::time::Duration;
 
 use ballast::balance::{evaluate_pose, ComponentBody};
 use ballast::design::{Design, PlacedCapsule};
-use ballast::geometry::{load_mesh, mass_properties, MeshSelector, TriMesh};
+use ballast::geometry::{
+    distance_to_point, load_mesh, mass_properties, MeshSelector, TriMesh, TriangleTree,
+};
 use ballast::spec::model::{
     Axis, Ball, Component, Goal, Infill, Material, Output, Pose, Project, Spanned, Units,
 };
@@ -198,6 +200,18 @@ fn pipeline(c: &mut Criterion) {
                 b.iter(|| evaluate_pose(&project, black_box(&bodies), &design, pose))
             });
         }
+        // Distance queries: one point near the centroid, brute force against the tree.
+        let probe = mass.centroid + nalgebra::Vector3::new(0.01, 0.02, 0.03);
+        group.bench_function("distance/brute_force", |b| {
+            b.iter(|| distance_to_point(black_box(&mesh), &probe))
+        });
+        group.bench_function("distance/tree_build", |b| {
+            b.iter(|| TriangleTree::new(black_box(&mesh)))
+        });
+        let tree = TriangleTree::new(&mesh);
+        group.bench_function("distance/tree_query", |b| {
+            b.iter(|| tree.distance_to_point(black_box(&probe)))
+        });
         group.finish();
     }
 }
