@@ -61,7 +61,7 @@ fn box_project(poses: Vec<(&str, Isometry3<f64>)>) -> Project {
 }
 
 #[test]
-fn the_box_with_steep_capsules_has_the_exact_centre_of_mass() {
+fn the_box_with_steep_capsules_has_the_exact_centre_and_verdict() {
     let project = box_project(vec![
         ("upright", Isometry3::identity()),
         ("upside down", rotation(Vector3::x(), 180.0)),
@@ -84,7 +84,16 @@ fn the_box_with_steep_capsules_has_the_exact_centre_of_mass() {
                 .collect(),
             infill: 0.3,
         };
-        compare(&project, &[tall_box()], &design, 100.0);
+        let verdicts = compare(&project, &[tall_box()], &design, 100.0);
+        // Upright and upside down it stands; on a corner or an edge it topples.
+        for (pose, (tilt, stand_objective)) in project.poses.iter().zip(verdicts) {
+            assert_eq!(
+                stand_objective < 0.0,
+                tilt > 0.0,
+                "{}: tilt margin {tilt}°, smooth objective {stand_objective}",
+                pose.name.value
+            );
+        }
     }
 }
 

@@ -230,3 +230,54 @@ fn a_massless_model_and_odd_inputs_give_finite_results() {
     long.extend([1.0, 2.0]);
     assert_eq!(objective.value(&long), objective.value(&x));
 }
+
+#[test]
+fn the_constraints_are_counted_by_the_layout_and_the_goals() {
+    // Two poses with the same immersion goal: eq. 5 in each, eq. 3 once.
+    let goals = || vec![immerse(1.0, 2.0, Some(5.0))];
+    let mut project = project_with(
+        &["box"],
+        vec![
+            named_pose(
+                "a",
+                Isometry3::identity(),
+                vec![Isometry3::identity()],
+                goals(),
+            ),
+            named_pose(
+                "b",
+                rotation(Vector3::x(), 180.0),
+                vec![Isometry3::identity()],
+                goals(),
+            ),
+        ],
+    );
+    project.infill.range = Some((0.1, 1.0));
+    let mut rng = Seeded::new(5);
+    let design = Design {
+        capsules: (0..3)
+            .map(|_| {
+                random_capsule(
+                    &mut rng,
+                    0,
+                    Point3::origin(),
+                    Point3::new(40.0, 60.0, 100.0),
+                    false,
+                )
+            })
+            .collect(),
+        infill: 0.5,
+    };
+    let parameters = Parameters {
+        axis_samples: 4,
+        ..Parameters::for_project(&project)
+    };
+    let objective = objective(&project, &[tall_box()], &design, parameters);
+    let x = objective.layout().to_vector(&design);
+    // Per capsule 3 + one per pose; 3 pairs × 4²; infill 2; eq. 5 twice; eq. 3 once (2).
+    let expected = 3 * (3 + 2) + 3 * 16 + 2 + 2 + 2;
+    assert_eq!(objective.constraints(&x).len(), expected);
+    // Moving the design does not change the count.
+    let moved: Vec<f64> = x.iter().map(|v| v * 0.5).collect();
+    assert_eq!(objective.constraints(&moved).len(), expected);
+}

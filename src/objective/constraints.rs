@@ -86,9 +86,14 @@ pub(crate) fn infill_constraints<D: Scalar>(infill: &D, (lo, hi): (f64, f64), ou
 /// The immersion constraints of one pose, goal by goal: `|c − c_buo|² − d_min² ≥ 0` (eq. 5),
 /// then, when the goal gives a mass tolerance `τ`, eq. 3 relaxed to `|m − ρ_F V| ≤ τ` as
 /// `τ − (m − ρ_F V) ≥ 0` and `τ + (m − ρ_F V) ≥ 0` (grams).
+///
+/// Mass and volume do not depend on the pose, so a mass constraint whose fluid density and
+/// tolerance are already in `seen` (from an earlier goal) is not repeated; new ones are added to
+/// `seen`.
 pub(crate) fn immersion_constraints<D: Scalar>(
     setup: &PoseSetup,
     totals: &SmoothTotals<D>,
+    seen: &mut Vec<(f64, f64)>,
     out: &mut Vec<D>,
 ) {
     for goal in &setup.goals {
@@ -102,6 +107,10 @@ pub(crate) fn immersion_constraints<D: Scalar>(
             let offset = totals.centre.sub_constant(&setup.buoyancy_centre.coords);
             out.push(offset.norm_squared() - min_distance * min_distance);
             if let Some(tolerance) = mass_tolerance {
+                if seen.contains(&(*fluid_density, *tolerance)) {
+                    continue;
+                }
+                seen.push((*fluid_density, *tolerance));
                 let residual = totals.mass.clone() - fluid_density * setup.volume;
                 out.push(-residual.clone() + *tolerance);
                 out.push(residual + *tolerance);

@@ -158,7 +158,8 @@ impl Objective {
     ///    `|x_i − x_j|² − (r_i + r_j + wall)² ≥ 0` (eq. 14);
     /// 3. when the infill is a variable: `w − lo ≥ 0`, `hi − w ≥ 0`;
     /// 4. per pose, per `immerse` goal: `|c − c_buo|² − d_min² ≥ 0` (eq. 5), then with a mass
-    ///    tolerance `τ`: `τ − (m − ρ_F V) ≥ 0` and `τ + (m − ρ_F V) ≥ 0` (eq. 3, grams);
+    ///    tolerance `τ`: `τ − (m − ρ_F V) ≥ 0` and `τ + (m − ρ_F V) ≥ 0` (eq. 3, grams), once per
+    ///    distinct fluid density and tolerance (mass and volume do not depend on the pose);
     /// 5. with an [`InteriorDistance`] ([`with_interior`](Self::with_interior)), per capsule per
     ///    axis sample: `d(x) − r − wall ≥ 0` (eq. 15).
     ///
@@ -174,6 +175,7 @@ impl Objective {
         if let (Some(i), Some(range)) = (self.layout.infill_index(), self.layout.infill_range) {
             constraints::infill_constraints(&duals[i], range, &mut out);
         }
+        let mut seen = Vec::new();
         for setup in &self.poses {
             if setup
                 .goals
@@ -181,7 +183,7 @@ impl Objective {
                 .any(|g| matches!(g, setup::GoalSetup::Immerse { .. }))
             {
                 let totals = self.totals(setup, &duals);
-                constraints::immersion_constraints(setup, &totals, &mut out);
+                constraints::immersion_constraints(setup, &totals, &mut seen, &mut out);
             }
         }
         let mut result: Vec<(f64, Vec<f64>)> =
