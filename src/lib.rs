@@ -9,6 +9,8 @@
 //! - [`geometry`]: meshes loaded, validated, their mass properties and distance queries.
 //! - [`balance`]: the physics of one pose: centre of mass, ball positions, support, goals.
 //! - [`fabrication`]: whether the capsules of a design can be printed where they are.
+//! - [`objective`]: the smooth objective and constraints, with exact gradients, an optimizer
+//!   descends.
 //! - [`emit`]: glTF scenes (one per pose) and atomic file writes.
 //!
 //! `docs/architecture.md` describes the whole pipeline, including the stages still to come.
@@ -22,4 +24,5 @@ pub mod diagnostic;
 pub mod emit;
 pub mod fabrication;
 pub mod geometry;
+pub mod objective;
 pub mod spec;

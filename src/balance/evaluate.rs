@@ -72,7 +72,7 @@ pub(crate) fn component_frame(pose: &Pose, component: usize) -> Isometry3<f64> {
 }
 
 /// Every vertex of every component, in world, component by component.
-fn posed_vertices(bodies: &[ComponentBody], pose: &Pose) -> Vec<Point3<f64>> {
+pub(crate) fn posed_vertices(bodies: &[ComponentBody], pose: &Pose) -> Vec<Point3<f64>> {
     let total = bodies.iter().map(|body| body.mesh.positions.len()).sum();
     let mut vertices = Vec::with_capacity(total);
     for (i, body) in bodies.iter().enumerate() {
@@ -83,7 +83,7 @@ fn posed_vertices(bodies: &[ComponentBody], pose: &Pose) -> Vec<Point3<f64>> {
 }
 
 /// Diagonal of the bounding box of `points`; 0 when there are none.
-fn extent(points: &[Point3<f64>]) -> f64 {
+pub(crate) fn extent(points: &[Point3<f64>]) -> f64 {
     let Some(first) = points.first() else {
         return 0.0;
     };

@@ -28,11 +28,11 @@
 //! and topples), so finite inputs always give finite outputs.
 
 mod ball;
-mod evaluate;
+pub(crate) mod evaluate;
 mod goals;
 mod hull;
 mod mass;
-mod support;
+pub(crate) mod support;
 
 pub use evaluate::evaluate_pose;
 

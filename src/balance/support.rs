@@ -7,7 +7,7 @@ use super::{Support, SupportEdge};
 use crate::spec::model::{Axis, Goal, Pose, Project};
 
 /// Toppling angle reported when nothing touches the ground: the model falls whichever way.
-const NO_SUPPORT: f64 = -90.0;
+pub(crate) const NO_SUPPORT: f64 = -90.0;
 
 /// The contact tolerance of `pose`: that of its first `stand` or `imbalance` goal, else 0.05 mm in
 /// the project's units.
@@ -41,11 +41,7 @@ pub(crate) fn support(
 ) -> Support {
     let plane = GroundPlane::new(up);
     let tolerance = tolerance.max(0.0);
-    let ground = vertices
-        .iter()
-        .map(|p| plane.height(p))
-        .fold(f64::INFINITY, f64::min);
-    if ground == f64::INFINITY {
+    let Some(ground) = ground_height(vertices, &plane) else {
         return Support {
             ground_height: 0.0,
             contact_tolerance: tolerance,
@@ -55,17 +51,8 @@ pub(crate) fn support(
             edges: Vec::new(),
             tilt_margin: NO_SUPPORT,
         };
-    }
-    let contacts: Vec<Point3<f64>> = vertices
-        .iter()
-        .filter(|p| plane.height(p) - ground <= tolerance)
-        .copied()
-        .collect();
-    let projected: Vec<[f64; 2]> = contacts.iter().map(|p| plane.project(p).into()).collect();
-    let polygon: Vec<Vector2<f64>> = convex_hull(&projected)
-        .into_iter()
-        .map(Vector2::from)
-        .collect();
+    };
+    let (contacts, polygon) = footprint(vertices, &plane, ground, tolerance);
     let height = plane.height(centre) - ground;
     let foot = plane.project(centre);
     let edges: Vec<SupportEdge> = edge_distances(&polygon, &foot)
@@ -97,26 +84,105 @@ pub(crate) fn support(
     }
 }
 
-/// The (pseudo-)edges of a convex `polygon` (counter-clockwise, as from [`convex_hull`]) with the
-/// signed distance of `foot` from each, positive outside.
-fn edge_distances(
+/// The vertices within `tolerance` of the `ground` height (along `plane`'s up) and the convex
+/// hull of their projections, counter-clockwise seen from above (see [`convex_hull`]).
+pub(crate) fn footprint(
+    vertices: &[Point3<f64>],
+    plane: &GroundPlane,
+    ground: f64,
+    tolerance: f64,
+) -> (Vec<Point3<f64>>, Vec<Vector2<f64>>) {
+    let contacts: Vec<Point3<f64>> = vertices
+        .iter()
+        .filter(|p| plane.height(p) - ground <= tolerance)
+        .copied()
+        .collect();
+    let projected: Vec<[f64; 2]> = contacts.iter().map(|p| plane.project(p).into()).collect();
+    let polygon = convex_hull(&projected)
+        .into_iter()
+        .map(Vector2::from)
+        .collect();
+    (contacts, polygon)
+}
+
+/// The height of the ground under `vertices`: the lowest along `plane`'s up, or `None` when there
+/// are no finite vertices.
+pub(crate) fn ground_height(vertices: &[Point3<f64>], plane: &GroundPlane) -> Option<f64> {
+    let ground = vertices
+        .iter()
+        .map(|p| plane.height(p))
+        .fold(f64::INFINITY, f64::min);
+    (ground != f64::INFINITY).then_some(ground)
+}
+
+/// How the signed distance of the centre's foot from one (pseudo-)edge depends on the foot `f`
+/// (positive outside the support).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum SupportLine {
+    /// `(f − origin)·normal`: a polygon edge (`normal` its outward unit normal) or a segment's end
+    /// cap (`normal` along the segment, away from it).
+    Linear {
+        /// A point of the line.
+        origin: Vector2<f64>,
+        /// Unit normal, outward.
+        normal: Vector2<f64>,
+    },
+    /// `|(f − origin)·normal|`: a side of a segment support, outside on both sides.
+    Side {
+        /// A point of the segment.
+        origin: Vector2<f64>,
+        /// Unit normal of the segment.
+        normal: Vector2<f64>,
+    },
+    /// `|f − origin|`: a support that is a single point.
+    Point {
+        /// The point.
+        origin: Vector2<f64>,
+    },
+}
+
+impl SupportLine {
+    /// The signed distance of `foot`, positive outside.
+    pub(crate) fn distance(&self, foot: &Vector2<f64>) -> f64 {
+        match self {
+            SupportLine::Linear { origin, normal } => (foot - origin).dot(normal),
+            SupportLine::Side { origin, normal } => (foot - origin).dot(normal).abs(),
+            SupportLine::Point { origin } => (foot - origin).norm(),
+        }
+    }
+}
+
+/// The (pseudo-)edges of a convex `polygon` (counter-clockwise, as from [`convex_hull`]), each as
+/// its start, end and distance function; see [`Support::edges`].
+pub(crate) fn support_lines(
     polygon: &[Vector2<f64>],
-    foot: &Vector2<f64>,
-) -> Vec<(Vector2<f64>, Vector2<f64>, f64)> {
+) -> Vec<(Vector2<f64>, Vector2<f64>, SupportLine)> {
     match polygon {
         [] => Vec::new(),
-        [p] => vec![(*p, *p, (foot - p).norm())],
+        [p] => vec![(*p, *p, SupportLine::Point { origin: *p })],
         [a, b] => {
-            let length = (b - a).norm();
-            let along = (b - a) / length;
-            let offset = foot - a;
-            let beyond_b = offset.dot(&along) - length;
-            let side = along.perp(&offset).abs();
+            let along = (b - a) / (b - a).norm();
+            let normal = Vector2::new(along.y, -along.x);
+            let side = SupportLine::Side { origin: *a, normal };
             vec![
                 (*a, *b, side),
                 (*b, *a, side),
-                (*a, *a, -offset.dot(&along)),
-                (*b, *b, beyond_b),
+                (
+                    *a,
+                    *a,
+                    SupportLine::Linear {
+                        origin: *a,
+                        normal: -along,
+                    },
+                ),
+                (
+                    *b,
+                    *b,
+                    SupportLine::Linear {
+                        origin: *b,
+                        normal: along,
+                    },
+                ),
             ]
         }
         _ => (0..polygon.len())
@@ -125,23 +191,35 @@ fn edge_distances(
                 let b = polygon[(i + 1) % polygon.len()];
                 let edge = b - a;
                 // Right of a counter-clockwise edge is outside.
-                let outward = Vector2::new(edge.y, -edge.x) / edge.norm();
-                (a, b, (foot - a).dot(&outward))
+                let normal = Vector2::new(edge.y, -edge.x) / edge.norm();
+                (a, b, SupportLine::Linear { origin: a, normal })
             })
             .collect(),
     }
 }
 
+/// The (pseudo-)edges of a convex `polygon` (counter-clockwise, as from [`convex_hull`]) with the
+/// signed distance of `foot` from each, positive outside.
+fn edge_distances(
+    polygon: &[Vector2<f64>],
+    foot: &Vector2<f64>,
+) -> Vec<(Vector2<f64>, Vector2<f64>, f64)> {
+    support_lines(polygon)
+        .into_iter()
+        .map(|(start, end, line)| (start, end, line.distance(foot)))
+        .collect()
+}
+
 /// The ground's frame: two horizontal axes `e1`, `e2` with `e1 × e2 = up`, so counter-clockwise
 /// in (e1, e2) is counter-clockwise seen from above.
-struct GroundPlane {
-    e1: Vector3<f64>,
-    e2: Vector3<f64>,
-    up: Vector3<f64>,
+pub(crate) struct GroundPlane {
+    pub(crate) e1: Vector3<f64>,
+    pub(crate) e2: Vector3<f64>,
+    pub(crate) up: Vector3<f64>,
 }
 
 impl GroundPlane {
-    fn new(up: Axis) -> GroundPlane {
+    pub(crate) fn new(up: Axis) -> GroundPlane {
         let (e1, e2) = match up {
             Axis::X => (Vector3::y(), Vector3::z()),
             Axis::Y => (Vector3::z(), Vector3::x()),
@@ -155,12 +233,12 @@ impl GroundPlane {
     }
 
     /// Height of `p` along up.
-    fn height(&self, p: &Point3<f64>) -> f64 {
+    pub(crate) fn height(&self, p: &Point3<f64>) -> f64 {
         self.up.dot(&p.coords)
     }
 
     /// Coordinates of `p` seen from above.
-    fn project(&self, p: &Point3<f64>) -> Vector2<f64> {
+    pub(crate) fn project(&self, p: &Point3<f64>) -> Vector2<f64> {
         Vector2::new(self.e1.dot(&p.coords), self.e2.dot(&p.coords))
     }
 

@@ -1,0 +1,120 @@
+//! The constraints of the design, each written `g(x) ≥ 0` (paper eq. 3, 5, 14, 16 and 22, and
+//! the bounds on radius and infill).
+
+use super::mass::{axis_cosine, CapsuleVars, SmoothTotals};
+use super::scalar::{Scalar, V3};
+use super::setup::{GoalSetup, PoseSetup};
+
+/// The fixed numbers the constraints compare with.
+#[derive(Debug, Clone)]
+pub(crate) struct Limits {
+    /// Smallest radius, project units.
+    pub min_radius: f64,
+    /// Per component: the largest radius, project units.
+    pub max_radius: Vec<f64>,
+    /// `sin²` of the minimum axis elevation.
+    pub min_elevation_sine_squared: f64,
+    /// Material between two capsules, project units.
+    pub wall: f64,
+    /// Sample positions along an axis, in [0, 1].
+    pub samples: Vec<f64>,
+}
+
+/// The capsule constraints, capsule by capsule: `|q − p|² − r² ≥ 0` (eq. 16), `r − r_min ≥ 0`,
+/// `r_max − r ≥ 0`, then per pose `z² − sin² φ_min ≥ 0` (eq. 22 written without the arccos:
+/// `|arccos z − π/2| ≥ φ` ⇔ `|z| ≥ sin φ`).
+pub(crate) fn capsule_constraints<D: Scalar>(
+    capsules: &[CapsuleVars<D>],
+    poses: &[PoseSetup],
+    limits: &Limits,
+    out: &mut Vec<D>,
+) {
+    for capsule in capsules {
+        let r = &capsule.r;
+        out.push(capsule.q.sub(&capsule.p).norm_squared() - r.clone() * r);
+        out.push(r.clone() - limits.min_radius);
+        let max = limits
+            .max_radius
+            .get(capsule.component)
+            .copied()
+            .unwrap_or(0.0);
+        out.push(-r.clone() + max);
+        for pose in poses {
+            let z = axis_cosine(capsule, &pose.gravity_in(capsule.component));
+            out.push(z.clone() * z - limits.min_elevation_sine_squared);
+        }
+    }
+}
+
+/// Eq. 14 for every pair of capsules `i < j` of one component, at every pair of axis samples
+/// `(s, t)`: `|x_i(s) − x_j(t)|² − (r_i + r_j + wall)² ≥ 0` with `x(s) = p + s (q − p)`.
+/// Squared, so it stays differentiable where two samples meet.
+pub(crate) fn pair_constraints<D: Scalar>(
+    capsules: &[CapsuleVars<D>],
+    limits: &Limits,
+    out: &mut Vec<D>,
+) {
+    for (i, a) in capsules.iter().enumerate() {
+        for b in &capsules[i + 1..] {
+            if a.component != b.component {
+                continue;
+            }
+            let reach = a.r.clone() + &b.r + limits.wall;
+            let reach2 = reach.clone() * reach;
+            for &s in &limits.samples {
+                let xa = sample(a, s);
+                for &t in &limits.samples {
+                    let gap = xa.sub(&sample(b, t)).norm_squared();
+                    out.push(gap - reach2.clone());
+                }
+            }
+        }
+    }
+}
+
+/// The point `p + s (q − p)` of a capsule's axis.
+pub(crate) fn sample<D: Scalar>(capsule: &CapsuleVars<D>, s: f64) -> V3<D> {
+    capsule.p.add(&capsule.q.sub(&capsule.p).scale_by(s))
+}
+
+/// `w − lo ≥ 0` and `hi − w ≥ 0` for the infill fraction `w`.
+pub(crate) fn infill_constraints<D: Scalar>(infill: &D, (lo, hi): (f64, f64), out: &mut Vec<D>) {
+    out.push(infill.clone() - lo);
+    out.push(-infill.clone() + hi);
+}
+
+/// The immersion constraints of one pose, goal by goal: `|c − c_buo|² − d_min² ≥ 0` (eq. 5),
+/// then, when the goal gives a mass tolerance `τ`, eq. 3 relaxed to `|m − ρ_F V| ≤ τ` as
+/// `τ − (m − ρ_F V) ≥ 0` and `τ + (m − ρ_F V) ≥ 0` (grams).
+///
+/// Mass and volume do not depend on the pose, so a mass constraint whose fluid density and
+/// tolerance are already in `seen` (from an earlier goal) is not repeated; new ones are added to
+/// `seen`.
+pub(crate) fn immersion_constraints<D: Scalar>(
+    setup: &PoseSetup,
+    totals: &SmoothTotals<D>,
+    seen: &mut Vec<(f64, f64)>,
+    out: &mut Vec<D>,
+) {
+    for goal in &setup.goals {
+        if let GoalSetup::Immerse {
+            fluid_density,
+            min_distance,
+            mass_tolerance,
+            ..
+        } = goal
+        {
+            let offset = totals.centre.sub_constant(&setup.buoyancy_centre.coords);
+            out.push(offset.norm_squared() - min_distance * min_distance);
+            if let Some(tolerance) = mass_tolerance {
+                if seen.contains(&(*fluid_density, *tolerance)) {
+                    continue;
+                }
+                seen.push((*fluid_density, *tolerance));
+                let residual = totals.mass.clone() - fluid_density * setup.volume;
+                out.push(-residual.clone() + *tolerance);
+                out.push(residual + *tolerance);
+            }
+        }
+    }
+}

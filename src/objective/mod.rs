@@ -1,0 +1,276 @@
+//! The smooth objective and constraints an optimizer descends (paper section 4 and appendix A).
+//!
+//! [`Objective`] turns a design vector `x` (see [`DesignLayout`]) into
+//!
+//! - one smooth objective `f(x)`, the log-sum-exp smooth maximum (sharpness α) of every goal's
+//!   objective in every pose, each in radians and at most 0 when its goal is met
+//!   ([`Objective::value_and_gradient`]);
+//! - the constraints `g(x) ≥ 0` ([`Objective::constraints`]),
+//!
+//! with exact gradients by forward-mode automatic differentiation (`num_dual` dual numbers: the
+//! same generic code runs on `f64` for values and on dual numbers for gradients). Each pose's
+//! design-independent data is precomputed once in a [`PoseSetup`]. Balls move between the ends of
+//! their capsules by the sigmoid of eq. 21, so the centre of mass is smooth in `x`.
+//!
+//! `docs/optimizer.md` states the formulation. Lengths are in project units, masses in grams,
+//! angles in radians. Deterministic: the same `x` gives the same bits. Never panics: a short `x`
+//! is padded with zeros, extra entries are ignored.
+
+mod constraints;
+mod goals;
+mod interior;
+mod layout;
+mod mass;
+mod parameters;
+mod scalar;
+mod setup;
+mod smooth;
+
+pub use interior::InteriorDistance;
+pub use layout::{DesignLayout, CAPSULE_STRIDE, P, Q, R};
+pub use parameters::Parameters;
+pub use scalar::Scalar;
+pub use setup::PoseSetup;
+pub use smooth::{smooth_max, smooth_min};
+
+use nalgebra::{Point3, Vector3};
+
+use self::constraints::Limits;
+use self::mass::{capsules, Densities, SmoothTotals};
+use crate::balance::ComponentBody;
+use crate::geometry::TriMesh;
+use crate::spec::model::Project;
+
+/// The smooth objective and constraints of one project's goals for a fixed set of capsules.
+pub struct Objective {
+    layout: DesignLayout,
+    parameters: Parameters,
+    poses: Vec<PoseSetup>,
+    densities: Densities,
+    fixed_infill: f64,
+    limits: Limits,
+    interior: Option<Box<dyn InteriorDistance>>,
+}
+
+impl Objective {
+    /// The objective of `project`'s poses and goals for designs laid out by `layout`.
+    ///
+    /// `bodies` is indexed like `project.components`. Each component's largest capsule radius is
+    /// half the shortest side of its mesh's bounding box (rest frame): no wider ball fits.
+    pub fn new(
+        project: &Project,
+        bodies: &[ComponentBody],
+        layout: DesignLayout,
+        parameters: Parameters,
+    ) -> Objective {
+        let poses = project
+            .poses
+            .iter()
+            .map(|pose| PoseSetup::new(project, bodies, pose, parameters.angle_smoothing))
+            .collect();
+        let cubic = project.units.cubic_in_cm3();
+        let sine = project.ball.min_angle.to_radians().sin();
+        let limits = Limits {
+            min_radius: parameters.min_radius,
+            max_radius: bodies.iter().map(|b| half_narrowest_side(b.mesh)).collect(),
+            min_elevation_sine_squared: sine * sine,
+            wall: project.wall,
+            samples: parameters.samples(),
+        };
+        Objective {
+            layout,
+            poses,
+            densities: Densities {
+                material: project.material.density * cubic,
+                ball: project.ball.density * cubic,
+                clearance: project.ball.clearance,
+            },
+            fixed_infill: project.infill.value,
+            limits,
+            parameters,
+            interior: None,
+        }
+    }
+
+    /// The same objective with the interior constraints of eq. 15 evaluated by `interior`.
+    pub fn with_interior(mut self, interior: Box<dyn InteriorDistance>) -> Objective {
+        self.interior = Some(interior);
+        self
+    }
+
+    /// The layout of the design vector.
+    pub fn layout(&self) -> &DesignLayout {
+        &self.layout
+    }
+
+    /// The parameters in use.
+    pub fn parameters(&self) -> &Parameters {
+        &self.parameters
+    }
+
+    /// The precomputed poses, in project order.
+    pub fn poses(&self) -> &[PoseSetup] {
+        &self.poses
+    }
+
+    /// `f(x)`: the smooth maximum (eq. 6, log-sum-exp with sharpness α) of
+    /// [`goal_terms`](Self::goal_terms); 0 when the project has no goals.
+    pub fn value(&self, x: &[f64]) -> f64 {
+        let x = self.padded(x);
+        let terms = self.terms(&x);
+        smooth_max(&terms, self.parameters.goal_sharpness)
+    }
+
+    /// `f(x)` and its exact gradient `∂f/∂x` (length [`DesignLayout::len`]).
+    pub fn value_and_gradient(&self, x: &[f64]) -> (f64, Vec<f64>) {
+        let x = self.padded(x);
+        let duals = scalar::seeded(&x);
+        let terms = self.terms(&duals);
+        scalar::split(smooth_max(&terms, self.parameters.goal_sharpness), x.len())
+    }
+
+    /// Every goal's objective with its gradient, pose by pose, goal by goal (the terms `f_i` of
+    /// eq. 6): radians, at most 0 when the goal is met.
+    pub fn goal_terms(&self, x: &[f64]) -> Vec<(f64, Vec<f64>)> {
+        let x = self.padded(x);
+        let duals = scalar::seeded(&x);
+        self.terms(&duals)
+            .into_iter()
+            .map(|t| scalar::split(t, x.len()))
+            .collect()
+    }
+
+    /// The smooth centre of mass (world) and mass (grams) of the design `x` in pose `pose`
+    /// (project order), or `None` past the last pose.
+    pub fn mass_properties(&self, pose: usize, x: &[f64]) -> Option<(Point3<f64>, f64)> {
+        let setup = self.poses.get(pose)?;
+        let x = self.padded(x);
+        let totals = self.totals(setup, &x);
+        Some((Point3::from(totals.centre.re()), totals.mass))
+    }
+
+    /// The constraints, each `(g(x), ∂g/∂x)` with `g(x) ≥ 0` required, in this order:
+    ///
+    /// 1. per capsule: `|q − p|² − r² ≥ 0` (eq. 16, squared project units), `r − r_min ≥ 0`,
+    ///    `r_max − r ≥ 0` (project units), then per pose `z² − sin² φ_min ≥ 0` (eq. 22, `z` the
+    ///    cosine between axis and gravity, `φ_min` = [`Ball::min_angle`](crate::spec::model::Ball::min_angle));
+    /// 2. per pair of capsules in one component, per pair of axis samples:
+    ///    `|x_i − x_j|² − (r_i + r_j + wall)² ≥ 0` (eq. 14);
+    /// 3. when the infill is a variable: `w − lo ≥ 0`, `hi − w ≥ 0`;
+    /// 4. per pose, per `immerse` goal: `|c − c_buo|² − d_min² ≥ 0` (eq. 5), then with a mass
+    ///    tolerance `τ`: `τ − (m − ρ_F V) ≥ 0` and `τ + (m − ρ_F V) ≥ 0` (eq. 3, grams), once per
+    ///    distinct fluid density and tolerance (mass and volume do not depend on the pose);
+    /// 5. with an [`InteriorDistance`] ([`with_interior`](Self::with_interior)), per capsule per
+    ///    axis sample: `d(x) − r − wall ≥ 0` (eq. 15).
+    ///
+    /// The count depends only on the layout, the project and the parameters, never on `x`.
+    pub fn constraints(&self, x: &[f64]) -> Vec<(f64, Vec<f64>)> {
+        let x = self.padded(x);
+        let n = x.len();
+        let duals = scalar::seeded(&x);
+        let mut out = Vec::new();
+        let vars = capsules(&self.layout, &duals);
+        constraints::capsule_constraints(&vars, &self.poses, &self.limits, &mut out);
+        constraints::pair_constraints(&vars, &self.limits, &mut out);
+        if let (Some(i), Some(range)) = (self.layout.infill_index(), self.layout.infill_range) {
+            constraints::infill_constraints(&duals[i], range, &mut out);
+        }
+        let mut seen = Vec::new();
+        for setup in &self.poses {
+            if setup
+                .goals
+                .iter()
+                .any(|g| matches!(g, setup::GoalSetup::Immerse { .. }))
+            {
+                let totals = self.totals(setup, &duals);
+                constraints::immersion_constraints(setup, &totals, &mut seen, &mut out);
+            }
+        }
+        let mut result: Vec<(f64, Vec<f64>)> =
+            out.into_iter().map(|g| scalar::split(g, n)).collect();
+        if let Some(interior) = &self.interior {
+            result.extend(self.interior_constraints(interior.as_ref(), &x));
+        }
+        result
+    }
+
+    /// Eq. 15 at every axis sample of every capsule, by the chain rule through `interior`.
+    fn interior_constraints(
+        &self,
+        interior: &dyn InteriorDistance,
+        x: &[f64],
+    ) -> Vec<(f64, Vec<f64>)> {
+        let mut out = Vec::new();
+        for (j, &component) in self.layout.components.iter().enumerate() {
+            let base = j * CAPSULE_STRIDE;
+            let p = Vector3::from_column_slice(&x[base + P..base + P + 3]);
+            let q = Vector3::from_column_slice(&x[base + Q..base + Q + 3]);
+            for &s in &self.limits.samples {
+                let point = Point3::from(p + (q - p) * s);
+                let (distance, direction) = interior.distance(component, &point);
+                let mut gradient = vec![0.0; x.len()];
+                for k in 0..3 {
+                    gradient[base + P + k] = (1.0 - s) * direction[k];
+                    gradient[base + Q + k] = s * direction[k];
+                }
+                gradient[base + R] = -1.0;
+                out.push((distance - x[base + R] - self.limits.wall, gradient));
+            }
+        }
+        out
+    }
+
+    /// Every goal's objective, pose by pose.
+    fn terms<D: Scalar>(&self, x: &[D]) -> Vec<D> {
+        let mut terms = Vec::new();
+        for setup in &self.poses {
+            if setup.goals.is_empty() {
+                continue;
+            }
+            let totals = self.totals(setup, x);
+            for goal in &setup.goals {
+                terms.push(goals::goal_objective(
+                    goal,
+                    setup,
+                    &totals,
+                    self.parameters.edge_sharpness,
+                ));
+            }
+        }
+        terms
+    }
+
+    /// The smooth mass totals of `x` in `setup`'s pose.
+    fn totals<D: Scalar>(&self, setup: &PoseSetup, x: &[D]) -> SmoothTotals<D> {
+        let infill = match self.layout.infill_index() {
+            Some(i) => x[i].clone(),
+            None => D::from(self.fixed_infill),
+        };
+        mass::totals(
+            setup,
+            &capsules(&self.layout, x),
+            &infill,
+            self.densities,
+            self.parameters.ball_sharpness,
+        )
+    }
+
+    /// `x` cut or padded with zeros to the layout's length.
+    fn padded(&self, x: &[f64]) -> Vec<f64> {
+        let mut x = x.to_vec();
+        x.resize(self.layout.len(), 0.0);
+        x
+    }
+}
+
+/// Half the shortest side of `mesh`'s bounding box; 0 without vertices.
+fn half_narrowest_side(mesh: &TriMesh) -> f64 {
+    let Some(first) = mesh.positions.first() else {
+        return 0.0;
+    };
+    let (lo, hi) = mesh
+        .positions
+        .iter()
+        .fold((*first, *first), |(lo, hi), p| (lo.inf(p), hi.sup(p)));
+    0.5 * (hi - lo).min()
+}
