@@ -7,8 +7,10 @@
 //! - [`winding_number`]: inside/outside test that tolerates small holes.
 //! - [`distance_to_point`], [`distance_to_segment`] and the primitive distances they use.
 //! - [`TriangleTree`]: the same distances, fast, for many queries against one mesh.
+//! - [`DistanceGrid`]: signed distance sampled on a grid, with a smooth interpolant.
 
 mod distance;
+mod field;
 mod gltf_buffers;
 mod load;
 mod load_gltf;
@@ -23,6 +25,7 @@ pub use distance::{
     distance_to_point, distance_to_segment, point_triangle_distance, segment_segment_distance,
     segment_triangle_distance,
 };
+pub use field::DistanceGrid;
 pub use load::{load_mesh, LoadError, MeshSelector};
 pub use mass::{mass_properties, MassProperties};
 pub use mesh::TriMesh;

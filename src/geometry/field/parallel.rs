@@ -1,0 +1,37 @@
+//! A per-node map on every available core.
+
+use std::thread;
+
+/// Nodes per block handed to one thread at a time.
+const BLOCK: usize = 1024;
+
+/// `(0..count).map(f).collect()`, with blocks of `BLOCK` indices dealt round-robin to up to
+/// `available_parallelism` threads. Each element depends only on its index, so the result does
+/// not depend on the thread count.
+pub(super) fn map_nodes<T: Send>(count: usize, f: impl Fn(usize) -> T + Sync) -> Vec<T> {
+    let threads = thread::available_parallelism().map_or(1, |n| n.get());
+    let blocks = count.div_ceil(BLOCK);
+    let f = &f;
+    let per_thread: Vec<Vec<Vec<T>>> = thread::scope(|scope| {
+        let handles: Vec<_> = (0..threads.min(blocks))
+            .map(|t| {
+                scope.spawn(move || {
+                    (t..blocks)
+                        .step_by(threads)
+                        .map(|b| (b * BLOCK..((b + 1) * BLOCK).min(count)).map(f).collect())
+                        .collect()
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+            .collect()
+    });
+    let mut iters: Vec<_> = per_thread.into_iter().map(Vec::into_iter).collect();
+    let mut out = Vec::with_capacity(count);
+    for b in 0..blocks {
+        out.extend(iters[b % threads].next().into_iter().flatten());
+    }
+    out
+}
