@@ -18,6 +18,7 @@
 
 mod constraints;
 mod goals;
+mod grid_interior;
 mod interior;
 mod layout;
 mod mass;
@@ -26,6 +27,7 @@ mod scalar;
 mod setup;
 mod smooth;
 
+pub use grid_interior::GridInterior;
 pub use interior::InteriorDistance;
 pub use layout::{DesignLayout, CAPSULE_STRIDE, P, Q, R};
 pub use parameters::Parameters;
