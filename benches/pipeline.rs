@@ -12,7 +12,8 @@ use std::time::Duration;
 use ballast::balance::{evaluate_pose, ComponentBody};
 use ballast::design::{Design, PlacedCapsule};
 use ballast::geometry::{
-    distance_to_point, load_mesh, mass_properties, MeshSelector, TriMesh, TriangleTree,
+    distance_to_point, load_mesh, mass_properties, DistanceGrid, MeshSelector, TriMesh,
+    TriangleTree,
 };
 use ballast::spec::model::{
     Axis, Ball, Component, Goal, Infill, Material, Output, Pose, Project, Spanned, Units,
@@ -211,6 +212,13 @@ fn pipeline(c: &mut Criterion) {
         let tree = TriangleTree::new(&mesh);
         group.bench_function("distance/tree_query", |b| {
             b.iter(|| tree.distance_to_point(black_box(&probe)))
+        });
+        // Signed distance grid with 0.5 mm cells (a capsule radius of 1 mm).
+        let cell = DistanceGrid::cell_for_radius(0.1);
+        let grid = DistanceGrid::new(&mesh, cell);
+        eprintln!("  field: {:?} nodes, cell {cell}", grid.dims());
+        group.bench_function("field/build", |b| {
+            b.iter(|| DistanceGrid::new(black_box(&mesh), cell))
         });
         group.finish();
     }
