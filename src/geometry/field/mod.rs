@@ -49,6 +49,9 @@ impl DistanceGrid {
     /// Samples the signed distance to `mesh` every `cell` (project units) over its bounding box
     /// plus three cells on every side. Deterministic, whatever the number of cores used.
     ///
+    /// Memory: one `f64` per node, `(extent / cell + 7)` nodes along each axis, so halving `cell`
+    /// multiplies it (and the time) by about eight.
+    ///
     /// A mesh without triangles gives an empty grid, whose [`value`](Self::value) is `+∞`
     /// everywhere (nothing is inside) with a zero gradient.
     ///
@@ -129,7 +132,8 @@ impl DistanceGrid {
     /// Inside the box of nodes that have a full 4×4×4 neighbourhood (one cell in from the grid's
     /// faces, still at least two cells outside the mesh), this is the Catmull-Rom interpolant.
     /// Farther out, `p` is clamped to that box at `q` and the result is `value(q) + |p − q|`,
-    /// continuous, with its exact gradient (an upper bound on the distance growth, never inside).
+    /// continuous, growing at unit rate away from the box as a distance does, with its exact
+    /// gradient.
     pub fn value_and_gradient(&self, p: &Point3<f64>) -> (f64, Vector3<f64>) {
         if self.values.is_empty() {
             return (f64::INFINITY, Vector3::zeros());
