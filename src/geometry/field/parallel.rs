@@ -10,6 +10,12 @@ const BLOCK: usize = 1024;
 /// not depend on the thread count.
 pub(super) fn map_nodes<T: Send>(count: usize, f: impl Fn(usize) -> T + Sync) -> Vec<T> {
     let threads = thread::available_parallelism().map_or(1, |n| n.get());
+    map_nodes_on(threads, count, f)
+}
+
+/// [`map_nodes`] on `threads` threads (at least one).
+fn map_nodes_on<T: Send>(threads: usize, count: usize, f: impl Fn(usize) -> T + Sync) -> Vec<T> {
+    let threads = threads.max(1);
     let blocks = count.div_ceil(BLOCK);
     let f = &f;
     let per_thread: Vec<Vec<Vec<T>>> = thread::scope(|scope| {
@@ -34,4 +40,24 @@ pub(super) fn map_nodes<T: Send>(count: usize, f: impl Fn(usize) -> T + Sync) ->
         out.extend(iters[b % threads].next().into_iter().flatten());
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::map_nodes_on;
+
+    #[test]
+    fn the_result_does_not_depend_on_the_thread_count() {
+        let f = |i: usize| (i as f64).sqrt().sin();
+        for count in [0, 1, 1023, 1024, 1025, 5000] {
+            let sequential: Vec<f64> = (0..count).map(f).collect();
+            for threads in [0, 1, 2, 3, 7] {
+                assert_eq!(
+                    map_nodes_on(threads, count, f),
+                    sequential,
+                    "{threads} threads, {count} nodes"
+                );
+            }
+        }
+    }
 }
