@@ -111,6 +111,17 @@ pub fn render_plain(problems: &[Problem], source_name: &str, source: &str) -> St
     let handler = GraphicalReportHandler::new_themed(GraphicalTheme::unicode_nocolor())
         .with_width(PLAIN_WIDTH)
         .with_links(false);
+    render(&handler, problems, source_name, source)
+}
+
+/// Renders `problems` against `source` (named `source_name` in the output) with `handler`, a
+/// blank line between problems.
+pub fn render(
+    handler: &GraphicalReportHandler,
+    problems: &[Problem],
+    source_name: &str,
+    source: &str,
+) -> String {
     let mut out = String::new();
     for (index, problem) in problems.iter().enumerate() {
         if index > 0 {

@@ -1,6 +1,6 @@
 //! One pose evaluated: the per-stage results wired together.
 
-use nalgebra::{Isometry3, Point3};
+use nalgebra::Point3;
 
 use super::{ball, goals, mass, support, ComponentBody, PoseEvaluation};
 use crate::design::Design;
@@ -26,7 +26,7 @@ pub fn evaluate_pose(
         .capsules
         .iter()
         .map(|capsule| {
-            let frame = component_frame(pose, capsule.component);
+            let frame = pose.component_frame(capsule.component);
             ball::place_ball(capsule, &frame, &up, &project.ball, cubic)
         })
         .collect();
@@ -62,21 +62,12 @@ pub fn evaluate_pose(
     }
 }
 
-/// Rest frame to world for `component` in `pose`: `pose.transform * component_transforms[i]`,
-/// with the identity standing in for a missing component transform.
-pub(crate) fn component_frame(pose: &Pose, component: usize) -> Isometry3<f64> {
-    match pose.component_transforms.get(component) {
-        Some(own) => pose.transform * own,
-        None => pose.transform,
-    }
-}
-
 /// Every vertex of every component, in world, component by component.
 pub(crate) fn posed_vertices(bodies: &[ComponentBody], pose: &Pose) -> Vec<Point3<f64>> {
     let total = bodies.iter().map(|body| body.mesh.positions.len()).sum();
     let mut vertices = Vec::with_capacity(total);
     for (i, body) in bodies.iter().enumerate() {
-        let frame = component_frame(pose, i);
+        let frame = pose.component_frame(i);
         vertices.extend(body.mesh.positions.iter().map(|p| frame * p));
     }
     vertices

@@ -2,7 +2,6 @@
 
 use nalgebra::Vector3;
 
-use super::evaluate::component_frame;
 use super::mass::MassTotals;
 use super::{GoalEvaluation, GoalOutcome};
 use crate::spec::model::{Goal, Pose};
@@ -56,7 +55,7 @@ pub(crate) fn evaluate_goal(goal: &Goal, measured: &Measured) -> GoalEvaluation 
             component,
             tolerance,
         } => {
-            let point = component_frame(measured.pose, component) * point;
+            let point = measured.pose.component_frame(component) * point;
             let angle = angle_to(&(centre - point), &-measured.up, measured.coincidence);
             GoalEvaluation {
                 met: angle <= tolerance,

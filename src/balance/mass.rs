@@ -2,7 +2,6 @@
 
 use nalgebra::{Point3, Vector3};
 
-use super::evaluate::component_frame;
 use super::{BallPlacement, ComponentBody};
 use crate::design::Design;
 use crate::spec::model::{Pose, Project};
@@ -43,7 +42,7 @@ pub(crate) fn mass_totals(
     let mut volume = Weighted::default();
     let mut centroids = Vector3::zeros();
     for (i, body) in bodies.iter().enumerate() {
-        let centroid = component_frame(pose, i) * body.mass.centroid;
+        let centroid = pose.component_frame(i) * body.mass.centroid;
         centroids += centroid.coords;
         volume.add(body.mass.volume, &centroid);
         mass.add(density * body.mass.volume, &centroid);
@@ -53,7 +52,7 @@ pub(crate) fn mass_totals(
             continue;
         }
         let middle =
-            component_frame(pose, capsule.component) * nalgebra::center(&capsule.from, &capsule.to);
+            pose.component_frame(capsule.component) * nalgebra::center(&capsule.from, &capsule.to);
         mass.add(-density * capsule.volume(), &middle);
         mass.add(ball.mass, &Point3::from(ball.centre_world));
     }

@@ -60,13 +60,16 @@ fn compile_file(path: &Path) -> Option<Compilation> {
             if !compilation.warnings.is_empty() {
                 eprint!(
                     "{}",
-                    diagnostics::render(&compilation.warnings, &name, &source)
+                    diagnostics::render_for_terminal(&compilation.warnings, &name, &source)
                 );
             }
             Some(compilation)
         }
         Err(problems) => {
-            eprint!("{}", diagnostics::render(&problems, &name, &source));
+            eprint!(
+                "{}",
+                diagnostics::render_for_terminal(&problems, &name, &source)
+            );
             let errors = problems.iter().filter(|p| p.is_error()).count();
             eprintln!(
                 "error: {name} is invalid: {errors} error{}",

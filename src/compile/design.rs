@@ -53,7 +53,7 @@ fn no_ball_problem(project: &Project, radius: f64, span: miette::SourceSpan) -> 
         .with_help("make the capsule wider, or list a smaller ball in `ball { diameters ... }`")
 }
 
-/// Rounds to 4 decimals for messages.
+/// Rounds to 4 decimals, for numbers shown in messages.
 pub(crate) fn round(value: f64) -> f64 {
     (value * 1e4).round() / 1e4
 }

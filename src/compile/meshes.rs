@@ -3,6 +3,7 @@
 
 use std::path::Path;
 
+use super::design::round;
 use crate::diagnostic::Problem;
 use crate::geometry::{check_mesh, load_mesh, LoadError, MeshCheck, TriMesh};
 use crate::spec::model::{Component, Project};
@@ -184,10 +185,6 @@ fn format_point(mesh: &TriMesh, index: u32) -> String {
         Some(p) => format!("({}, {}, {})", round(p.x), round(p.y), round(p.z)),
         None => "(?)".to_string(),
     }
-}
-
-fn round(value: f64) -> f64 {
-    (value * 1e4).round() / 1e4
 }
 
 fn display_path(path: &Path) -> String {

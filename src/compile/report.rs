@@ -7,7 +7,6 @@ use serde::Serialize;
 
 use super::Compilation;
 use crate::balance::PoseEvaluation;
-use crate::geometry::MeshSelector;
 
 /// Version of the report's layout; raised when a field changes meaning or disappears.
 pub const REPORT_FORMAT: u32 = 1;
@@ -115,6 +114,16 @@ pub struct PoseReport<'a> {
     pub all_goals_met: bool,
 }
 
+impl<'a> PoseReport<'a> {
+    /// The report entry of `evaluation`.
+    pub fn new(evaluation: &'a PoseEvaluation) -> PoseReport<'a> {
+        PoseReport {
+            evaluation,
+            all_goals_met: evaluation.goals.iter().all(|goal| goal.met),
+        }
+    }
+}
+
 /// How many goals are met.
 #[derive(Debug, Clone, Copy, Serialize)]
 pub struct GoalCount {
@@ -137,12 +146,7 @@ impl<'a> Report<'a> {
             .map(|((component, mesh), mass)| ComponentReport {
                 name: component.name.value.clone(),
                 mesh: relative_path(&component.mesh.value, folder),
-                part: match &component.selector {
-                    MeshSelector::Whole => None,
-                    MeshSelector::ObjObject(name) | MeshSelector::GltfNode(name) => {
-                        Some(name.clone())
-                    }
-                },
+                part: component.selector.part_name().map(str::to_owned),
                 vertices: mesh.positions.len(),
                 triangles: mesh.triangles.len(),
                 volume: mass.volume,
@@ -167,14 +171,7 @@ impl<'a> Report<'a> {
                 volume: capsule.volume(),
             })
             .collect();
-        let poses = compilation
-            .poses
-            .iter()
-            .map(|evaluation| PoseReport {
-                evaluation,
-                all_goals_met: evaluation.goals.iter().all(|goal| goal.met),
-            })
-            .collect();
+        let poses = compilation.poses.iter().map(PoseReport::new).collect();
         let all_goals: Vec<bool> = compilation
             .poses
             .iter()

@@ -40,22 +40,12 @@ impl Compilation {
             .iter()
             .zip(&self.poses)
             .map(|(pose, evaluation)| {
-                let extras = serde_json::to_value(PoseReport {
-                    evaluation,
-                    all_goals_met: evaluation.goals.iter().all(|goal| goal.met),
-                })
-                .unwrap_or(serde_json::Value::Null);
+                let extras = serde_json::to_value(PoseReport::new(evaluation))
+                    .unwrap_or(serde_json::Value::Null);
                 ScenePose {
                     name: pose.name.value.clone(),
                     component_transforms: (0..project.components.len())
-                        .map(|i| {
-                            pose.transform
-                                * pose
-                                    .component_transforms
-                                    .get(i)
-                                    .copied()
-                                    .unwrap_or_default()
-                        })
+                        .map(|i| pose.component_frame(i))
                         .collect(),
                     ball_centres: evaluation
                         .balls

@@ -2,7 +2,7 @@
 
 use nalgebra::{Isometry3, Point3, Vector3};
 
-use crate::balance::evaluate::{component_frame, extent, posed_vertices};
+use crate::balance::evaluate::{extent, posed_vertices};
 use crate::balance::support::{
     contact_tolerance, footprint, ground_height, support_lines, GroundPlane, SupportLine,
 };
@@ -82,7 +82,7 @@ impl PoseSetup {
     ) -> PoseSetup {
         let up = project.up.unit_vector();
         let count = bodies.len().max(project.components.len());
-        let frames: Vec<Isometry3<f64>> = (0..count).map(|i| component_frame(pose, i)).collect();
+        let frames: Vec<Isometry3<f64>> = (0..count).map(|i| pose.component_frame(i)).collect();
         let gravity = frames.iter().map(|f| f.rotation.inverse() * -up).collect();
         let placed: Vec<(f64, Point3<f64>)> = bodies
             .iter()
@@ -135,7 +135,7 @@ impl PoseSetup {
                     component,
                     tolerance,
                 } => GoalSetup::Suspend {
-                    point: (component_frame(pose, component) * point).coords,
+                    point: (pose.component_frame(component) * point).coords,
                     tolerance: tolerance.to_radians(),
                 },
                 Goal::Immerse {

@@ -232,6 +232,17 @@ pub struct Pose {
     pub span: SourceSpan,
 }
 
+impl Pose {
+    /// Rest frame to world for `component` in this pose: `transform * component_transforms[i]`,
+    /// with the identity standing in for a missing component transform.
+    pub fn component_frame(&self, component: usize) -> Isometry3<f64> {
+        match self.component_transforms.get(component) {
+            Some(own) => self.transform * own,
+            None => self.transform,
+        }
+    }
+}
+
 /// What must happen in a pose.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Goal {
