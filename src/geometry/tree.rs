@@ -98,6 +98,27 @@ impl TriangleTree {
         TriangleTree { triangles, nodes }
     }
 
+    /// The triangles, in leaf order: each node's triangles are a contiguous range.
+    pub(crate) fn triangles(&self) -> &[[Point3<f64>; 3]] {
+        &self.triangles
+    }
+
+    /// How many nodes there are; node 0 is the root, and a node comes before its children.
+    pub(crate) fn node_count(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// The children of node `index`, or `None` for a leaf.
+    pub(crate) fn children(&self, index: usize) -> Option<[usize; 2]> {
+        self.nodes[index].children
+    }
+
+    /// The range of [`triangles`](Self::triangles) under node `index`.
+    pub(crate) fn triangle_range(&self, index: usize) -> std::ops::Range<usize> {
+        let node = &self.nodes[index];
+        node.first..node.first + node.count
+    }
+
     /// Unsigned distance from `p` to the surface (`+∞` without triangles).
     pub fn distance_to_point(&self, p: &Point3<f64>) -> f64 {
         self.nearest(

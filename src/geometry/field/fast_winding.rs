@@ -3,11 +3,9 @@
 
 use nalgebra::{Point3, Vector3};
 
-use super::super::mesh::TriMesh;
+use super::super::tree::TriangleTree;
 use super::super::winding::solid_angle;
 
-/// Triangles per leaf.
-const LEAF_SIZE: usize = 8;
 /// A cluster is replaced by its dipole when the query is farther than `ACCURACY` times the
 /// cluster's radius from its centre.
 const ACCURACY: f64 = 2.0;
@@ -18,35 +16,25 @@ struct Cluster {
     centre: Point3<f64>,
     radius: f64,
     area_vector: Vector3<f64>,
-    children: Option<[usize; 2]>,
-    first: usize,
-    count: usize,
 }
 
-/// A cluster tree over one mesh's triangles for fast winding numbers.
+/// Dipoles over the clusters of a [`TriangleTree`], for fast winding numbers.
 #[derive(Debug, Clone)]
-pub(super) struct WindingTree {
-    triangles: Vec<[Point3<f64>; 3]>,
+pub(super) struct WindingTree<'t> {
+    tree: &'t TriangleTree,
+    /// One per node of `tree`, same index.
     clusters: Vec<Cluster>,
 }
 
-impl WindingTree {
-    /// Builds the tree (median split along the longest axis of the centroids; ties by index,
-    /// so the result is deterministic).
-    pub(super) fn new(mesh: &TriMesh) -> WindingTree {
-        let all: Vec<[Point3<f64>; 3]> = (0..mesh.triangles.len())
-            .map(|i| mesh.triangle(i))
+impl<'t> WindingTree<'t> {
+    /// The dipole of every node of `tree`: the area-weighted centre of its triangles (the centre
+    /// of their bounding box when their area is zero), the radius of the ball around it holding
+    /// them, and their summed area vector.
+    pub(super) fn new(tree: &'t TriangleTree) -> WindingTree<'t> {
+        let clusters = (0..tree.node_count())
+            .map(|index| cluster(&tree.triangles()[tree.triangle_range(index)]))
             .collect();
-        let mut order: Vec<usize> = (0..all.len()).collect();
-        let mut clusters = Vec::new();
-        if !all.is_empty() {
-            build(&all, &mut order, 0, &mut clusters);
-        }
-        let triangles = order.iter().map(|&i| all[i]).collect();
-        WindingTree {
-            triangles,
-            clusters,
-        }
+        WindingTree { tree, clusters }
     }
 
     /// Approximate winding number at `p`: exact near the surface's nearby triangles, with a
@@ -64,11 +52,11 @@ impl WindingTree {
             let distance = offset.norm();
             if distance > ACCURACY * cluster.radius {
                 total += cluster.area_vector.dot(&offset) / distance.powi(3);
-            } else if let Some([left, right]) = cluster.children {
+            } else if let Some([left, right]) = self.tree.children(index) {
                 stack.push(right);
                 stack.push(left);
             } else {
-                total += self.triangles[cluster.first..cluster.first + cluster.count]
+                total += self.tree.triangles()[self.tree.triangle_range(index)]
                     .iter()
                     .map(|tri| solid_angle(tri, p))
                     .sum::<f64>();
@@ -78,21 +66,14 @@ impl WindingTree {
     }
 }
 
-/// Builds the cluster over `order[start..start + slice.len()]`, children first-in-order, and
-/// returns its index. Leaves refer to positions in `order` (the final triangle order).
-fn build(
-    all: &[[Point3<f64>; 3]],
-    order: &mut [usize],
-    start: usize,
-    clusters: &mut Vec<Cluster>,
-) -> usize {
+/// The dipole and extent of `triangles`.
+fn cluster(triangles: &[[Point3<f64>; 3]]) -> Cluster {
     let mut area_vector = Vector3::zeros();
     let mut weighted = Vector3::zeros();
     let mut total_area = 0.0;
     let mut lo = Point3::from(Vector3::repeat(f64::INFINITY));
     let mut hi = Point3::from(Vector3::repeat(f64::NEG_INFINITY));
-    for &i in order.iter() {
-        let [a, b, c] = all[i];
+    for &[a, b, c] in triangles {
         let area = (b - a).cross(&(c - a)) / 2.0;
         area_vector += area;
         total_area += area.norm();
@@ -107,30 +88,14 @@ fn build(
     } else {
         Point3::from((lo.coords + hi.coords) / 2.0)
     };
-    let radius = order
+    let radius = triangles
         .iter()
-        .flat_map(|&i| all[i])
+        .flatten()
         .map(|v| (v - centre).norm())
         .fold(0.0, f64::max);
-    let index = clusters.len();
-    clusters.push(Cluster {
+    Cluster {
         centre,
         radius,
         area_vector,
-        children: None,
-        first: start,
-        count: order.len(),
-    });
-    if order.len() > LEAF_SIZE {
-        let extent = hi - lo;
-        let axis = extent.imax();
-        let key = |i: usize| all[i].iter().map(|v| v[axis]).sum::<f64>();
-        let middle = order.len() / 2;
-        order.select_nth_unstable_by(middle, |&x, &y| key(x).total_cmp(&key(y)).then(x.cmp(&y)));
-        let (left_order, right_order) = order.split_at_mut(middle);
-        let left = build(all, left_order, start, clusters);
-        let right = build(all, right_order, start + middle, clusters);
-        clusters[index].children = Some([left, right]);
     }
-    index
 }

@@ -84,7 +84,7 @@ impl DistanceGrid {
         let count = dims.iter().product();
         let tree = TriangleTree::new(mesh);
         let distances = map_nodes(count, |i| tree.distance_to_point(&grid.node_at(i)));
-        let winding = WindingTree::new(mesh);
+        let winding = WindingTree::new(&tree);
         let near = cell * 3f64.sqrt();
         let inside = sign::inside_nodes(dims, |i| grid.node_at(i), &distances, near, &winding);
         grid.values = distances
