@@ -25,4 +25,5 @@ pub mod emit;
 pub mod fabrication;
 pub mod geometry;
 pub mod objective;
+pub mod optimize;
 pub mod spec;

@@ -170,12 +170,39 @@ impl Objective {
         let x = self.padded(x);
         let n = x.len();
         let duals = scalar::seeded(&x);
+        let mut result: Vec<(f64, Vec<f64>)> = self
+            .smooth_constraints(&duals)
+            .into_iter()
+            .map(|g| scalar::split(g, n))
+            .collect();
+        if let Some(interior) = &self.interior {
+            result.extend(self.interior_constraints(interior.as_ref(), &x));
+        }
+        result
+    }
+
+    /// The values of [`constraints`](Self::constraints) without their gradients (cheaper).
+    pub fn constraint_values(&self, x: &[f64]) -> Vec<f64> {
+        let x = self.padded(x);
+        let mut result = self.smooth_constraints(&x);
+        if let Some(interior) = &self.interior {
+            result.extend(
+                self.interior_constraints(interior.as_ref(), &x)
+                    .into_iter()
+                    .map(|(g, _)| g),
+            );
+        }
+        result
+    }
+
+    /// Every constraint but eq. 15, in the order of [`constraints`](Self::constraints).
+    fn smooth_constraints<D: Scalar>(&self, x: &[D]) -> Vec<D> {
         let mut out = Vec::new();
-        let vars = capsules(&self.layout, &duals);
+        let vars = capsules(&self.layout, x);
         constraints::capsule_constraints(&vars, &self.poses, &self.limits, &mut out);
         constraints::pair_constraints(&vars, &self.limits, &mut out);
         if let (Some(i), Some(range)) = (self.layout.infill_index(), self.layout.infill_range) {
-            constraints::infill_constraints(&duals[i], range, &mut out);
+            constraints::infill_constraints(&x[i], range, &mut out);
         }
         let mut seen = Vec::new();
         for setup in &self.poses {
@@ -184,16 +211,11 @@ impl Objective {
                 .iter()
                 .any(|g| matches!(g, setup::GoalSetup::Immerse { .. }))
             {
-                let totals = self.totals(setup, &duals);
+                let totals = self.totals(setup, x);
                 constraints::immersion_constraints(setup, &totals, &mut seen, &mut out);
             }
         }
-        let mut result: Vec<(f64, Vec<f64>)> =
-            out.into_iter().map(|g| scalar::split(g, n)).collect();
-        if let Some(interior) = &self.interior {
-            result.extend(self.interior_constraints(interior.as_ref(), &x));
-        }
-        result
+        out
     }
 
     /// Eq. 15 at every axis sample of every capsule, by the chain rule through `interior`.
@@ -266,7 +288,7 @@ impl Objective {
 }
 
 /// Half the shortest side of `mesh`'s bounding box; 0 without vertices.
-fn half_narrowest_side(mesh: &TriMesh) -> f64 {
+pub(crate) fn half_narrowest_side(mesh: &TriMesh) -> f64 {
     let Some(first) = mesh.positions.first() else {
         return 0.0;
     };

@@ -1,0 +1,355 @@
+//! One local solve of the nonlinear program: an [`Objective`] handed to a constrained solver.
+//!
+//! Two solvers are wired in, both pure-Rust translations of NLopt's: SLSQP (`slsqp` crate,
+//! sequential quadratic programming with the exact gradients) and COBYLA (`cobyla` crate, linear
+//! approximations, no gradients). `docs/benchmarks.md` compares them on the examples; SLSQP is
+//! the default.
+//!
+//! The solvers see a scaled design vector `u = (x − shift) / scale`: positions relative to the
+//! centre of their component's bounding box and lengths divided by the model's extent, so every
+//! unknown is of order one whatever the project's units.
+
+use std::cell::RefCell;
+
+use crate::objective::Objective;
+
+/// Which solver runs a local solve.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Method {
+    /// Sequential quadratic programming with exact gradients (default).
+    Slsqp,
+    /// Derivative-free linear approximations.
+    Cobyla,
+}
+
+/// Box bounds on every entry of the design vector, with the scaling the solvers see.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Bounds {
+    /// Per entry: lowest and highest value, project units.
+    pub range: Vec<(f64, f64)>,
+    /// Per entry: the value that scales to 0.
+    pub shift: Vec<f64>,
+    /// Per entry: the length that scales to 1.
+    pub scale: Vec<f64>,
+}
+
+/// What one local solve reached.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Solve {
+    /// The design vector reached, project units.
+    pub x: Vec<f64>,
+    /// The objective there.
+    pub value: f64,
+    /// The largest constraint violation there, each constraint divided by its gradient's length
+    /// at the start (roughly a fraction of the model's extent): 0 when every `g ≥ 0` holds.
+    pub violation: f64,
+    /// Objective evaluations the solver asked for.
+    pub evaluations: usize,
+    /// Whether the solver reported success (a stop on a tolerance or the evaluation budget).
+    pub converged: bool,
+}
+
+/// Stops for a local solve.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Budget {
+    /// Most objective evaluations.
+    pub evaluations: usize,
+    /// Stop when the objective changes by less than this, relative.
+    pub relative_tolerance: f64,
+}
+
+impl Default for Budget {
+    fn default() -> Self {
+        Budget {
+            evaluations: 400,
+            relative_tolerance: 1e-6,
+        }
+    }
+}
+
+/// Every constraint at the last point asked for, reused while the solver asks for one constraint
+/// at a time at the same point.
+struct ConstraintCache {
+    u: Vec<f64>,
+    with_gradients: bool,
+    values: Vec<(f64, Vec<f64>)>,
+}
+
+/// The evaluations so far and the best point among them: the lowest objective among feasible
+/// points, or the smallest violation while none is feasible. The solvers' own final point is not
+/// always the best they saw (SLSQP stops on a failed line search and hands back its start).
+struct Tracker {
+    evaluations: usize,
+    best: Option<(Vec<f64>, f64, f64)>,
+}
+
+impl Tracker {
+    fn record(&mut self, u: &[f64], value: f64, violation: f64) {
+        self.evaluations += 1;
+        let better = match &self.best {
+            None => true,
+            Some((_, best_value, best_violation)) => {
+                let (feasible, best_feasible) =
+                    (violation <= FEASIBLE, *best_violation <= FEASIBLE);
+                match (feasible, best_feasible) {
+                    (true, true) => value < *best_value,
+                    (true, false) => true,
+                    (false, true) => false,
+                    (false, false) => violation < *best_violation,
+                }
+            }
+        };
+        if better {
+            self.best = Some((u.to_vec(), value, violation));
+        }
+    }
+}
+
+/// The largest scaled constraint violation (a fraction of the model's extent) a point may have
+/// and still count as feasible.
+pub(crate) const FEASIBLE: f64 = 1e-7;
+
+/// Minimizes `objective` from `x0` within `bounds` by `method`, and returns the best point
+/// evaluated.
+///
+/// Deterministic: the same inputs give the same bits. Never panics on a mismatched `x0`: it is
+/// padded or cut to the objective's layout.
+pub fn solve(
+    objective: &Objective,
+    x0: &[f64],
+    bounds: &Bounds,
+    method: Method,
+    budget: Budget,
+) -> Solve {
+    let n = objective.layout().len();
+    let start: Vec<f64> = (0..n)
+        .map(|i| {
+            let (lo, hi) = bounds.range[i];
+            x0.get(i).copied().unwrap_or(0.0).clamp(lo, hi)
+        })
+        .collect();
+    // Entries whose range is a single value (pinned capsules) are not the solver's unknowns.
+    let free: Vec<usize> = (0..n)
+        .filter(|&i| bounds.range[i].0 < bounds.range[i].1)
+        .collect();
+    let to_x = |u: &[f64]| -> Vec<f64> {
+        let mut x = start.clone();
+        for (&i, &v) in free.iter().zip(u) {
+            x[i] = bounds.shift[i] + bounds.scale[i] * v;
+        }
+        x
+    };
+    let u0: Vec<f64> = free
+        .iter()
+        .map(|&i| (start[i] - bounds.shift[i]) / bounds.scale[i])
+        .collect();
+    let u_bounds: Vec<(f64, f64)> = free
+        .iter()
+        .map(|&i| {
+            let (lo, hi) = bounds.range[i];
+            (
+                (lo - bounds.shift[i]) / bounds.scale[i],
+                (hi - bounds.shift[i]) / bounds.scale[i],
+            )
+        })
+        .collect();
+    let cache = RefCell::new(ConstraintCache {
+        u: Vec::new(),
+        with_gradients: false,
+        values: Vec::new(),
+    });
+    // COBYLA never asks for gradients, so its constraints are evaluated without them.
+    let gradients = method == Method::Slsqp;
+    let constraints_at = |u: &[f64], with_gradients: bool| {
+        let mut cache = cache.borrow_mut();
+        if cache.u != u || (with_gradients && !cache.with_gradients) {
+            let x = to_x(u);
+            cache.values = if with_gradients {
+                objective.constraints(&x)
+            } else {
+                objective
+                    .constraint_values(&x)
+                    .into_iter()
+                    .map(|g| (g, Vec::new()))
+                    .collect()
+            };
+            cache.u = u.to_vec();
+            cache.with_gradients = with_gradients;
+        }
+    };
+    // Each constraint divided by the length of its gradient in `u` at the start, so that its
+    // value is roughly the distance (in `u`) to its boundary, whatever its units.
+    let norms: Vec<f64> = {
+        constraints_at(&u0, true);
+        let cache = cache.borrow();
+        cache
+            .values
+            .iter()
+            .map(|(_, dx)| {
+                let norm = free
+                    .iter()
+                    .map(|&i| (dx[i] * bounds.scale[i]).powi(2))
+                    .sum::<f64>()
+                    .sqrt();
+                if norm > 1e-12 {
+                    norm
+                } else {
+                    1.0
+                }
+            })
+            .collect()
+    };
+    let m = norms.len();
+    let constraint = |u: &[f64], k: usize, gradient: Option<&mut [f64]>| -> f64 {
+        constraints_at(u, gradients);
+        let cache = cache.borrow();
+        let (value, dx) = &cache.values[k];
+        if let Some(g) = gradient {
+            for (g, &i) in g.iter_mut().zip(&free) {
+                *g = dx[i] * bounds.scale[i] / norms[k];
+            }
+        }
+        value / norms[k]
+    };
+    let tracker = RefCell::new(Tracker {
+        evaluations: 0,
+        best: None,
+    });
+    let record = |u: &[f64], value: f64| {
+        constraints_at(u, gradients);
+        let violation = cache
+            .borrow()
+            .values
+            .iter()
+            .zip(&norms)
+            .map(|((g, _), norm)| (-g / norm).max(0.0))
+            .fold(0.0, f64::max);
+        tracker.borrow_mut().record(u, value, violation);
+    };
+    let stop = |x: &[f64], x_tol: f64| (x.len(), budget.relative_tolerance, x_tol);
+    let (outcome_u, converged) = match method {
+        Method::Slsqp => {
+            let f = |u: &[f64], gradient: Option<&mut [f64]>, _: &mut ()| -> f64 {
+                let x = to_x(u);
+                let value = match gradient {
+                    Some(g) => {
+                        let (value, dx) = objective.value_and_gradient(&x);
+                        for (g, &i) in g.iter_mut().zip(&free) {
+                            *g = dx[i] * bounds.scale[i];
+                        }
+                        value
+                    }
+                    None => objective.value(&x),
+                };
+                record(u, value);
+                value
+            };
+            // SLSQP wants c(u) ≤ 0.
+            let closures: Vec<Box<dyn slsqp::Func<()> + '_>> = (0..m)
+                .map(|k| {
+                    let constraint = &constraint;
+                    Box::new(move |u: &[f64], gradient: Option<&mut [f64]>, _: &mut ()| {
+                        let value = match gradient {
+                            Some(g) => {
+                                let value = constraint(u, k, Some(&mut *g));
+                                g.iter_mut().for_each(|v| *v = -*v);
+                                value
+                            }
+                            None => constraint(u, k, None),
+                        };
+                        -value
+                    }) as Box<dyn slsqp::Func<()> + '_>
+                })
+                .collect();
+            let cons: Vec<&dyn slsqp::Func<()>> = closures.iter().map(|c| c.as_ref()).collect();
+            let (len, ftol, xtol) = stop(&u0, 1e-9);
+            let tols = slsqp::StopTols {
+                ftol_rel: ftol,
+                xtol_abs: vec![xtol; len],
+                ..Default::default()
+            };
+            // SLSQP stops when a line search fails, often far from a minimum; restarting from
+            // the best point seen (with a fresh Hessian estimate) carries on until a restart
+            // gains nothing.
+            let mut start = u0.clone();
+            let mut converged = false;
+            let mut previous: Option<(f64, f64)> = None;
+            loop {
+                let used = tracker.borrow().evaluations;
+                if used >= budget.evaluations {
+                    break;
+                }
+                let outcome = slsqp::minimize(
+                    f,
+                    &start,
+                    &u_bounds,
+                    &cons,
+                    (),
+                    budget.evaluations - used,
+                    Some(tols.clone()),
+                );
+                converged = outcome.is_ok();
+                let Some((best, value, violation)) = tracker.borrow().best.clone() else {
+                    break;
+                };
+                let gained = match previous {
+                    None => true,
+                    Some((v, c)) => {
+                        value < v - budget.relative_tolerance * v.abs().max(1e-3)
+                            || violation < c * 0.5
+                    }
+                };
+                if converged || !gained {
+                    break;
+                }
+                previous = Some((value, violation));
+                start = best;
+            }
+            (start, converged)
+        }
+        Method::Cobyla => {
+            let f = |u: &[f64], _: &mut ()| -> f64 {
+                let value = objective.value(&to_x(u));
+                record(u, value);
+                value
+            };
+            let closures: Vec<Box<dyn cobyla::Func<()> + '_>> = (0..m)
+                .map(|k| {
+                    let constraint = &constraint;
+                    Box::new(move |u: &[f64], _: &mut ()| constraint(u, k, None))
+                        as Box<dyn cobyla::Func<()> + '_>
+                })
+                .collect();
+            let cons: Vec<&dyn cobyla::Func<()>> = closures.iter().map(|c| c.as_ref()).collect();
+            let (len, ftol, xtol) = stop(&u0, 1e-7);
+            let tols = cobyla::StopTols {
+                ftol_rel: ftol,
+                xtol_abs: vec![xtol; len],
+                ..Default::default()
+            };
+            match cobyla::minimize(
+                f,
+                &u0,
+                &u_bounds,
+                &cons,
+                (),
+                budget.evaluations,
+                cobyla::RhoBeg::All(0.05),
+                Some(tols),
+            ) {
+                Ok((_, u, _)) => (u, true),
+                Err((_, u, _)) => (u, false),
+            }
+        }
+    };
+    record(&outcome_u, objective.value(&to_x(&outcome_u)));
+    let tracker = tracker.into_inner();
+    let (u, value, violation) = tracker.best.unwrap_or((u0, f64::INFINITY, f64::INFINITY));
+    Solve {
+        x: to_x(&u),
+        value,
+        violation,
+        evaluations: tracker.evaluations,
+        converged,
+    }
+}
