@@ -113,7 +113,7 @@ fn gradient_matches_central_differences() {
     let mesh = icosphere(3, 5.0, centre);
     let grid = DistanceGrid::new(&mesh, 0.7);
     let interior = GridInterior {
-        grids: vec![grid.clone()],
+        grids: vec![std::sync::Arc::new(grid.clone())],
     };
     let h = 1e-6;
     let mut worst = 0.0f64;

@@ -1,5 +1,7 @@
 //! Eq. 15's distance field from one signed distance grid per component.
 
+use std::sync::Arc;
+
 use nalgebra::{Point3, Vector3};
 
 use super::interior::InteriorDistance;
@@ -8,8 +10,8 @@ use crate::geometry::DistanceGrid;
 /// One [`DistanceGrid`] per component, in component order, as an [`InteriorDistance`].
 #[derive(Debug, Clone)]
 pub struct GridInterior {
-    /// The grids, indexed by component.
-    pub grids: Vec<DistanceGrid>,
+    /// The grids, indexed by component; shared, since one grid serves many optimizations.
+    pub grids: Vec<Arc<DistanceGrid>>,
 }
 
 impl InteriorDistance for GridInterior {
@@ -23,5 +25,12 @@ impl InteriorDistance for GridInterior {
             }
             None => (f64::NEG_INFINITY, Vector3::zeros()),
         }
+    }
+}
+
+impl InteriorDistance for Arc<GridInterior> {
+    /// As for the shared [`GridInterior`].
+    fn distance(&self, component: usize, point: &Point3<f64>) -> (f64, Vector3<f64>) {
+        self.as_ref().distance(component, point)
     }
 }

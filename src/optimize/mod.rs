@@ -2,7 +2,13 @@
 //! goals with the largest margin (paper section 4).
 
 mod bounds;
+mod grids;
+mod heuristic;
+mod problem;
 mod solver;
 
 pub use bounds::design_bounds;
+pub use grids::{content_hash, default_cell, GridCache};
+pub use heuristic::{choose, run as run_heuristic, Candidate};
+pub use problem::{Outcome, Problem, StartCapsule};
 pub use solver::{solve, Bounds, Budget, Method, Solve};

@@ -228,6 +228,8 @@ pub fn solve(
     };
     let stop = |x: &[f64], x_tol: f64| (x.len(), budget.relative_tolerance, x_tol);
     let (outcome_u, converged) = match method {
+        // Nothing to move (no capsules, or only pinned ones, and a fixed infill).
+        _ if free.is_empty() => (u0.clone(), true),
         Method::Slsqp => {
             let f = |u: &[f64], gradient: Option<&mut [f64]>, _: &mut ()| -> f64 {
                 let x = to_x(u);

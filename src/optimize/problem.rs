@@ -1,0 +1,202 @@
+//! One project's optimization problem: the objective, bounds and starting point for any set of
+//! starting capsules, and the exact verdict on the design a solve reaches.
+
+use std::sync::Arc;
+
+use nalgebra::Point3;
+
+use super::bounds::design_bounds;
+use super::solver::{solve, Budget, Method, FEASIBLE};
+use crate::balance::{evaluate_pose, ComponentBody, GoalOutcome, PoseEvaluation};
+use crate::design::{Design, PlacedCapsule};
+use crate::fabrication::check_design;
+use crate::geometry::TriMesh;
+use crate::objective::{DesignLayout, GridInterior, Objective, Parameters, CAPSULE_STRIDE};
+use crate::spec::model::Project;
+
+/// A capsule the optimizer starts from: from a skeleton segment, from the project file, or
+/// random.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StartCapsule {
+    /// Index of its component.
+    pub component: usize,
+    /// One end of the axis, rest frame.
+    pub from: Point3<f64>,
+    /// The other end.
+    pub to: Point3<f64>,
+    /// Void radius.
+    pub radius: f64,
+    /// Kept exactly as it is: not moved, resized or removed.
+    pub pinned: bool,
+    /// Its name in the project file, for a capsule written there.
+    pub name: Option<String>,
+}
+
+/// A design the optimizer reached, judged exactly.
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    /// The capsules and infill.
+    pub design: Design,
+    /// The smooth objective `f` there (radians; at most 0 when every goal is met).
+    pub value: f64,
+    /// Whether the solve ended within the constraints.
+    pub feasible: bool,
+    /// Whether every goal of every pose is met by the exact evaluation and no capsule has a
+    /// fabrication issue.
+    pub meets_goals: bool,
+    /// The smallest tilt margin over every `stand` goal, degrees; `None` without stand goals.
+    pub worst_tilt_margin: Option<f64>,
+    /// The exact evaluation, one per pose.
+    pub poses: Vec<PoseEvaluation>,
+    /// Objective evaluations spent.
+    pub evaluations: usize,
+}
+
+/// Everything fixed while the capsules vary.
+pub struct Problem<'a> {
+    project: &'a Project,
+    meshes: &'a [TriMesh],
+    bodies: Vec<ComponentBody<'a>>,
+    interior: Arc<GridInterior>,
+    parameters: Parameters,
+    method: Method,
+    budget_per_unknown: usize,
+}
+
+impl<'a> Problem<'a> {
+    /// The problem of `project` (its capsules are ignored: the start capsules replace them) over
+    /// `meshes` (one per component), with `interior` keeping capsules inside.
+    pub fn new(
+        project: &'a Project,
+        meshes: &'a [TriMesh],
+        interior: Arc<GridInterior>,
+        method: Method,
+    ) -> Problem<'a> {
+        Problem {
+            project,
+            meshes,
+            bodies: meshes.iter().map(ComponentBody::new).collect(),
+            interior,
+            parameters: Parameters::for_project(project),
+            method,
+            budget_per_unknown: 150,
+        }
+    }
+
+    /// The project.
+    pub fn project(&self) -> &Project {
+        self.project
+    }
+
+    /// The component meshes.
+    pub fn meshes(&self) -> &[TriMesh] {
+        self.meshes
+    }
+
+    /// The parameters of the smooth formulation.
+    pub fn parameters(&self) -> &Parameters {
+        &self.parameters
+    }
+
+    /// Optimizes from `start` and judges the result.
+    pub fn optimize(&self, start: &[StartCapsule]) -> Outcome {
+        let design = self.start_design(start);
+        let layout = DesignLayout::for_design(self.project, &design);
+        let objective = Objective::new(
+            self.project,
+            &self.bodies,
+            layout.clone(),
+            self.parameters.clone(),
+        )
+        .with_interior(Box::new(self.interior.clone()));
+        let mut bounds = design_bounds(&objective, self.meshes);
+        let x0 = layout.to_vector(&design);
+        for (j, capsule) in start.iter().enumerate() {
+            if capsule.pinned {
+                let entries = j * CAPSULE_STRIDE..(j + 1) * CAPSULE_STRIDE;
+                for (range, &value) in bounds.range[entries.clone()].iter_mut().zip(&x0[entries]) {
+                    *range = (value, value);
+                }
+            }
+        }
+        let budget = Budget {
+            evaluations: (self.budget_per_unknown * layout.len()).max(200),
+            ..Budget::default()
+        };
+        let solved = solve(&objective, &x0, &bounds, self.method, budget);
+        let mut design = layout.to_design(&solved.x, &self.project.ball, self.project.infill.value);
+        for (capsule, started) in design.capsules.iter_mut().zip(start) {
+            if let Some(ball) = self.project.ball.radius_for(capsule.radius) {
+                capsule.ball_radius = ball;
+            }
+            if started.pinned {
+                capsule.from = started.from;
+                capsule.to = started.to;
+                capsule.radius = started.radius;
+            }
+        }
+        let mut outcome = self.judge(design);
+        outcome.value = solved.value;
+        outcome.feasible = solved.violation <= FEASIBLE;
+        outcome.evaluations = solved.evaluations;
+        outcome
+    }
+
+    /// The exact verdict on `design`: every pose evaluated, every capsule checked.
+    pub fn judge(&self, design: Design) -> Outcome {
+        let poses: Vec<PoseEvaluation> = self
+            .project
+            .poses
+            .iter()
+            .map(|pose| evaluate_pose(self.project, &self.bodies, &design, pose))
+            .collect();
+        let printable = check_design(
+            self.meshes,
+            &design,
+            self.project.wall,
+            self.project.ball.clearance,
+        )
+        .is_empty();
+        let goals_met = poses.iter().all(|p| p.goals.iter().all(|g| g.met));
+        let worst_tilt_margin = poses
+            .iter()
+            .flat_map(|p| &p.goals)
+            .filter_map(|g| match g.outcome {
+                GoalOutcome::Stand { tilt_margin, .. } => Some(tilt_margin),
+                _ => None,
+            })
+            .reduce(f64::min);
+        Outcome {
+            design,
+            value: f64::NAN,
+            feasible: printable,
+            meets_goals: goals_met && printable,
+            worst_tilt_margin,
+            poses,
+            evaluations: 0,
+        }
+    }
+
+    /// The design `start` describes, each capsule with the ball that fits it.
+    fn start_design(&self, start: &[StartCapsule]) -> Design {
+        let ball = &self.project.ball;
+        Design {
+            capsules: start
+                .iter()
+                .enumerate()
+                .map(|(j, c)| PlacedCapsule {
+                    name: c
+                        .name
+                        .clone()
+                        .unwrap_or_else(|| format!("capsule {}", j + 1)),
+                    component: c.component,
+                    from: c.from,
+                    to: c.to,
+                    radius: c.radius,
+                    ball_radius: ball.radius_for(c.radius).unwrap_or(0.0),
+                })
+                .collect(),
+            infill: self.project.infill.value,
+        }
+    }
+}
