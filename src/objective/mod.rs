@@ -43,6 +43,9 @@ use crate::balance::ComponentBody;
 use crate::geometry::TriMesh;
 use crate::spec::model::Project;
 
+/// Degrees added to the ball's minimum elevation in eq. 22.
+const ELEVATION_SLACK_DEGREES: f64 = 0.25;
+
 /// The smooth objective and constraints of one project's goals for a fixed set of capsules.
 pub struct Objective {
     layout: DesignLayout,
@@ -71,7 +74,9 @@ impl Objective {
             .map(|pose| PoseSetup::new(project, bodies, pose, parameters.angle_smoothing))
             .collect();
         let cubic = project.units.cubic_in_cm3();
-        let sine = project.ball.min_angle.to_radians().sin();
+        let sine = (project.ball.min_angle + ELEVATION_SLACK_DEGREES)
+            .to_radians()
+            .sin();
         let limits = Limits {
             min_radius: parameters.min_radius,
             max_radius: bodies.iter().map(|b| half_narrowest_side(b.mesh)).collect(),
@@ -155,7 +160,8 @@ impl Objective {
     ///
     /// 1. per capsule: `|q − p|² − r² ≥ 0` (eq. 16, squared project units), `r − r_min ≥ 0`,
     ///    `r_max − r ≥ 0` (project units), then per pose `z² − sin² φ_min ≥ 0` (eq. 22, `z` the
-    ///    cosine between axis and gravity, `φ_min` = [`Ball::min_angle`](crate::spec::model::Ball::min_angle));
+    ///    cosine between axis and gravity, `φ_min` = [`Ball::min_angle`](crate::spec::model::Ball::min_angle)
+    ///    plus a slack of 0.25°, so a solution on this constraint's boundary still has a determined ball);
     /// 2. per pair of capsules in one component, per pair of axis samples:
     ///    `|x_i − x_j|² − (r_i + r_j + wall)² ≥ 0` (eq. 14);
     /// 3. when the infill is a variable: `w − lo ≥ 0`, `hi − w ≥ 0`;

@@ -21,7 +21,8 @@ pub struct Candidate {
 
 /// Runs the heuristic from `seeds` (pinned capsules are kept in every round and never removed).
 ///
-/// Each round optimizes the current capsules from their seeds, then marks the unpinned capsules
+/// Each round optimizes the current capsules from their seeds (the paper's reset) and, after the
+/// first round, also from where the previous round left them, keeping the better; then it marks the unpinned capsules
 /// whose radius did not grow by 10 %, removes the least grown of them (at most half of the
 /// unpinned capsules, and at least one even when none is marked) and starts the next round from
 /// the survivors' seeds. It stops after the round with no unpinned capsule left. With
@@ -35,9 +36,17 @@ pub fn run(problem: &Problem, seeds: &[StartCapsule], stop_at: Option<usize>) ->
         split_until(&mut current, n);
     }
     let mut candidates = Vec::new();
+    // The survivors of the previous round where that round's optimization left them.
+    let mut warm: Option<Vec<StartCapsule>> = None;
     loop {
         let clock = Instant::now();
-        let outcome = problem.optimize(&current);
+        let mut outcome = problem.optimize(&current);
+        if let Some(warm) = &warm {
+            let resumed = problem.optimize(warm);
+            if better(&resumed, &outcome) {
+                outcome = resumed;
+            }
+        }
         let seconds = clock.elapsed().as_secs_f64();
         let growth: Vec<(usize, f64)> = current
             .iter()
@@ -45,6 +54,16 @@ pub fn run(problem: &Problem, seeds: &[StartCapsule], stop_at: Option<usize>) ->
             .enumerate()
             .filter(|(_, (start, _))| !start.pinned)
             .map(|(j, (start, reached))| (j, reached.radius / start.radius))
+            .collect();
+        let reached: Vec<StartCapsule> = current
+            .iter()
+            .zip(&outcome.design.capsules)
+            .map(|(start, reached)| StartCapsule {
+                from: reached.from,
+                to: reached.to,
+                radius: reached.radius,
+                ..start.clone()
+            })
             .collect();
         candidates.push(Candidate {
             capsules: current.len(),
@@ -62,9 +81,12 @@ pub fn run(problem: &Problem, seeds: &[StartCapsule], stop_at: Option<usize>) ->
         let remove = marked.clamp(1, most).min(current.len() - floor);
         let mut gone: Vec<usize> = order[..remove].iter().map(|(j, _)| *j).collect();
         gone.sort_unstable();
+        let mut survivors = reached;
         for j in gone.into_iter().rev() {
             current.remove(j);
+            survivors.remove(j);
         }
+        warm = Some(survivors);
     }
     candidates
 }
@@ -106,6 +128,16 @@ pub fn choose(candidates: &[Candidate], wanted: Option<usize>, tolerance_degrees
                 .then(a.1.outcome.value.total_cmp(&b.1.outcome.value))
         })
         .map_or(best, |(i, _)| i)
+}
+
+/// Whether `a` is the better outcome: it meets every goal and `b` does not, or both or neither do
+/// and `a` reached a lower objective.
+fn better(a: &Outcome, b: &Outcome) -> bool {
+    match (a.meets_goals, b.meets_goals) {
+        (true, false) => true,
+        (false, true) => false,
+        _ => a.value < b.value,
+    }
 }
 
 /// Splits the longest unpinned seed in two along its axis until there are `n` seeds (or none can

@@ -9,7 +9,7 @@ use super::bounds::design_bounds;
 use super::solver::{solve, Budget, Method, FEASIBLE};
 use crate::balance::{evaluate_pose, ComponentBody, GoalOutcome, PoseEvaluation};
 use crate::design::{Design, PlacedCapsule};
-use crate::fabrication::check_design;
+use crate::fabrication::{check_design, CapsuleIssue};
 use crate::geometry::TriMesh;
 use crate::objective::{DesignLayout, GridInterior, Objective, Parameters, CAPSULE_STRIDE};
 use crate::spec::model::Project;
@@ -48,6 +48,8 @@ pub struct Outcome {
     pub worst_tilt_margin: Option<f64>,
     /// The exact evaluation, one per pose.
     pub poses: Vec<PoseEvaluation>,
+    /// What keeps capsules from being printed where they are (empty when all can be).
+    pub fabrication: Vec<CapsuleIssue>,
     /// Objective evaluations spent.
     pub evaluations: usize,
 }
@@ -136,7 +138,38 @@ impl<'a> Problem<'a> {
             }
         }
         let mut outcome = self.judge(design);
-        outcome.value = solved.value;
+        // The grid's interpolant can overestimate the distance to a sharp feature by a fraction
+        // of a cell: shrink any capsule that came too close, by the exact deficit, and re-judge.
+        for _ in 0..3 {
+            let mut shrunk = outcome.design.clone();
+            let mut changed = false;
+            for issue in &outcome.fabrication {
+                if let CapsuleIssue::TooCloseToSurface {
+                    capsule,
+                    distance,
+                    required,
+                    ..
+                } = *issue
+                {
+                    if start.get(capsule).is_some_and(|s| s.pinned) {
+                        continue;
+                    }
+                    let c = &mut shrunk.capsules[capsule];
+                    let radius = c.radius - (required - distance) * 1.01 - 1e-9 * c.radius.abs();
+                    let Some(ball) = self.project.ball.radius_for(radius) else {
+                        continue;
+                    };
+                    c.radius = radius;
+                    c.ball_radius = ball;
+                    changed = true;
+                }
+            }
+            if !changed {
+                break;
+            }
+            outcome = self.judge(shrunk);
+        }
+        outcome.value = objective.value(&layout.to_vector(&outcome.design));
         outcome.feasible = solved.violation <= FEASIBLE;
         outcome.evaluations = solved.evaluations;
         outcome
@@ -150,13 +183,13 @@ impl<'a> Problem<'a> {
             .iter()
             .map(|pose| evaluate_pose(self.project, &self.bodies, &design, pose))
             .collect();
-        let printable = check_design(
+        let fabrication = check_design(
             self.meshes,
             &design,
             self.project.wall,
             self.project.ball.clearance,
-        )
-        .is_empty();
+        );
+        let printable = fabrication.is_empty();
         let goals_met = poses.iter().all(|p| p.goals.iter().all(|g| g.met));
         let worst_tilt_margin = poses
             .iter()
@@ -173,6 +206,7 @@ impl<'a> Problem<'a> {
             meets_goals: goals_met && printable,
             worst_tilt_margin,
             poses,
+            fabrication,
             evaluations: 0,
         }
     }
