@@ -1,10 +1,12 @@
-//! Back end: glTF scenes, the JSON report, and atomic file writes.
+//! Back end: glTF scenes, the solution file, and atomic file writes.
 
 pub mod atomic;
 pub mod gltf;
 pub mod scene;
 mod shapes;
+pub mod solution;
 
 pub use atomic::write_atomic;
 pub use gltf::{write_glb, GltfError};
 pub use scene::{SceneCapsule, SceneComponent, SceneModel, ScenePose};
+pub use solution::{write_solution, Solution, SolutionCapsule};
