@@ -114,6 +114,26 @@ const CASES: &[(&str, &[&str])] = &[
         ],
     ),
     (
+        "optimize",
+        &[
+            "ballast::wrong_type",
+            "ballast::out_of_range",
+            "ballast::wrong_type",
+            "ballast::out_of_range",
+            "ballast::unknown_property",
+        ],
+    ),
+    (
+        "pinned",
+        &[
+            "ballast::wrong_type",
+            "ballast::wrong_type",
+            "ballast::unknown_property",
+            "ballast::unit",
+        ],
+    ),
+    ("too_few_capsules", &["ballast::optimize::too_few_capsules"]),
+    (
         "out_of_range",
         &[
             "ballast::out_of_range",
@@ -285,6 +305,7 @@ fn every_code_is_exercised() {
         DUPLICATE_NAME,
         UNKNOWN_COMPONENT,
         CONFLICTING_PROPERTIES,
+        TOO_FEW_CAPSULES,
     ] {
         assert!(
             CASES.iter().any(|(_, codes)| codes.contains(&code)),
@@ -341,4 +362,158 @@ fn hostile_inputs_are_refused_without_crashing() {
         assert!(parsed.project.is_none());
         assert!(!parsed.problems.is_empty());
     }
+}
+
+/// The problems of a one-component, one-pose project with `extra` appended, as (code, message,
+/// help).
+fn problems_with(extra: &str) -> Vec<(&'static str, String, Option<String>)> {
+    let source = format!("component \"body\" mesh=\"b.obj\"\npose \"p\" {{ stand }}\n{extra}");
+    let parsed = parse_project(&source, Path::new("project.kdl"));
+    assert!(parsed.project.is_none() || parsed.problems.is_empty());
+    parsed
+        .problems
+        .into_iter()
+        .map(|problem| (problem.code, problem.message, problem.help))
+        .collect()
+}
+
+#[test]
+fn whole_numbers_are_whole_and_not_negative() {
+    use ballast::spec::codes::*;
+    let cases: &[(&str, &str, &str, Option<&str>)] = &[
+        (
+            "capsules=1.5",
+            WRONG_TYPE,
+            "expected a whole number, found 1.5",
+            Some("write a whole number, such as `1` or `2`"),
+        ),
+        (
+            "capsules=3.0",
+            WRONG_TYPE,
+            "expected a whole number, found 3.0",
+            Some("write it without a decimal point: `3`"),
+        ),
+        (
+            "capsules=-1",
+            OUT_OF_RANGE,
+            "`capsules` must be zero or more, found -1",
+            None,
+        ),
+        (
+            "capsules=-0.5",
+            WRONG_TYPE,
+            "expected a whole number, found -0.5",
+            Some("write a whole number, zero or more"),
+        ),
+        (
+            "capsules=\"3\"",
+            WRONG_TYPE,
+            "expected a whole number, found a string",
+            Some("remove the quotes: `3`"),
+        ),
+        (
+            "capsules=#inf",
+            NOT_FINITE,
+            "`capsules` must be a whole number",
+            None,
+        ),
+        (
+            "seed=18446744073709551616",
+            OUT_OF_RANGE,
+            "`seed` must be at most 18446744073709551615, found 18446744073709551616",
+            None,
+        ),
+        (
+            "seed=#true",
+            WRONG_TYPE,
+            "expected a whole number, found `#true`",
+            None,
+        ),
+        (
+            "seed=(mm)2",
+            UNIT,
+            "`seed` is not a length, so it takes no unit",
+            Some("remove the annotation"),
+        ),
+        (
+            "tolerance=-1",
+            OUT_OF_RANGE,
+            "`tolerance` must be zero or more, found -1",
+            None,
+        ),
+        (
+            "grid-cell=-0.5",
+            OUT_OF_RANGE,
+            "`grid-cell` must be greater than zero, found -0.5",
+            None,
+        ),
+        (
+            "seeds=1",
+            UNKNOWN_PROPERTY,
+            "unknown property `seeds` on `optimize`",
+            Some("did you mean `seed`?"),
+        ),
+    ];
+    for (written, code, message, help) in cases {
+        let expected = vec![(*code, message.to_string(), help.map(str::to_owned))];
+        assert_eq!(
+            problems_with(&format!("optimize {written}")),
+            expected,
+            "{written}"
+        );
+    }
+}
+
+#[test]
+fn optimize_takes_no_arguments_and_appears_once() {
+    use ballast::spec::codes::*;
+    let codes = |extra: &str| -> Vec<&str> {
+        problems_with(extra)
+            .into_iter()
+            .map(|(code, ..)| code)
+            .collect()
+    };
+    assert_eq!(codes("optimize 3"), [ARGUMENT_COUNT]);
+    assert_eq!(codes("optimize\noptimize"), [DUPLICATE_NODE]);
+    assert_eq!(codes("optimize { capsules 3 }"), [UNEXPECTED_CHILDREN]);
+}
+
+#[test]
+fn pinned_is_a_boolean() {
+    use ballast::spec::codes::*;
+    let capsule = |pinned: &str| {
+        problems_with(&format!(
+            "capsule \"c\" component=\"body\" radius=2 {pinned} {{\n from 0 0 0\n to 0 0 5\n}}"
+        ))
+    };
+    let wrong = |found: &str, help: &str| {
+        vec![(
+            WRONG_TYPE,
+            format!("expected `#true` or `#false`, found {found}"),
+            Some(help.to_owned()),
+        )]
+    };
+    assert_eq!(capsule("pinned=#true"), []);
+    assert_eq!(capsule("pinned=#false"), []);
+    assert_eq!(
+        capsule("pinned=\"yes\""),
+        wrong("a string", "write `#true`")
+    );
+    assert_eq!(
+        capsule("pinned=\"false\""),
+        wrong("a string", "write `#false`")
+    );
+    assert_eq!(capsule("pinned=0"), wrong("a number", "write `#false`"));
+    assert_eq!(
+        capsule("pinned=#null"),
+        wrong("`#null`", "write `#true` or `#false`")
+    );
+    assert_eq!(
+        capsule("pinnd=#true"),
+        vec![(
+            UNKNOWN_PROPERTY,
+            "unknown property `pinnd` on `capsule`".to_owned(),
+            Some("did you mean `pinned`?".to_owned()),
+        )]
+    );
 }

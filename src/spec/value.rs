@@ -210,7 +210,7 @@ fn count(entry: &KdlEntry, span: SourceSpan, slot: Slot<'_>) -> Result<Scalar, B
             Err(Box::new(
                 Problem::error(
                     codes::WRONG_TYPE,
-                    format!("expected a whole number, found {float}"),
+                    format!("expected a whole number, found {float:?}"),
                 )
                 .with_label(span, format!("`{}` takes a whole number", slot.owner))
                 .with_help(help),
