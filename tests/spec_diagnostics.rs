@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use ballast::diagnostic::render_plain;
-use ballast::spec::parse_project;
+use ballast::spec::{parse_project, parse_solution};
 
 const ERR: &str = "tests/data/spec/err";
 
@@ -306,9 +306,13 @@ fn every_code_is_exercised() {
         UNKNOWN_COMPONENT,
         CONFLICTING_PROPERTIES,
         TOO_FEW_CAPSULES,
+        SOLUTION_INFILL,
     ] {
         assert!(
-            CASES.iter().any(|(_, codes)| codes.contains(&code)),
+            CASES
+                .iter()
+                .chain(SOLUTION_CASES)
+                .any(|(_, codes)| codes.contains(&code)),
             "no case reports {code}"
         );
     }
@@ -516,4 +520,96 @@ fn pinned_is_a_boolean() {
             Some("did you mean `pinned`?".to_owned()),
         )]
     );
+}
+
+const SOLUTION_ERR: &str = "tests/data/spec/solution_err";
+
+/// The project the solution cases belong to: components `body` and `arm`, an infill range.
+const SOLUTION_PROJECT: &str = r#"
+component "body" mesh="body.obj"
+component "arm" mesh="arm.obj"
+pose "rest" { stand }
+infill min=0.2 max=0.6
+optimize
+"#;
+
+/// Every solution case and the codes of its problems, in the order they are reported.
+const SOLUTION_CASES: &[(&str, &[&str])] = &[
+    ("infill", &["ballast::solution::infill"]),
+    ("infill_more_than_solid", &["ballast::out_of_range"]),
+    (
+        "nodes",
+        &[
+            "ballast::unknown_node",
+            "ballast::unknown_node",
+            "ballast::unknown_property",
+            "ballast::duplicate_node",
+            "ballast::missing_node",
+            "ballast::wrong_type",
+            "ballast::unknown_node",
+            "ballast::duplicate_name",
+            "ballast::wrong_type",
+            "ballast::unit",
+        ],
+    ),
+    ("syntax", &["ballast::syntax"; 2]),
+    (
+        "unknown_component",
+        &["ballast::unknown_component", "ballast::unknown_component"],
+    ),
+];
+
+/// Parses one solution case, checks its codes and snapshot, and describes any mismatch.
+fn check_solution(case: &str, expected_codes: &[&str]) -> Option<String> {
+    let project = parse_project(SOLUTION_PROJECT, Path::new("project.kdl"))
+        .project
+        .expect("the solution cases' project is valid");
+    let path = Path::new(SOLUTION_ERR).join(format!("{case}.kdl"));
+    let source = String::from_utf8_lossy(&std::fs::read(&path).unwrap()).into_owned();
+    let parsed = parse_solution(&source, &path, &project);
+    let mut failures = Vec::new();
+    if parsed.capsules.is_some() || parsed.infill.is_some() {
+        failures.push("a solution was returned despite errors".to_owned());
+    }
+    let codes: Vec<&str> = parsed.problems.iter().map(|problem| problem.code).collect();
+    if codes != expected_codes {
+        failures.push(format!("codes {codes:?}, expected {expected_codes:?}"));
+    }
+    let rendered = render_plain(&parsed.problems, &format!("{case}.kdl"), &source);
+    let snapshot = PathBuf::from(SOLUTION_ERR).join(format!("{case}.txt"));
+    if std::env::var_os("BALLAST_BLESS").is_some() {
+        std::fs::write(&snapshot, &rendered).unwrap();
+    } else {
+        match std::fs::read_to_string(&snapshot) {
+            Ok(expected) if expected == rendered => {}
+            Ok(_) => failures.push(format!(
+                "rendering differs from {}:\n{rendered}",
+                snapshot.display()
+            )),
+            Err(_) => failures.push(format!("{} is missing", snapshot.display())),
+        }
+    }
+    (!failures.is_empty()).then(|| format!("{case}: {}", failures.join("\n")))
+}
+
+#[test]
+fn every_solution_case_matches_its_codes_and_snapshot() {
+    let failures: Vec<String> = SOLUTION_CASES
+        .iter()
+        .filter_map(|(case, codes)| check_solution(case, codes))
+        .collect();
+    assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+}
+
+#[test]
+fn every_solution_file_is_a_case() {
+    for entry in std::fs::read_dir(SOLUTION_ERR).unwrap() {
+        let path = entry.unwrap().path();
+        let stem = path.file_stem().unwrap().to_string_lossy().into_owned();
+        assert!(
+            SOLUTION_CASES.iter().any(|(case, _)| *case == stem),
+            "{} has no entry in SOLUTION_CASES",
+            path.display()
+        );
+    }
 }
