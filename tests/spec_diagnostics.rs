@@ -398,6 +398,12 @@ fn whole_numbers_are_whole_and_not_negative() {
             Some("write it without a decimal point: `3`"),
         ),
         (
+            "capsules=-0.0",
+            WRONG_TYPE,
+            "expected a whole number, found -0.0",
+            Some("write it without a decimal point: `0`"),
+        ),
+        (
             "capsules=-1",
             OUT_OF_RANGE,
             "`capsules` must be zero or more, found -1",

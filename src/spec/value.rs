@@ -199,7 +199,8 @@ fn count(entry: &KdlEntry, span: SourceSpan, slot: Slot<'_>) -> Result<Scalar, B
             let help = if *float < 0.0 {
                 "write a whole number, zero or more".to_owned()
             } else if float.fract() == 0.0 {
-                format!("write it without a decimal point: `{float:.0}`")
+                // `abs` turns `-0.0` into `0`.
+                format!("write it without a decimal point: `{:.0}`", float.abs())
             } else {
                 format!(
                     "write a whole number, such as `{:.0}` or `{:.0}`",
