@@ -62,9 +62,11 @@ fn project() -> Project {
         }],
         poses: Vec::new(),
         capsules: Vec::new(),
+        optimize: None,
         output: Output {
             gltf: PathBuf::from("hammer.glb"),
             report: PathBuf::from("hammer.json"),
+            solution: PathBuf::from("hammer.solution.kdl"),
         },
     }
 }

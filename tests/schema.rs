@@ -183,6 +183,10 @@ fn rule_kind(rule: &Rule) -> String {
             format!("keyword({})", rule.keywords.join("|"))
         }
         ("string", None) => "string".to_owned(),
+        ("number", Some("u64")) if rule.greater_than.is_none() && rule.at_least.is_none() => {
+            "count".to_owned()
+        }
+        ("boolean", None) => "boolean".to_owned(),
         ("number", None) => match (rule.greater_than, rule.at_least) {
             (Some(0.0), None) => "positive".to_owned(),
             (None, Some(0.0)) => "non-negative".to_owned(),
@@ -237,6 +241,8 @@ fn kind(kind: ValueKind, length: bool) -> String {
         ValueKind::Number => "number".to_owned(),
         ValueKind::Positive => "positive".to_owned(),
         ValueKind::NonNegative => "non-negative".to_owned(),
+        ValueKind::Count => "count".to_owned(),
+        ValueKind::Bool => "boolean".to_owned(),
         ValueKind::Enum(keywords) => format!("keyword({})", keywords.join("|")),
     };
     if length {
@@ -441,6 +447,15 @@ fn validate_value(entry: &KdlEntry, rule: &Rule, here: &str, errors: &mut Vec<St
                 errors.push(format!(
                     "{here}: `{text}` is not one of {:?}",
                     rule.keywords
+                ));
+            }
+        }
+        ("boolean", KdlValue::Bool(_), _) => {}
+        ("number", value, _) if rule.format.as_deref() == Some("u64") => {
+            let whole = matches!(value, KdlValue::Integer(n) if u64::try_from(*n).is_ok());
+            if !whole {
+                errors.push(format!(
+                    "{here}: {value:?} is not a whole number, zero or more"
                 ));
             }
         }

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use ballast::diagnostic::render_plain;
-use ballast::spec::parse_project;
+use ballast::spec::{parse_project, parse_solution};
 
 const ERR: &str = "tests/data/spec/err";
 
@@ -113,6 +113,26 @@ const CASES: &[(&str, &[&str])] = &[
             "ballast::not_finite",
         ],
     ),
+    (
+        "optimize",
+        &[
+            "ballast::wrong_type",
+            "ballast::out_of_range",
+            "ballast::wrong_type",
+            "ballast::out_of_range",
+            "ballast::unknown_property",
+        ],
+    ),
+    (
+        "pinned",
+        &[
+            "ballast::wrong_type",
+            "ballast::wrong_type",
+            "ballast::unknown_property",
+            "ballast::unit",
+        ],
+    ),
+    ("too_few_capsules", &["ballast::optimize::too_few_capsules"]),
     (
         "out_of_range",
         &[
@@ -285,9 +305,14 @@ fn every_code_is_exercised() {
         DUPLICATE_NAME,
         UNKNOWN_COMPONENT,
         CONFLICTING_PROPERTIES,
+        TOO_FEW_CAPSULES,
+        SOLUTION_INFILL,
     ] {
         assert!(
-            CASES.iter().any(|(_, codes)| codes.contains(&code)),
+            CASES
+                .iter()
+                .chain(SOLUTION_CASES)
+                .any(|(_, codes)| codes.contains(&code)),
             "no case reports {code}"
         );
     }
@@ -340,5 +365,257 @@ fn hostile_inputs_are_refused_without_crashing() {
         let parsed = parse_project(text, Path::new("project.kdl"));
         assert!(parsed.project.is_none());
         assert!(!parsed.problems.is_empty());
+    }
+}
+
+/// The problems of a one-component, one-pose project with `extra` appended, as (code, message,
+/// help).
+fn problems_with(extra: &str) -> Vec<(&'static str, String, Option<String>)> {
+    let source = format!("component \"body\" mesh=\"b.obj\"\npose \"p\" {{ stand }}\n{extra}");
+    let parsed = parse_project(&source, Path::new("project.kdl"));
+    assert!(parsed.project.is_none() || parsed.problems.is_empty());
+    parsed
+        .problems
+        .into_iter()
+        .map(|problem| (problem.code, problem.message, problem.help))
+        .collect()
+}
+
+#[test]
+fn whole_numbers_are_whole_and_not_negative() {
+    use ballast::spec::codes::*;
+    let cases: &[(&str, &str, &str, Option<&str>)] = &[
+        (
+            "capsules=1.5",
+            WRONG_TYPE,
+            "expected a whole number, found 1.5",
+            Some("write a whole number, such as `1` or `2`"),
+        ),
+        (
+            "capsules=3.0",
+            WRONG_TYPE,
+            "expected a whole number, found 3.0",
+            Some("write it without a decimal point: `3`"),
+        ),
+        (
+            "capsules=-0.0",
+            WRONG_TYPE,
+            "expected a whole number, found -0.0",
+            Some("write it without a decimal point: `0`"),
+        ),
+        (
+            "capsules=-1",
+            OUT_OF_RANGE,
+            "`capsules` must be zero or more, found -1",
+            None,
+        ),
+        (
+            "capsules=-0.5",
+            WRONG_TYPE,
+            "expected a whole number, found -0.5",
+            Some("write a whole number, zero or more"),
+        ),
+        (
+            "capsules=\"3\"",
+            WRONG_TYPE,
+            "expected a whole number, found a string",
+            Some("remove the quotes: `3`"),
+        ),
+        (
+            "capsules=#inf",
+            NOT_FINITE,
+            "`capsules` must be a whole number",
+            None,
+        ),
+        (
+            "seed=18446744073709551616",
+            OUT_OF_RANGE,
+            "`seed` must be at most 18446744073709551615, found 18446744073709551616",
+            None,
+        ),
+        (
+            "seed=#true",
+            WRONG_TYPE,
+            "expected a whole number, found `#true`",
+            None,
+        ),
+        (
+            "seed=(mm)2",
+            UNIT,
+            "`seed` is not a length, so it takes no unit",
+            Some("remove the annotation"),
+        ),
+        (
+            "tolerance=-1",
+            OUT_OF_RANGE,
+            "`tolerance` must be zero or more, found -1",
+            None,
+        ),
+        (
+            "grid-cell=-0.5",
+            OUT_OF_RANGE,
+            "`grid-cell` must be greater than zero, found -0.5",
+            None,
+        ),
+        (
+            "seeds=1",
+            UNKNOWN_PROPERTY,
+            "unknown property `seeds` on `optimize`",
+            Some("did you mean `seed`?"),
+        ),
+    ];
+    for (written, code, message, help) in cases {
+        let expected = vec![(*code, message.to_string(), help.map(str::to_owned))];
+        assert_eq!(
+            problems_with(&format!("optimize {written}")),
+            expected,
+            "{written}"
+        );
+    }
+}
+
+#[test]
+fn optimize_takes_no_arguments_and_appears_once() {
+    use ballast::spec::codes::*;
+    let codes = |extra: &str| -> Vec<&str> {
+        problems_with(extra)
+            .into_iter()
+            .map(|(code, ..)| code)
+            .collect()
+    };
+    assert_eq!(codes("optimize 3"), [ARGUMENT_COUNT]);
+    assert_eq!(codes("optimize\noptimize"), [DUPLICATE_NODE]);
+    assert_eq!(codes("optimize { capsules 3 }"), [UNEXPECTED_CHILDREN]);
+}
+
+#[test]
+fn pinned_is_a_boolean() {
+    use ballast::spec::codes::*;
+    let capsule = |pinned: &str| {
+        problems_with(&format!(
+            "capsule \"c\" component=\"body\" radius=2 {pinned} {{\n from 0 0 0\n to 0 0 5\n}}"
+        ))
+    };
+    let wrong = |found: &str, help: &str| {
+        vec![(
+            WRONG_TYPE,
+            format!("expected `#true` or `#false`, found {found}"),
+            Some(help.to_owned()),
+        )]
+    };
+    assert_eq!(capsule("pinned=#true"), []);
+    assert_eq!(capsule("pinned=#false"), []);
+    assert_eq!(
+        capsule("pinned=\"yes\""),
+        wrong("a string", "write `#true`")
+    );
+    assert_eq!(
+        capsule("pinned=\"false\""),
+        wrong("a string", "write `#false`")
+    );
+    assert_eq!(capsule("pinned=0"), wrong("a number", "write `#false`"));
+    assert_eq!(
+        capsule("pinned=#null"),
+        wrong("`#null`", "write `#true` or `#false`")
+    );
+    assert_eq!(
+        capsule("pinnd=#true"),
+        vec![(
+            UNKNOWN_PROPERTY,
+            "unknown property `pinnd` on `capsule`".to_owned(),
+            Some("did you mean `pinned`?".to_owned()),
+        )]
+    );
+}
+
+const SOLUTION_ERR: &str = "tests/data/spec/solution_err";
+
+/// The project the solution cases belong to: components `body` and `arm`, an infill range.
+const SOLUTION_PROJECT: &str = r#"
+component "body" mesh="body.obj"
+component "arm" mesh="arm.obj"
+pose "rest" { stand }
+infill min=0.2 max=0.6
+optimize
+"#;
+
+/// Every solution case and the codes of its problems, in the order they are reported.
+const SOLUTION_CASES: &[(&str, &[&str])] = &[
+    ("infill", &["ballast::solution::infill"]),
+    ("infill_more_than_solid", &["ballast::out_of_range"]),
+    (
+        "nodes",
+        &[
+            "ballast::unknown_node",
+            "ballast::unknown_node",
+            "ballast::unknown_property",
+            "ballast::duplicate_node",
+            "ballast::missing_node",
+            "ballast::wrong_type",
+            "ballast::unknown_node",
+            "ballast::duplicate_name",
+            "ballast::wrong_type",
+            "ballast::unit",
+        ],
+    ),
+    ("syntax", &["ballast::syntax"; 2]),
+    (
+        "unknown_component",
+        &["ballast::unknown_component", "ballast::unknown_component"],
+    ),
+];
+
+/// Parses one solution case, checks its codes and snapshot, and describes any mismatch.
+fn check_solution(case: &str, expected_codes: &[&str]) -> Option<String> {
+    let project = parse_project(SOLUTION_PROJECT, Path::new("project.kdl"))
+        .project
+        .expect("the solution cases' project is valid");
+    let path = Path::new(SOLUTION_ERR).join(format!("{case}.kdl"));
+    let source = String::from_utf8_lossy(&std::fs::read(&path).unwrap()).into_owned();
+    let parsed = parse_solution(&source, &path, &project);
+    let mut failures = Vec::new();
+    if parsed.capsules.is_some() || parsed.infill.is_some() {
+        failures.push("a solution was returned despite errors".to_owned());
+    }
+    let codes: Vec<&str> = parsed.problems.iter().map(|problem| problem.code).collect();
+    if codes != expected_codes {
+        failures.push(format!("codes {codes:?}, expected {expected_codes:?}"));
+    }
+    let rendered = render_plain(&parsed.problems, &format!("{case}.kdl"), &source);
+    let snapshot = PathBuf::from(SOLUTION_ERR).join(format!("{case}.txt"));
+    if std::env::var_os("BALLAST_BLESS").is_some() {
+        std::fs::write(&snapshot, &rendered).unwrap();
+    } else {
+        match std::fs::read_to_string(&snapshot) {
+            Ok(expected) if expected == rendered => {}
+            Ok(_) => failures.push(format!(
+                "rendering differs from {}:\n{rendered}",
+                snapshot.display()
+            )),
+            Err(_) => failures.push(format!("{} is missing", snapshot.display())),
+        }
+    }
+    (!failures.is_empty()).then(|| format!("{case}: {}", failures.join("\n")))
+}
+
+#[test]
+fn every_solution_case_matches_its_codes_and_snapshot() {
+    let failures: Vec<String> = SOLUTION_CASES
+        .iter()
+        .filter_map(|(case, codes)| check_solution(case, codes))
+        .collect();
+    assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+}
+
+#[test]
+fn every_solution_file_is_a_case() {
+    for entry in std::fs::read_dir(SOLUTION_ERR).unwrap() {
+        let path = entry.unwrap().path();
+        let stem = path.file_stem().unwrap().to_string_lossy().into_owned();
+        assert!(
+            SOLUTION_CASES.iter().any(|(case, _)| *case == stem),
+            "{} has no entry in SOLUTION_CASES",
+            path.display()
+        );
     }
 }

@@ -4,7 +4,8 @@ use std::path::{Path, PathBuf};
 
 use ballast::geometry::MeshSelector;
 use ballast::spec::model::{
-    Axis, Ball, Capsule, Component, Goal, Infill, Material, Output, Pose, Project, Spanned, Units,
+    Axis, Ball, Capsule, Component, Goal, Infill, Material, Optimize, Output, Pose, Project,
+    Spanned, Units,
 };
 use ballast::spec::parse_project;
 use ballast::spec::transform::{compose, Step};
@@ -160,11 +161,20 @@ fn full_project() {
             from: point(0.0, 0.0, 10.0),
             to: point(0.0, 0.0, 30.0),
             radius: 4.0,
+            pinned: true,
             span: any_span(),
         }],
+        optimize: Some(Optimize {
+            capsules: Some(2),
+            grid_cell: Some(0.5),
+            tolerance_degrees: 0.5,
+            seed: 7,
+            span: any_span(),
+        }),
         output: Output {
             gltf: PathBuf::from("/projects/out/teddy.glb"),
             report: PathBuf::from("/projects/out/teddy.json"),
+            solution: PathBuf::from("/projects/teddy.solution.kdl"),
         },
     };
     assert_eq!(parse(&read("full.kdl")), expected);
@@ -203,9 +213,11 @@ fn defaults() {
             }],
         )],
         capsules: Vec::new(),
+        optimize: None,
         output: Output {
             gltf: PathBuf::from("/projects/build/teddy.glb"),
             report: PathBuf::from("/projects/build/teddy.report.json"),
+            solution: PathBuf::from("/projects/build/teddy.solution.kdl"),
         },
     };
     assert_eq!(project, expected);
@@ -435,4 +447,98 @@ fn every_ok_file_parses_without_problems() {
         checked += 1;
     }
     assert!(checked >= 4);
+}
+
+/// A one-component, one-pose project with `extra` appended.
+fn project_with(extra: &str) -> Project {
+    parse(&format!(
+        "component \"body\" mesh=\"b.obj\"\npose \"p\" {{ stand }}\n{extra}"
+    ))
+}
+
+#[test]
+fn optimize_defaults() {
+    let optimize = project_with("optimize").optimize.unwrap();
+    assert_eq!(
+        optimize,
+        Optimize {
+            capsules: None,
+            grid_cell: None,
+            tolerance_degrees: 1.0,
+            seed: 0,
+            span: any_span(),
+        }
+    );
+    assert_eq!(project_with("").optimize, None);
+}
+
+#[test]
+fn optimize_properties() {
+    let optimize = project_with("optimize capsules=0 seed=18446744073709551615 tolerance=0")
+        .optimize
+        .unwrap();
+    assert_eq!(optimize.capsules, Some(0));
+    assert_eq!(optimize.seed, u64::MAX);
+    assert_eq!(optimize.tolerance_degrees, 0.0);
+    let optimize = project_with("optimize capsules=12 tolerance=2.5")
+        .optimize
+        .unwrap();
+    assert_eq!(optimize.capsules, Some(12));
+    assert_eq!(optimize.tolerance_degrees, 2.5);
+}
+
+#[test]
+fn grid_cell_is_a_length() {
+    let project =
+        parse("units cm\ncomponent \"a\" mesh=\"a.obj\"\npose \"p\"\noptimize grid-cell=(mm)0.5");
+    let cell = project.optimize.unwrap().grid_cell.unwrap();
+    assert!((cell - 0.05).abs() < 1e-12, "{cell}");
+    let plain = project_with("optimize grid-cell=0.25").optimize.unwrap();
+    assert_eq!(plain.grid_cell, Some(0.25));
+}
+
+#[test]
+fn pinned_defaults_to_false() {
+    let capsule = |pinned: &str| {
+        project_with(&format!(
+            "capsule \"c\" component=\"body\" radius=2 {pinned} {{\n from 0 0 0\n to 0 0 5\n}}"
+        ))
+        .capsules
+        .remove(0)
+        .pinned
+    };
+    assert!(!capsule(""));
+    assert!(!capsule("pinned=#false"));
+    assert!(capsule("pinned=#true"));
+}
+
+#[test]
+fn pinned_takes_part_in_equality() {
+    let text = |pinned: &str| {
+        format!("capsule \"c\" component=\"body\" radius=2 {pinned} {{\n from 0 0 0\n to 0 0 5\n}}")
+    };
+    assert_eq!(
+        project_with(&text("")),
+        project_with(&text("pinned=#false"))
+    );
+    assert_ne!(project_with(&text("")), project_with(&text("pinned=#true")));
+}
+
+#[test]
+fn solution_path_follows_the_output_block() {
+    let parsed = parse_project(
+        "component \"a\" mesh=\"a.obj\"\npose \"p\"\noutput { solution \"solutions/toy.kdl\" }",
+        Path::new("designs/toy.kdl"),
+    );
+    let output = parsed.project.unwrap().output;
+    assert_eq!(output.solution, PathBuf::from("designs/solutions/toy.kdl"));
+    assert_eq!(output.gltf, PathBuf::from("designs/build/toy.glb"));
+    let bare = parse_project(
+        "component \"a\" mesh=\"a.obj\"\npose \"p\"",
+        Path::new("toy.kdl"),
+    );
+    assert_eq!(
+        bare.project.unwrap().output.solution,
+        PathBuf::from("build/toy.solution.kdl")
+    );
 }

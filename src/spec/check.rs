@@ -12,25 +12,31 @@ use super::value::{annotation_span, check_value, listing, Slot};
 use super::vocabulary::{self, ArgsSpec, NodeSpec, PropSpec, ValueKind};
 use crate::diagnostic::Problem;
 
-/// Checks `document` (parsed from `source`) and returns its known nodes, with every value that
-/// passed its checks converted to `units`. Problems are appended to `problems`.
+/// Checks `document` (parsed from `source`) against the top-level nodes `root` (a project file's
+/// [`vocabulary::DOCUMENT`] or a solution file's [`vocabulary::SOLUTION`]) and returns its known
+/// nodes, with every value that passed its checks converted to `units`. Problems are appended to
+/// `problems`.
 pub fn check_document(
     document: &KdlDocument,
     source: &str,
+    root: &'static [NodeSpec],
     units: Units,
     problems: &mut Vec<Problem>,
 ) -> Vec<Node> {
     let mut checker = Checker {
         source,
+        root,
         units,
         path: Vec::new(),
         problems,
     };
-    checker.siblings(document.nodes(), vocabulary::DOCUMENT, None)
+    checker.siblings(document.nodes(), root, None)
 }
 
 struct Checker<'a> {
     source: &'a str,
+    /// The top-level nodes of the kind of file being checked.
+    root: &'static [NodeSpec],
     units: Units,
     /// The names of the nodes whose children block is being checked, outermost first.
     path: Vec<&'static str>,
@@ -180,7 +186,7 @@ impl Checker<'_> {
     fn unknown_node(&mut self, name: &KdlIdentifier, allowed: &[NodeSpec]) {
         let written = name.value();
         let here = place(&self.path);
-        let places = vocabulary::places(written);
+        let places = vocabulary::places_in(self.root, written);
         let (message, help) = if places.is_empty() {
             let help = match vocabulary::suggest(written, allowed.iter().map(|spec| spec.name)) {
                 Some(known) => format!("did you mean `{known}`?"),
@@ -395,6 +401,8 @@ fn kind_words(kind: ValueKind) -> &'static str {
         ValueKind::String | ValueKind::Enum(_) => "a string",
         ValueKind::Path => "a file path",
         ValueKind::Number | ValueKind::Positive | ValueKind::NonNegative => "a number",
+        ValueKind::Count => "a whole number",
+        ValueKind::Bool => "`#true` or `#false`",
     }
 }
 

@@ -37,3 +37,8 @@ pub const DUPLICATE_NAME: &str = "ballast::duplicate_name";
 pub const UNKNOWN_COMPONENT: &str = "ballast::unknown_component";
 /// Two properties that exclude each other (`object=` and `node=`).
 pub const CONFLICTING_PROPERTIES: &str = "ballast::conflicting_properties";
+/// `optimize capsules=N` asks for fewer capsules than the project pins.
+pub const TOO_FEW_CAPSULES: &str = "ballast::optimize::too_few_capsules";
+/// A solution file's `infill` that the project does not leave open: outside the project's
+/// `min`..`max`, or different from its fixed infill.
+pub const SOLUTION_INFILL: &str = "ballast::solution::infill";

@@ -1,6 +1,7 @@
 //! The front end: the project-file grammar and the typed project it describes.
 //!
-//! [`parse_project`] turns project-file text into a [`model::Project`] and every problem found.
+//! [`parse_project`] turns project-file text into a [`model::Project`] and every problem found;
+//! [`parse_solution`] reads a solution file (the optimizer's capsules) against a project.
 
 mod check;
 pub mod codes;
@@ -8,6 +9,7 @@ mod guard;
 pub mod model;
 mod parse;
 mod resolve;
+mod solution;
 mod syntax;
 pub mod transform;
 mod tree;
@@ -15,3 +17,4 @@ mod value;
 pub mod vocabulary;
 
 pub use parse::{parse_project, Parsed};
+pub use solution::{parse_solution, ParsedSolution};

@@ -143,10 +143,32 @@ pub struct Project {
     pub components: Vec<Component>,
     /// The named states of the model, in file order.
     pub poses: Vec<Pose>,
-    /// The capsules placed by hand, in file order.
+    /// The capsules written in the project file, in file order: the design itself without
+    /// [`Project::optimize`], the optimizer's pinned capsules and seeds with it.
     pub capsules: Vec<Capsule>,
+    /// How the optimizer places capsules, when the project asks for it (`optimize`).
+    pub optimize: Option<Optimize>,
     /// Where the build writes.
     pub output: Output,
+}
+
+/// The `optimize` node: the project asks the optimizer to place its capsules. Equality ignores
+/// the span.
+#[derive(Debug, Clone)]
+pub struct Optimize {
+    /// How many capsules the design should have; `None` lets the optimizer choose by
+    /// [`Optimize::tolerance_degrees`].
+    pub capsules: Option<usize>,
+    /// Cell size of the signed distance grid that keeps capsules inside their component, project
+    /// units; `None` derives it from the capsule sizes.
+    pub grid_cell: Option<f64>,
+    /// When the optimizer chooses the capsule count, it takes the fewest capsules whose worst
+    /// safety margin is within this many degrees of the best result.
+    pub tolerance_degrees: f64,
+    /// Seed of the random starts of exhaustive search.
+    pub seed: u64,
+    /// The whole `optimize` node.
+    pub span: SourceSpan,
 }
 
 /// The printed material.
@@ -294,7 +316,8 @@ impl Goal {
     }
 }
 
-/// A capsule-shaped void holding one ball, placed by hand. Equality ignores the spans.
+/// A capsule-shaped void holding one ball, written in a project or solution file. Equality ignores
+/// the spans.
 #[derive(Debug, Clone)]
 pub struct Capsule {
     /// Unique among capsules.
@@ -307,6 +330,9 @@ pub struct Capsule {
     pub to: Point3<f64>,
     /// Radius of the void, project units.
     pub radius: f64,
+    /// With [`Project::optimize`], whether the optimizer must keep the capsule exactly as written
+    /// (`pinned=#true`) rather than move, resize or remove it. No effect without `optimize`.
+    pub pinned: bool,
     /// The whole `capsule` node.
     pub span: SourceSpan,
 }
@@ -351,15 +377,36 @@ impl PartialEq for Capsule {
             from,
             to,
             radius,
+            pinned,
             span: _,
         } = self;
-        (name, component, from, to, radius)
+        (name, component, from, to, radius, pinned)
             == (
                 &other.name,
                 &other.component,
                 &other.from,
                 &other.to,
                 &other.radius,
+                &other.pinned,
+            )
+    }
+}
+
+impl PartialEq for Optimize {
+    fn eq(&self, other: &Self) -> bool {
+        let Optimize {
+            capsules,
+            grid_cell,
+            tolerance_degrees,
+            seed,
+            span: _,
+        } = self;
+        (capsules, grid_cell, tolerance_degrees, seed)
+            == (
+                &other.capsules,
+                &other.grid_cell,
+                &other.tolerance_degrees,
+                &other.seed,
             )
     }
 }
@@ -371,4 +418,6 @@ pub struct Output {
     pub gltf: PathBuf,
     /// The JSON report.
     pub report: PathBuf,
+    /// The optimizer's capsules as KDL `capsule` nodes, to commit, diff and check.
+    pub solution: PathBuf,
 }

@@ -13,6 +13,7 @@ use super::check::check_document;
 use super::model::{Project, Units};
 use super::resolve::resolve;
 use super::syntax;
+use super::vocabulary;
 use crate::diagnostic::Problem;
 
 /// The outcome of reading a project file: the project when there were no errors, and every
@@ -39,7 +40,13 @@ pub fn parse_project(source: &str, project_path: &Path) -> Parsed {
     };
     let units = declared_units(&document);
     let mut problems = Vec::new();
-    let nodes = check_document(&document, source, units, &mut problems);
+    let nodes = check_document(
+        &document,
+        source,
+        vocabulary::DOCUMENT,
+        units,
+        &mut problems,
+    );
     let project = resolve(&nodes, units, project_path, &mut problems);
     problems.sort_by_key(|problem| {
         problem

@@ -12,7 +12,8 @@ use nalgebra::{Isometry3, Point3};
 
 use super::codes;
 use super::model::{
-    Axis, Ball, Capsule, Component, Goal, Infill, Material, Output, Pose, Project, Spanned, Units,
+    Axis, Ball, Capsule, Component, Goal, Infill, Material, Optimize, Output, Pose, Project,
+    Spanned, Units,
 };
 use super::transform::{compose, Step};
 use super::tree::Node;
@@ -39,6 +40,7 @@ pub fn resolve(
     resolver.components();
     let poses = resolver.poses();
     let capsules = resolver.capsules();
+    let optimize = resolver.optimize(&capsules);
     let wall = resolver.top("wall").and_then(Node::number_arg);
     Project {
         units,
@@ -51,7 +53,28 @@ pub fn resolve(
         components: resolver.components,
         poses,
         capsules,
+        optimize,
     }
+}
+
+/// The capsules and the infill of a solution file, from its checked top-level `nodes`, with
+/// component names resolved against `project`. Reports unknown components, repeated capsule
+/// names and an infill the project does not leave open.
+pub fn resolve_solution(
+    nodes: &[Node],
+    project: &Project,
+    problems: &mut Vec<Problem>,
+) -> (Vec<Capsule>, Option<f64>) {
+    let mut resolver = Resolver {
+        nodes,
+        units: project.units,
+        folder: Path::new(""),
+        components: project.components.clone(),
+        problems,
+    };
+    let capsules = resolver.capsules();
+    let infill = resolver.solution_infill(&project.infill);
+    (capsules, infill)
 }
 
 struct Resolver<'a> {
@@ -305,6 +328,82 @@ impl<'a> Resolver<'a> {
         Some(Spanned::new(goal, node.span))
     }
 
+    /// The `optimize` node, if any; reports a capsule count below the number of pinned capsules.
+    fn optimize(&mut self, capsules: &[Capsule]) -> Option<Optimize> {
+        let node = self.top("optimize")?;
+        let wanted = node
+            .count("capsules")
+            .map(|count| usize::try_from(count).unwrap_or(usize::MAX));
+        let pinned: Vec<&Capsule> = capsules.iter().filter(|capsule| capsule.pinned).collect();
+        if let (Some(wanted), Some(value)) = (wanted, node.prop("capsules")) {
+            if wanted < pinned.len() {
+                let mut problem = Problem::error(
+                    codes::TOO_FEW_CAPSULES,
+                    format!(
+                        "`optimize` asks for {wanted} capsule{}, but {} are pinned",
+                        if wanted == 1 { "" } else { "s" },
+                        pinned.len()
+                    ),
+                )
+                .with_label(value.span, "fewer than the pinned capsules");
+                for capsule in &pinned {
+                    problem = problem.with_label(capsule.name.span, "pinned");
+                }
+                self.problems.push(problem.with_help(format!(
+                    "ask for at least {} capsules, or unpin some",
+                    pinned.len()
+                )));
+            }
+        }
+        Some(Optimize {
+            capsules: wanted,
+            grid_cell: node.number("grid-cell"),
+            tolerance_degrees: node.number("tolerance").unwrap_or(1.0),
+            seed: node.count("seed").unwrap_or(0),
+            span: node.span,
+        })
+    }
+
+    /// A solution file's `infill`: a fraction at most 1, within the project's range, or equal to
+    /// the project's fixed infill.
+    fn solution_infill(&mut self, project: &Infill) -> Option<f64> {
+        let node = self.top("infill")?;
+        let value = node.args.first().and_then(Option::as_ref)?;
+        let fraction = node.number_arg()?;
+        let problem = if fraction > 1.0 {
+            Problem::error(
+                codes::OUT_OF_RANGE,
+                format!("infill must be at most 1 (solid), found {fraction}"),
+            )
+            .with_label(value.span, "more than solid")
+        } else {
+            match project.range {
+                Some((min, max)) if fraction >= min && fraction <= max => return Some(fraction),
+                None if fraction == project.value => return Some(fraction),
+                Some((min, max)) => Problem::error(
+                    codes::SOLUTION_INFILL,
+                    format!("infill {fraction} is outside the project's range {min}..{max}"),
+                )
+                .with_label(value.span, "outside the project's `min`..`max`")
+                .with_help("solve again, or widen the project's `infill min= max=`"),
+                None => Problem::error(
+                    codes::SOLUTION_INFILL,
+                    format!(
+                        "the project fixes the infill at {}, but the solution chooses {fraction}",
+                        project.value
+                    ),
+                )
+                .with_label(value.span, "not the project's infill")
+                .with_help(
+                    "remove the solution's `infill`, or give the project a range: \
+                     `infill min=... max=...`",
+                ),
+            }
+        };
+        self.problems.push(problem);
+        None
+    }
+
     fn capsules(&mut self) -> Vec<Capsule> {
         let mut capsules: Vec<Capsule> = Vec::new();
         for node in self.all("capsule") {
@@ -324,6 +423,7 @@ impl<'a> Resolver<'a> {
                 from: end("from"),
                 to: end("to"),
                 radius: node.number("radius").unwrap_or(1.0),
+                pinned: node.flag("pinned").unwrap_or(false),
                 span: node.span,
             });
         }
@@ -400,8 +500,8 @@ fn steps(node: &Node) -> impl Iterator<Item = Step> + '_ {
     })
 }
 
-/// Where the build writes: the `output` block's paths, else `build/<stem>.glb` and
-/// `build/<stem>.report.json` next to the project file.
+/// Where the build writes: the `output` block's paths, else `build/<stem>.glb`,
+/// `build/<stem>.report.json` and `build/<stem>.solution.kdl` next to the project file.
 fn output(node: Option<&Node>, folder: &Path, project_path: &Path) -> Output {
     let stem = project_path
         .file_stem()
@@ -417,5 +517,6 @@ fn output(node: Option<&Node>, folder: &Path, project_path: &Path) -> Output {
     Output {
         gltf: path("gltf", format!("{stem}.glb")),
         report: path("report", format!("{stem}.report.json")),
+        solution: path("solution", format!("{stem}.solution.kdl")),
     }
 }

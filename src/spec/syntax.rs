@@ -24,7 +24,7 @@ pub fn read(source: &str) -> Result<KdlDocument, Vec<Problem>> {
         return Err(vec![Problem::error(
             SYNTAX,
             format!(
-                "the project file is {} bytes long; the most ballast reads is {MAX_SOURCE_BYTES}",
+                "the file is {} bytes long; the most ballast reads is {MAX_SOURCE_BYTES}",
                 source.len()
             ),
         )]);

@@ -14,6 +14,10 @@ pub enum Scalar {
     Number(f64),
     /// A string (a name, a path or a keyword).
     Text(String),
+    /// A whole number, zero or more.
+    Count(u64),
+    /// `#true` or `#false`.
+    Flag(bool),
 }
 
 /// A checked value and where it was written.
@@ -104,7 +108,23 @@ impl Node {
     pub fn number(&self, name: &str) -> Option<f64> {
         match self.prop(name)?.scalar {
             Scalar::Number(number) => Some(number),
-            Scalar::Text(_) => None,
+            _ => None,
+        }
+    }
+
+    /// The whole-number property `name`.
+    pub fn count(&self, name: &str) -> Option<u64> {
+        match self.prop(name)?.scalar {
+            Scalar::Count(count) => Some(count),
+            _ => None,
+        }
+    }
+
+    /// The boolean property `name`.
+    pub fn flag(&self, name: &str) -> Option<bool> {
+        match self.prop(name)?.scalar {
+            Scalar::Flag(flag) => Some(flag),
+            _ => None,
         }
     }
 
@@ -113,7 +133,7 @@ impl Node {
         let value = self.prop(name)?;
         match &value.scalar {
             Scalar::Text(text) => Some(Spanned::new(text.clone(), value.span)),
-            Scalar::Number(_) => None,
+            _ => None,
         }
     }
 

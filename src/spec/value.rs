@@ -39,6 +39,8 @@ pub fn check_value(
         ValueKind::Number | ValueKind::Positive | ValueKind::NonNegative => {
             number(entry, span, slot, factor.unwrap_or(1.0), units)
         }
+        ValueKind::Count => count(entry, span, slot),
+        ValueKind::Bool => flag(entry, span, slot),
     };
     match scalar {
         Ok(scalar) => factor.map(|_| Value { scalar, span }),
@@ -166,6 +168,90 @@ fn number(
     Ok(Scalar::Number(number))
 }
 
+/// A whole number, zero or more, written without a decimal point.
+fn count(entry: &KdlEntry, span: SourceSpan, slot: Slot<'_>) -> Result<Scalar, Box<Problem>> {
+    match entry.value() {
+        KdlValue::Integer(integer) => match u64::try_from(*integer) {
+            Ok(count) => Ok(Scalar::Count(count)),
+            Err(_) => {
+                let bound = if *integer < 0 {
+                    "zero or more".to_owned()
+                } else {
+                    format!("at most {}", u64::MAX)
+                };
+                Err(Box::new(
+                    Problem::error(
+                        codes::OUT_OF_RANGE,
+                        format!("`{}` must be {bound}, found {integer}", slot.owner),
+                    )
+                    .with_label(span, "out of range"),
+                ))
+            }
+        },
+        KdlValue::Float(float) if !float.is_finite() => Err(Box::new(
+            Problem::error(
+                codes::NOT_FINITE,
+                format!("`{}` must be a whole number", slot.owner),
+            )
+            .with_label(span, "not a finite number"),
+        )),
+        KdlValue::Float(float) => {
+            let help = if *float < 0.0 {
+                "write a whole number, zero or more".to_owned()
+            } else if float.fract() == 0.0 {
+                // `abs` turns `-0.0` into `0`.
+                format!("write it without a decimal point: `{:.0}`", float.abs())
+            } else {
+                format!(
+                    "write a whole number, such as `{:.0}` or `{:.0}`",
+                    float.floor(),
+                    float.ceil()
+                )
+            };
+            Err(Box::new(
+                Problem::error(
+                    codes::WRONG_TYPE,
+                    format!("expected a whole number, found {float:?}"),
+                )
+                .with_label(span, format!("`{}` takes a whole number", slot.owner))
+                .with_help(help),
+            ))
+        }
+        KdlValue::String(text) => {
+            let problem = *wrong_type(entry.value(), span, slot);
+            Err(Box::new(match text.trim().parse::<u64>() {
+                Ok(count) => problem.with_help(format!("remove the quotes: `{count}`")),
+                Err(_) => problem,
+            }))
+        }
+        other => Err(wrong_type(other, span, slot)),
+    }
+}
+
+/// `#true` or `#false`.
+fn flag(entry: &KdlEntry, span: SourceSpan, slot: Slot<'_>) -> Result<Scalar, Box<Problem>> {
+    match entry.value() {
+        KdlValue::Bool(flag) => Ok(Scalar::Flag(*flag)),
+        other => {
+            let meant = match other {
+                KdlValue::String(text) => match text.trim().to_ascii_lowercase().as_str() {
+                    "true" | "yes" | "on" | "1" => Some(true),
+                    "false" | "no" | "off" | "0" => Some(false),
+                    _ => None,
+                },
+                KdlValue::Integer(1) => Some(true),
+                KdlValue::Integer(0) => Some(false),
+                _ => None,
+            };
+            let help = match meant {
+                Some(flag) => format!("write `#{flag}`"),
+                None => "write `#true` or `#false`".to_owned(),
+            };
+            Err(Box::new((*wrong_type(other, span, slot)).with_help(help)))
+        }
+    }
+}
+
 /// The problem for a value of the wrong type.
 fn wrong_type(found: &KdlValue, span: SourceSpan, slot: Slot<'_>) -> Box<Problem> {
     let found = match found {
@@ -212,6 +298,8 @@ fn expected(kind: ValueKind) -> String {
         ValueKind::String => "a string".to_owned(),
         ValueKind::Path => "a file path (a string)".to_owned(),
         ValueKind::Number | ValueKind::Positive | ValueKind::NonNegative => "a number".to_owned(),
+        ValueKind::Count => "a whole number".to_owned(),
+        ValueKind::Bool => "`#true` or `#false`".to_owned(),
         ValueKind::Enum(keywords) => {
             format!("one of {}", listing(keywords, |k| format!("`{k}`"), "or"))
         }

@@ -17,6 +17,10 @@ pub enum ValueKind {
     Positive,
     /// A finite number greater than or equal to zero.
     NonNegative,
+    /// A whole number, zero or more, written without a decimal point (at most `u64::MAX`).
+    Count,
+    /// `#true` or `#false`.
+    Bool,
     /// One of the listed strings.
     Enum(&'static [&'static str]),
 }
@@ -153,6 +157,23 @@ const TRANSFORM_STEPS: [NodeSpec; 3] = [
 const CONTACT: PropSpec = length_prop("contact-tolerance", ValueKind::Positive);
 const TOLERANCE: PropSpec = prop("tolerance", ValueKind::NonNegative);
 
+/// The `capsule` node, in a project file and in a solution file.
+const CAPSULE: NodeSpec = NodeSpec {
+    name: "capsule",
+    args: NAME_ARG,
+    props: &[
+        required(prop("component", ValueKind::String)),
+        required(length_prop("radius", ValueKind::Positive)),
+        prop("pinned", ValueKind::Bool),
+    ],
+    children: &[
+        mandatory(leaf("from", POINT, &[])),
+        mandatory(leaf("to", POINT, &[])),
+    ],
+    repeatable: true,
+    required: false,
+};
+
 const POSE_CHILDREN: &[NodeSpec] = &[
     TRANSFORM_STEPS[0],
     TRANSFORM_STEPS[1],
@@ -243,28 +264,36 @@ pub const DOCUMENT: &[NodeSpec] = &[
         repeatable: true,
         required: true,
     },
-    NodeSpec {
-        name: "capsule",
-        args: NAME_ARG,
-        props: &[
-            required(prop("component", ValueKind::String)),
-            required(length_prop("radius", ValueKind::Positive)),
+    CAPSULE,
+    leaf(
+        "optimize",
+        NO_ARGS,
+        &[
+            prop("capsules", ValueKind::Count),
+            length_prop("grid-cell", ValueKind::Positive),
+            prop("tolerance", ValueKind::NonNegative),
+            prop("seed", ValueKind::Count),
         ],
-        children: &[
-            mandatory(leaf("from", POINT, &[])),
-            mandatory(leaf("to", POINT, &[])),
-        ],
-        repeatable: true,
-        required: false,
-    },
+    ),
     NodeSpec {
         name: "output",
         args: NO_ARGS,
         props: &[],
-        children: &[leaf("gltf", PATH_ARG, &[]), leaf("report", PATH_ARG, &[])],
+        children: &[
+            leaf("gltf", PATH_ARG, &[]),
+            leaf("report", PATH_ARG, &[]),
+            leaf("solution", PATH_ARG, &[]),
+        ],
         repeatable: false,
         required: false,
     },
+];
+
+/// The top-level nodes of a solution file: the optimizer's capsules, and the infill it chose when
+/// the project gives a range.
+pub const SOLUTION: &[NodeSpec] = &[
+    CAPSULE,
+    leaf("infill", args(ValueKind::Positive, 1, 1), &[]),
 ];
 
 /// Looks a node up among `siblings` by name.
@@ -290,9 +319,16 @@ pub fn suggest<'a>(unknown: &str, known: impl IntoIterator<Item = &'a str>) -> O
         .map(|(_, _, name)| name)
 }
 
-/// Where a node called `name` may be written: for each place, the names of the nodes from the
-/// top level down to the one whose children block accepts it (empty for the top level itself).
+/// Where a node called `name` may be written in a project file: for each place, the names of the
+/// nodes from the top level down to the one whose children block accepts it (empty for the top
+/// level itself).
 pub fn places(name: &str) -> Vec<Vec<&'static str>> {
+    places_in(DOCUMENT, name)
+}
+
+/// Where a node called `name` may be written in a document whose top-level nodes are `root`, as
+/// for [`places`].
+pub fn places_in(root: &'static [NodeSpec], name: &str) -> Vec<Vec<&'static str>> {
     fn visit(
         siblings: &'static [NodeSpec],
         path: &mut Vec<&'static str>,
@@ -309,6 +345,6 @@ pub fn places(name: &str) -> Vec<Vec<&'static str>> {
         }
     }
     let mut found = Vec::new();
-    visit(DOCUMENT, &mut Vec::new(), name, &mut found);
+    visit(root, &mut Vec::new(), name, &mut found);
     found
 }

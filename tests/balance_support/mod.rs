@@ -56,9 +56,11 @@ pub fn project(components: &[&str]) -> Project {
             .collect(),
         poses: Vec::new(),
         capsules: Vec::new(),
+        optimize: None,
         output: Output {
             gltf: PathBuf::from("out.glb"),
             report: PathBuf::from("report.json"),
+            solution: PathBuf::from("solution.kdl"),
         },
     }
 }
