@@ -8,6 +8,7 @@
 //! - [`distance_to_point`], [`distance_to_segment`] and the primitive distances they use.
 //! - [`TriangleTree`]: the same distances, fast, for many queries against one mesh.
 //! - [`DistanceGrid`]: signed distance sampled on a grid, with a smooth interpolant.
+//! - [`Skeleton`]: a curve skeleton as straight segments, whose midpoints seed capsules.
 
 mod distance;
 mod field;
@@ -17,6 +18,7 @@ mod load_gltf;
 mod load_obj;
 mod mass;
 mod mesh;
+mod skeleton;
 mod tree;
 mod validate;
 mod winding;
@@ -29,6 +31,7 @@ pub use field::DistanceGrid;
 pub use load::{load_mesh, LoadError, MeshSelector};
 pub use mass::{mass_properties, MassProperties};
 pub use mesh::TriMesh;
+pub use skeleton::{Skeleton, SkeletonSegment};
 pub use tree::TriangleTree;
 pub use validate::{check_mesh, MeshCheck};
 pub use winding::winding_number;
