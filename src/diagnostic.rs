@@ -22,6 +22,17 @@ pub struct Problem {
     pub labels: Vec<(SourceSpan, String)>,
     /// How to fix it, when there is something useful to say.
     pub help: Option<String>,
+    /// The file the spans point into, when it is not the project file (a solution file).
+    pub file: Option<SourceFile>,
+}
+
+/// A file other than the project file, which a problem's spans point into.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SourceFile {
+    /// Its name, as shown in the output.
+    pub name: String,
+    /// Its text.
+    pub text: std::sync::Arc<str>,
 }
 
 impl Problem {
@@ -33,6 +44,7 @@ impl Problem {
             message: message.into(),
             labels: Vec::new(),
             help: None,
+            file: None,
         }
     }
 
@@ -53,6 +65,12 @@ impl Problem {
     /// Sets the hint.
     pub fn with_help(mut self, help: impl Into<String>) -> Problem {
         self.help = Some(help.into());
+        self
+    }
+
+    /// Says that the spans point into `file` rather than the project file.
+    pub fn in_file(mut self, file: SourceFile) -> Problem {
+        self.file = Some(file);
         self
     }
 
@@ -114,8 +132,8 @@ pub fn render_plain(problems: &[Problem], source_name: &str, source: &str) -> St
     render(&handler, problems, source_name, source)
 }
 
-/// Renders `problems` against `source` (named `source_name` in the output) with `handler`, a
-/// blank line between problems.
+/// Renders `problems` against `source` (named `source_name` in the output), or against their own
+/// [`file`](Problem::file) when they have one, with `handler`, a blank line between problems.
 pub fn render(
     handler: &GraphicalReportHandler,
     problems: &[Problem],
@@ -127,8 +145,11 @@ pub fn render(
         if index > 0 {
             out.push('\n');
         }
-        let report = miette::Report::new(problem.clone())
-            .with_source_code(NamedSource::new(source_name, source.to_owned()));
+        let named = match &problem.file {
+            Some(file) => NamedSource::new(&file.name, file.text.to_string()),
+            None => NamedSource::new(source_name, source.to_owned()),
+        };
+        let report = miette::Report::new(problem.clone()).with_source_code(named);
         let mut rendered = String::new();
         if handler
             .render_report(&mut rendered, report.as_ref())

@@ -274,8 +274,8 @@ fn the_constraints_are_counted_by_the_layout_and_the_goals() {
     };
     let objective = objective(&project, &[tall_box()], &design, parameters);
     let x = objective.layout().to_vector(&design);
-    // Per capsule 3 + one per pose; 3 pairs × 4²; infill 2; eq. 5 twice; eq. 3 once (2).
-    let expected = 3 * (3 + 2) + 3 * 16 + 2 + 2 + 2;
+    // Per capsule 3 + one per pose; 3 pairs; infill 2; eq. 5 twice; eq. 3 once (2).
+    let expected = 3 * (3 + 2) + 3 + 2 + 2 + 2;
     assert_eq!(objective.constraints(&x).len(), expected);
     // Moving the design does not change the count.
     let moved: Vec<f64> = x.iter().map(|v| v * 0.5).collect();

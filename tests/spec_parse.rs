@@ -217,7 +217,7 @@ fn defaults() {
         output: Output {
             gltf: PathBuf::from("/projects/build/teddy.glb"),
             report: PathBuf::from("/projects/build/teddy.report.json"),
-            solution: PathBuf::from("/projects/build/teddy.solution.kdl"),
+            solution: PathBuf::from("/projects/teddy.solution.kdl"),
         },
     };
     assert_eq!(project, expected);
@@ -539,6 +539,6 @@ fn solution_path_follows_the_output_block() {
     );
     assert_eq!(
         bare.project.unwrap().output.solution,
-        PathBuf::from("build/toy.solution.kdl")
+        PathBuf::from("toy.solution.kdl")
     );
 }

@@ -26,8 +26,13 @@ pub enum Command {
         /// Print the JSON report on standard output instead of the table.
         #[arg(long)]
         json: bool,
+        /// Read the solution file from this folder (where `build --out-dir` wrote it) instead of
+        /// the path the project names.
+        #[arg(long, value_name = "DIR")]
+        out_dir: Option<PathBuf>,
     },
-    /// Check a project, then write its glTF file and JSON report.
+    /// Check a project, optimize its capsules when it has an `optimize` node, then write its
+    /// glTF file, JSON report and (when optimized) solution file.
     ///
     /// Nothing is written when the project is invalid. Exit status as for `check`.
     Build {
@@ -36,5 +41,12 @@ pub enum Command {
         /// Write the outputs into this folder instead of the ones the project file names.
         #[arg(long, value_name = "DIR")]
         out_dir: Option<PathBuf>,
+        /// Use exactly this many capsules (pinned ones included), overriding `optimize capsules=`.
+        #[arg(long, value_name = "N")]
+        capsules: Option<usize>,
+        /// Also optimize N random starts per capsule count and show where the heuristic's result
+        /// ranks among them (slow).
+        #[arg(long, value_name = "N", default_value_t = 0)]
+        exhaustive: usize,
     },
 }

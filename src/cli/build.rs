@@ -1,14 +1,15 @@
-//! `ballast build`: check, then write the glTF file and the JSON report atomically.
+//! `ballast build`: check, optimize when the project asks, then write the glTF file, the JSON
+//! report and the solution file atomically.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use super::{compile_file, file_name, goals_status, table, EXIT_INVALID};
-use crate::compile::Report;
+use crate::compile::{output_path, solution_text, CompileOptions, DesignSource, Report};
 use crate::emit::{write_atomic, write_glb};
 
-/// Builds the project at `path`, writing into `out_dir` when given instead of the project's folders.
-pub fn run(path: &Path, out_dir: Option<&Path>) -> i32 {
-    let Some(compilation) = compile_file(path) else {
+/// Builds the project at `path` as `options` say.
+pub fn run(path: &Path, options: &CompileOptions) -> i32 {
+    let Some(compilation) = compile_file(path, options) else {
         return EXIT_INVALID;
     };
     let glb = match write_glb(&compilation.scene()) {
@@ -20,30 +21,35 @@ pub fn run(path: &Path, out_dir: Option<&Path>) -> i32 {
     };
     let report = Report::new(&compilation, path).to_json();
     let output = &compilation.project.output;
-    let targets = [
-        (destination(&output.gltf, out_dir), glb.as_slice()),
-        (destination(&output.report, out_dir), report.as_bytes()),
+    let out_dir = options.out_dir.as_deref();
+    let mut targets = vec![
+        (output_path(&output.gltf, out_dir), glb),
+        (output_path(&output.report, out_dir), report.into_bytes()),
     ];
-    // Both outputs are encoded before either is written; each write replaces its file whole.
+    if compilation.source == DesignSource::Optimized {
+        let text = solution_text(
+            &compilation.project,
+            &file_name(path),
+            &compilation.meshes,
+            &compilation.design,
+        );
+        targets.push((output_path(&output.solution, out_dir), text.into_bytes()));
+    }
+    // Every output is encoded before any is written; each write replaces its file whole.
     for (target, bytes) in &targets {
         if let Err(error) = write_output(target, bytes) {
             eprintln!("error: cannot write {}: {error}", target.display());
             return EXIT_INVALID;
         }
     }
+    if let Some(optimization) = &compilation.optimization {
+        print!("{}", table::optimization(optimization, &compilation));
+    }
     print!("{}", table::summary(&compilation, &file_name(path)));
     for (target, _) in &targets {
         println!("wrote {}", target.display());
     }
     goals_status(&compilation)
-}
-
-/// Where an output goes: its own path, or its file name inside `out_dir`.
-fn destination(path: &Path, out_dir: Option<&Path>) -> PathBuf {
-    match (out_dir, path.file_name()) {
-        (Some(folder), Some(name)) => folder.join(name),
-        _ => path.to_path_buf(),
-    }
 }
 
 fn write_output(path: &Path, bytes: &[u8]) -> std::io::Result<()> {

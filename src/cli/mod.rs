@@ -15,7 +15,8 @@ use clap::Parser;
 
 pub use args::{Cli, Command};
 
-use crate::compile::{compile, Compilation};
+use crate::compile::{compile_with, Compilation, CompileOptions, OptimizeOptions};
+use crate::optimize::GridCache;
 
 /// Every goal of every pose is met.
 pub const EXIT_MET: i32 = 0;
@@ -39,14 +40,39 @@ pub fn run() -> i32 {
         }
     };
     match cli.command {
-        Command::Check { project, json } => check::run(&project, json),
-        Command::Build { project, out_dir } => build::run(&project, out_dir.as_deref()),
+        Command::Check {
+            project,
+            json,
+            out_dir,
+        } => check::run(
+            &project,
+            json,
+            &CompileOptions {
+                out_dir,
+                optimize: None,
+            },
+        ),
+        Command::Build {
+            project,
+            out_dir,
+            capsules,
+            exhaustive,
+        } => build::run(
+            &project,
+            &CompileOptions {
+                out_dir,
+                optimize: Some(OptimizeOptions {
+                    capsules,
+                    exhaustive,
+                }),
+            },
+        ),
     }
 }
 
-/// Reads and compiles the project at `path`, printing every diagnostic (warnings too) to standard
-/// error. `None` when the project is invalid or unreadable.
-fn compile_file(path: &Path) -> Option<Compilation> {
+/// Reads and compiles the project at `path` as `options` say, printing every diagnostic (warnings
+/// too) to standard error. `None` when the project is invalid or unreadable.
+fn compile_file(path: &Path, options: &CompileOptions) -> Option<Compilation> {
     let source = match std::fs::read_to_string(path) {
         Ok(source) => source,
         Err(error) => {
@@ -55,7 +81,7 @@ fn compile_file(path: &Path) -> Option<Compilation> {
         }
     };
     let name = path.display().to_string();
-    match compile(&source, path) {
+    match compile_with(&source, path, options, &mut GridCache::new()) {
         Ok(compilation) => {
             if !compilation.warnings.is_empty() {
                 eprint!(

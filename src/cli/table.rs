@@ -4,7 +4,7 @@
 use std::fmt::Write;
 
 use crate::balance::{BallRest, GoalOutcome, PoseEvaluation};
-use crate::compile::Compilation;
+use crate::compile::{Compilation, Optimization};
 use crate::spec::model::Units;
 
 /// The summary of `compilation`, ending with a line counting the goals met.
@@ -187,4 +187,102 @@ fn plural(count: usize) -> &'static str {
     } else {
         "s"
     }
+}
+
+/// What the optimizer did: every capsule count tried (the chosen one marked), the stage times,
+/// the random-start ranking when asked for, and the conflicting goals when some goal is missed.
+pub fn optimization(optimization: &Optimization, compilation: &Compilation) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "optimized: {} seed{}, {} capsule count{} tried",
+        optimization.seeds.iter().filter(|s| s.seeded).count(),
+        plural(optimization.seeds.iter().filter(|s| s.seeded).count()),
+        optimization.candidates.len(),
+        plural(optimization.candidates.len()),
+    );
+    let _ = writeln!(
+        out,
+        "  capsules  objective  worst tilt  goals      time"
+    );
+    let mut marked = false;
+    for candidate in &optimization.candidates {
+        let chosen = !marked && candidate.capsules == optimization.chosen;
+        marked |= chosen;
+        let tilt = candidate
+            .worst_tilt_margin
+            .map_or("-".to_string(), |t| format!("{t:.2}"));
+        let _ = writeln!(
+            out,
+            "{} {:>7}  {:>9.3}  {:>10}  {:<9} {:>6.2} s",
+            if chosen { "*" } else { " " },
+            candidate.capsules,
+            candidate.objective,
+            tilt,
+            if candidate.meets_goals { "all met" } else { "not all" },
+            candidate.seconds,
+        );
+    }
+    let rule = match optimization.requested {
+        Some(n) => format!("{n} capsule{} as asked", plural(n)),
+        None => format!(
+            "the fewest capsules within {}° of the best objective that meets every goal",
+            optimization.tolerance
+        ),
+    };
+    let _ = writeln!(out, "  * chosen: {rule}");
+    for ranking in &optimization.exhaustive {
+        let _ = writeln!(
+            out,
+            "  {} capsule{}: the heuristic ranks {} of {} random starts (best random objective {:.3}, heuristic {:.3}; {} met every goal)",
+            ranking.capsules,
+            plural(ranking.capsules),
+            ranking.rank,
+            ranking.starts + 1,
+            ranking.best_value.to_degrees(),
+            ranking.heuristic_value.to_degrees(),
+            ranking.meeting_goals,
+        );
+    }
+    if !optimization.conflicts.is_empty() {
+        let _ = writeln!(out, "  no design met every goal:");
+        for conflict in &optimization.conflicts {
+            let goals: Vec<String> = conflict
+                .goals
+                .iter()
+                .map(|g| format!("`{}` in pose \"{}\"", g.kind, g.pose))
+                .collect();
+            let what = if goals.len() == 1 {
+                format!("{} cannot be met even alone", goals[0])
+            } else {
+                format!("{} conflict", goals.join(" and "))
+            };
+            let _ = writeln!(
+                out,
+                "    {what}: the best design for {} falls short by about {:.2}°",
+                if goals.len() == 1 { "it" } else { "both" },
+                conflict.shortfall.max(0.0),
+            );
+        }
+    }
+    let timings = &optimization.timings;
+    let _ = writeln!(
+        out,
+        "  time: precompute {:.2} s, heuristic {:.2} s{}{}",
+        timings.precompute,
+        timings.heuristic,
+        if optimization.exhaustive.is_empty() {
+            String::new()
+        } else {
+            format!(", exhaustive {:.2} s", timings.exhaustive)
+        },
+        if optimization.conflicts.is_empty() {
+            String::new()
+        } else {
+            format!(", conflicts {:.2} s", timings.conflicts)
+        },
+    );
+    let _ = compilation;
+    out.push('\n');
+    out
 }

@@ -1,27 +1,61 @@
 //! The driver of the pipeline: project text in; the evaluated design, its report and its glTF
 //! scene out.
 //!
-//! [`compile`] runs the stages in order (parse, load meshes, hand-placed design, fabrication
+//! [`compile_with`] runs the stages in order (parse, load meshes, the design, fabrication
 //! checks, per-pose physics) and stops before the physics when any stage found an error, so every
 //! error of the earlier stages is reported together.
+//!
+//! The design is the project's written capsules, unless the project has an `optimize` node: then
+//! `build` runs the optimizer ([`OptimizeOptions`]) and `check` reads the solution file the last
+//! build wrote ([`solution`]).
 
 mod design;
 mod meshes;
+mod optimize;
 mod report;
 mod scene;
+mod solution;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 pub use design::hand_placed_design;
 pub use meshes::load_components;
+pub use optimize::{
+    length_decimals, optimize_design, CandidateReport, Optimization, OptimizeOptions, SeedReport,
+    Timings,
+};
 pub use report::{Report, REPORT_FORMAT};
+pub use solution::{read_solution, solution_text};
 
 use crate::balance::{evaluate_pose, BallRest, ComponentBody, PoseEvaluation};
 use crate::design::Design;
 use crate::diagnostic::Problem;
 use crate::geometry::{MassProperties, TriMesh};
+use crate::optimize::GridCache;
 use crate::spec::model::Project;
 use crate::spec::parse_project;
+
+/// Where the evaluated design came from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum DesignSource {
+    /// The capsules written in the project file.
+    Written,
+    /// The solution file at this path, written by an earlier build.
+    SolutionFile(PathBuf),
+    /// The optimizer, just now.
+    Optimized,
+}
+
+/// How to compile, beyond what the project file says.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct CompileOptions {
+    /// Outputs go into this folder instead of the paths the project names; the solution file is
+    /// read from there too.
+    pub out_dir: Option<PathBuf>,
+    /// Run the optimizer (for a project with `optimize`) with these options; `None` reads the
+    /// solution file instead.
+    pub optimize: Option<OptimizeOptions>,
+}
 
 /// A valid project and what its design does in every pose.
 #[derive(Debug, Clone)]
@@ -38,6 +72,10 @@ pub struct Compilation {
     pub poses: Vec<PoseEvaluation>,
     /// Warnings: the project is valid but something deserves a look.
     pub warnings: Vec<Problem>,
+    /// Where the design came from.
+    pub source: DesignSource,
+    /// What the optimizer did, when it ran.
+    pub optimization: Option<Optimization>,
 }
 
 impl Compilation {
@@ -49,9 +87,26 @@ impl Compilation {
     }
 }
 
-/// Compiles the project file text `source`, read from `project_path` (mesh and output paths are
-/// relative to its folder). On an invalid project, returns every problem found, warnings included.
+/// Compiles the project file text `source`, read from `project_path`, without optimizing: the
+/// design is the written capsules, or the solution file for a project with `optimize`.
 pub fn compile(source: &str, project_path: &Path) -> Result<Compilation, Vec<Problem>> {
+    compile_with(
+        source,
+        project_path,
+        &CompileOptions::default(),
+        &mut GridCache::new(),
+    )
+}
+
+/// Compiles the project file text `source`, read from `project_path` (mesh and output paths are
+/// relative to its folder), as `options` say; distance grids come from `cache` when it has them.
+/// On an invalid project, returns every problem found, warnings included.
+pub fn compile_with(
+    source: &str,
+    project_path: &Path,
+    options: &CompileOptions,
+    cache: &mut GridCache,
+) -> Result<Compilation, Vec<Problem>> {
     let parsed = parse_project(source, project_path);
     let mut problems = parsed.problems;
     let Some(project) = parsed.project else {
@@ -59,14 +114,35 @@ pub fn compile(source: &str, project_path: &Path) -> Result<Compilation, Vec<Pro
     };
     let (meshes, mesh_problems) = load_components(&project);
     problems.extend(mesh_problems);
-    let (design, design_problems) = hand_placed_design(&project);
+    let (written, design_problems) = hand_placed_design(&project);
     problems.extend(design_problems);
     if let Some(meshes) = &meshes {
-        problems.extend(design::fabrication_problems(&project, meshes, &design));
+        problems.extend(design::fabrication_problems(&project, meshes, &written));
     }
     let meshes = match meshes {
         Some(meshes) if !problems.iter().any(Problem::is_error) => meshes,
         _ => return Err(problems),
+    };
+    let (design, source, optimization) = match (&project.optimize, &options.optimize) {
+        (None, _) => (written, DesignSource::Written, None),
+        (Some(settings), Some(run)) => {
+            let (design, optimization) = optimize_design(&project, settings, &meshes, run, cache);
+            (design, DesignSource::Optimized, Some(optimization))
+        }
+        (Some(_), None) => {
+            let path = output_path(&project.output.solution, options.out_dir.as_deref());
+            match read_solution(&project, &path, &meshes) {
+                Ok(Some(design)) => (design, DesignSource::SolutionFile(path), None),
+                Ok(None) => {
+                    problems.push(solution::missing(&path));
+                    (written, DesignSource::Written, None)
+                }
+                Err(solution_problems) => {
+                    problems.extend(solution_problems);
+                    return Err(problems);
+                }
+            }
+        }
     };
     let bodies: Vec<ComponentBody> = meshes.iter().map(ComponentBody::new).collect();
     let mass = bodies.iter().map(|body| body.mass).collect();
@@ -75,7 +151,7 @@ pub fn compile(source: &str, project_path: &Path) -> Result<Compilation, Vec<Pro
         .iter()
         .map(|pose| evaluate_pose(&project, &bodies, &design, pose))
         .collect();
-    problems.extend(undetermined_balls(&project, &poses));
+    problems.extend(undetermined_balls(&project, &design, &poses));
     Ok(Compilation {
         project,
         meshes,
@@ -83,28 +159,46 @@ pub fn compile(source: &str, project_path: &Path) -> Result<Compilation, Vec<Pro
         design,
         poses,
         warnings: problems,
+        source,
+        optimization,
     })
 }
 
-/// A warning for every ball whose rest end cannot be trusted in a pose.
-fn undetermined_balls(project: &Project, poses: &[PoseEvaluation]) -> Vec<Problem> {
+/// Where an output goes: its own path, or its file name inside `out_dir`.
+pub fn output_path(path: &Path, out_dir: Option<&Path>) -> PathBuf {
+    match (out_dir, path.file_name()) {
+        (Some(folder), Some(name)) => folder.join(name),
+        _ => path.to_path_buf(),
+    }
+}
+
+/// A warning for every ball whose rest end cannot be trusted in a pose, pointing at the capsule's
+/// node when the project file has it.
+fn undetermined_balls(
+    project: &Project,
+    design: &Design,
+    poses: &[PoseEvaluation],
+) -> Vec<Problem> {
     let mut warnings = Vec::new();
     for (pose, evaluation) in project.poses.iter().zip(poses) {
-        for (capsule, ball) in project.capsules.iter().zip(&evaluation.balls) {
+        for (capsule, ball) in design.capsules.iter().zip(&evaluation.balls) {
             if ball.rest != BallRest::Undetermined {
                 continue;
             }
+            let mut warning = Problem::warning(
+                "ballast::capsule::undetermined",
+                format!(
+                    "in pose `{}`, capsule `{}` is {:.1}° from horizontal, less than the ball's min-angle of {}°: its ball may rest anywhere along it",
+                    pose.name.value, capsule.name, ball.elevation, project.ball.min_angle
+                ),
+            );
+            if let Some(written) = project.capsules.iter().find(|c| c.name.value == capsule.name) {
+                warning = warning.with_label(written.span, "this capsule");
+            }
             warnings.push(
-                Problem::warning(
-                    "ballast::capsule::undetermined",
-                    format!(
-                        "in pose `{}`, capsule `{}` is {:.1}° from horizontal, less than the ball's min-angle of {}°: its ball may rest anywhere along it",
-                        pose.name.value, capsule.name.value, ball.elevation, project.ball.min_angle
-                    ),
-                )
-                .with_label(capsule.span, "this capsule")
-                .with_label(pose.name.span, "in this pose")
-                .with_help("tilt the capsule's axis, or the result in this pose assumes the ball in the middle"),
+                warning
+                    .with_label(pose.name.span, "in this pose")
+                    .with_help("tilt the capsule's axis, or the result in this pose assumes the ball in the middle"),
             );
         }
     }

@@ -1,6 +1,8 @@
 //! The constraints of the design, each written `g(x) ≥ 0` (paper eq. 3, 5, 14, 16 and 22, and
 //! the bounds on radius and infill).
 
+use nalgebra::Vector3;
+
 use super::mass::{axis_cosine, CapsuleVars, SmoothTotals};
 use super::scalar::{Scalar, V3};
 use super::setup::{GoalSetup, PoseSetup};
@@ -46,9 +48,14 @@ pub(crate) fn capsule_constraints<D: Scalar>(
     }
 }
 
-/// Eq. 14 for every pair of capsules `i < j` of one component, at every pair of axis samples
-/// `(s, t)`: `|x_i(s) − x_j(t)|² − (r_i + r_j + wall)² ≥ 0` with `x(s) = p + s (q − p)`.
-/// Squared, so it stays differentiable where two samples meet.
+/// Eq. 14 for every pair of capsules `i < j` of one component, once, at the closest points of
+/// their axes: `|x_i(s*) − x_j(t*)|² − (r_i + r_j + wall)² ≥ 0` with `x(s) = p + s (q − p)` and
+/// `(s*, t*)` the parameters of the closest points (clamped to the segments). The paper samples
+/// every pair of axis points instead; the closest pair is the one that matters, and one constraint
+/// per pair keeps the solver's subproblems small. `(s*, t*)` are found on the values and held
+/// fixed for the derivative, which is then exact (the distance is minimal in them: Danskin's
+/// theorem) wherever the closest points are unique. Squared, so it stays differentiable where the
+/// axes meet.
 pub(crate) fn pair_constraints<D: Scalar>(
     capsules: &[CapsuleVars<D>],
     limits: &Limits,
@@ -60,16 +67,59 @@ pub(crate) fn pair_constraints<D: Scalar>(
                 continue;
             }
             let reach = a.r.clone() + &b.r + limits.wall;
-            let reach2 = reach.clone() * reach;
-            for &s in &limits.samples {
-                let xa = sample(a, s);
-                for &t in &limits.samples {
-                    let gap = xa.sub(&sample(b, t)).norm_squared();
-                    out.push(gap - reach2.clone());
-                }
-            }
+            let (s, t) = closest_parameters(
+                &a.p.re(),
+                &a.q.re(),
+                &b.p.re(),
+                &b.q.re(),
+            );
+            let gap = sample(a, s).sub(&sample(b, t)).norm_squared();
+            out.push(gap - reach.clone() * reach);
         }
     }
+}
+
+/// The parameters `(s, t) ∈ [0, 1]²` of the closest points of the segments `p1 q1` and `p2 q2`
+/// (Ericson, Real-Time Collision Detection, 5.1.9). Degenerate segments are points.
+pub(crate) fn closest_parameters(
+    p1: &Vector3<f64>,
+    q1: &Vector3<f64>,
+    p2: &Vector3<f64>,
+    q2: &Vector3<f64>,
+) -> (f64, f64) {
+    let d1 = q1 - p1;
+    let d2 = q2 - p2;
+    let r = p1 - p2;
+    let a = d1.dot(&d1);
+    let e = d2.dot(&d2);
+    let f = d2.dot(&r);
+    let tiny = 1e-300;
+    if a <= tiny && e <= tiny {
+        return (0.0, 0.0);
+    }
+    if a <= tiny {
+        return (0.0, (f / e).clamp(0.0, 1.0));
+    }
+    let c = d1.dot(&r);
+    if e <= tiny {
+        return ((-c / a).clamp(0.0, 1.0), 0.0);
+    }
+    let b = d1.dot(&d2);
+    let denominator = a * e - b * b;
+    let mut s = if denominator > 1e-12 * a * e {
+        ((b * f - c * e) / denominator).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let mut t = (b * s + f) / e;
+    if t < 0.0 {
+        t = 0.0;
+        s = (-c / a).clamp(0.0, 1.0);
+    } else if t > 1.0 {
+        t = 1.0;
+        s = ((b - c) / a).clamp(0.0, 1.0);
+    }
+    (s, t)
 }
 
 /// The point `p + s (q − p)` of a capsule's axis.

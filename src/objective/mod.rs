@@ -162,7 +162,7 @@ impl Objective {
     ///    `r_max − r ≥ 0` (project units), then per pose `z² − sin² φ_min ≥ 0` (eq. 22, `z` the
     ///    cosine between axis and gravity, `φ_min` = [`Ball::min_angle`](crate::spec::model::Ball::min_angle)
     ///    plus a slack of 0.25°, so a solution on this constraint's boundary still has a determined ball);
-    /// 2. per pair of capsules in one component, per pair of axis samples:
+    /// 2. per pair of capsules in one component, at the closest points of their axes:
     ///    `|x_i − x_j|² − (r_i + r_j + wall)² ≥ 0` (eq. 14);
     /// 3. when the infill is a variable: `w − lo ≥ 0`, `hi − w ≥ 0`;
     /// 4. per pose, per `immerse` goal: `|c − c_buo|² − d_min² ≥ 0` (eq. 5), then with a mass

@@ -15,9 +15,8 @@ pub struct Parameters {
     /// β of eq. 1, per radian: the smooth minimum over the toppling angles of one support.
     /// Default 100.
     pub edge_sharpness: f64,
-    /// Points sampled along each capsule axis (both ends included) for the capsule-pair
-    /// constraints of eq. 14 and the interior constraints of eq. 15; at least 2. Default 8 (the
-    /// paper uses 32, fewer with many capsules).
+    /// Points sampled along each capsule axis (both ends included) for the interior constraints
+    /// of eq. 15; at least 2. Default 8 (the paper uses 32, fewer with many capsules).
     pub axis_samples: usize,
     /// The smallest printable capsule radius, project units. Default: the ball clearance plus
     /// 1 mm, so every capsule holds a ball at least 1 mm in radius.

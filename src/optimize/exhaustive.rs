@@ -2,13 +2,14 @@
 //! the heuristic's result against.
 
 use nalgebra::{Point3, Vector3};
+use serde::Serialize;
 
 use super::heuristic::Candidate;
 use super::problem::{Problem, StartCapsule};
 use crate::objective::InteriorDistance;
 
 /// The random starts for one capsule count and where the heuristic's result ranks among them.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Ranking {
     /// Number of capsules (pinned ones included).
     pub capsules: usize,

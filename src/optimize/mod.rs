@@ -2,15 +2,19 @@
 //! goals with the largest margin (paper section 4).
 
 mod bounds;
+mod conflicts;
 mod exhaustive;
 mod grids;
 mod heuristic;
 mod problem;
+mod seeds;
 mod solver;
 
 pub use bounds::design_bounds;
+pub use conflicts::{explain as explain_conflicts, Conflict, GoalRef};
 pub use exhaustive::{rank, Ranking};
 pub use grids::{content_hash, default_cell, GridCache};
 pub use heuristic::{choose, run as run_heuristic, Candidate};
 pub use problem::{Outcome, Problem, StartCapsule};
+pub use seeds::{skeleton_seeds, SeedSite};
 pub use solver::{solve, Bounds, Budget, Method, Solve};

@@ -81,7 +81,7 @@ impl<'a> Problem<'a> {
             interior,
             parameters: Parameters::for_project(project),
             method,
-            budget_per_unknown: 150,
+            budget_per_unknown: 100,
         }
     }
 

@@ -500,23 +500,22 @@ fn steps(node: &Node) -> impl Iterator<Item = Step> + '_ {
     })
 }
 
-/// Where the build writes: the `output` block's paths, else `build/<stem>.glb`,
-/// `build/<stem>.report.json` and `build/<stem>.solution.kdl` next to the project file.
+/// Where the build writes: the `output` block's paths, else `build/<stem>.glb` and
+/// `build/<stem>.report.json` next to the project file, and `<stem>.solution.kdl` beside it (a
+/// file to commit, so not among the build products).
 fn output(node: Option<&Node>, folder: &Path, project_path: &Path) -> Output {
     let stem = project_path
         .file_stem()
         .map_or_else(|| "project".into(), |stem| stem.to_string_lossy());
-    let path = |name: &str, default: String| {
+    let path = |name: &str, default: PathBuf| {
         node.and_then(|node| node.child(name))
             .and_then(Node::text_arg)
-            .map_or_else(
-                || folder.join("build").join(default),
-                |path| folder.join(path.value),
-            )
+            .map_or_else(|| folder.join(default), |path| folder.join(path.value))
     };
+    let build = Path::new("build");
     Output {
-        gltf: path("gltf", format!("{stem}.glb")),
-        report: path("report", format!("{stem}.report.json")),
-        solution: path("solution", format!("{stem}.solution.kdl")),
+        gltf: path("gltf", build.join(format!("{stem}.glb"))),
+        report: path("report", build.join(format!("{stem}.report.json"))),
+        solution: path("solution", PathBuf::from(format!("{stem}.solution.kdl"))),
     }
 }

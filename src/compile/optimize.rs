@@ -1,0 +1,379 @@
+//! The optimizer stage of the pipeline: distance grids and skeletons per component, seeds, the
+//! heuristic, the choice of a capsule count, and the chosen design rounded for the solution file.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use nalgebra::Point3;
+use serde::Serialize;
+
+use crate::design::Design;
+use crate::geometry::{Skeleton, TriMesh};
+use crate::objective::{GridInterior, Parameters};
+use crate::optimize::{
+    choose, default_cell, explain_conflicts, rank, run_heuristic, skeleton_seeds, Candidate,
+    Conflict, GoalRef, GridCache, Method, Outcome, Problem, Ranking, SeedSite, StartCapsule,
+};
+use crate::spec::model::{Optimize, Project};
+
+/// How `build` runs the optimizer, beyond what the project file says.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct OptimizeOptions {
+    /// The capsule count wanted, overriding the project's `optimize capsules=`.
+    pub capsules: Option<usize>,
+    /// Random starts per capsule count to rank the heuristic's result against (0: none).
+    pub exhaustive: usize,
+}
+
+/// What the optimizer did: every capsule count tried and which one was chosen.
+#[derive(Debug, Clone, Serialize)]
+pub struct Optimization {
+    /// The capsule count asked for, if any.
+    pub requested: Option<usize>,
+    /// Capsules in the chosen design.
+    pub chosen: usize,
+    /// Whether the chosen design meets every goal.
+    pub meets_goals: bool,
+    /// The tolerance of the choice, degrees.
+    pub tolerance: f64,
+    /// Every capsule count the heuristic tried, most capsules first.
+    pub candidates: Vec<CandidateReport>,
+    /// Every skeleton segment's midpoint and whether a capsule was seeded there.
+    pub seeds: Vec<SeedReport>,
+    /// Where the heuristic ranks among random starts, per capsule count (empty unless asked).
+    pub exhaustive: Vec<Ranking>,
+    /// When the chosen design misses some goal: the goals that cannot be met even alone, and the
+    /// pairs that cannot be met together.
+    pub conflicts: Vec<ConflictReport>,
+    /// Wall-clock seconds per stage. Not deterministic, so never written to a file.
+    #[serde(skip)]
+    pub timings: Timings,
+}
+
+/// Wall-clock seconds of each optimizer stage.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Timings {
+    /// Distance grids and skeletons.
+    pub precompute: f64,
+    /// The heuristic, all rounds.
+    pub heuristic: f64,
+    /// Exhaustive search.
+    pub exhaustive: f64,
+    /// Explaining conflicts.
+    pub conflicts: f64,
+}
+
+/// Goals the optimizer cannot meet: one goal that is out of reach even alone, or two that can each
+/// be met but not together.
+#[derive(Debug, Clone, Serialize)]
+pub struct ConflictReport {
+    /// The goals, each as `pose name` and index within the pose.
+    pub goals: Vec<GoalName>,
+    /// How short the best design for just these goals falls, degrees of the smooth objective.
+    pub shortfall: f64,
+}
+
+/// A goal, named by its pose.
+#[derive(Debug, Clone, Serialize)]
+pub struct GoalName {
+    /// The pose's name.
+    pub pose: String,
+    /// The goal's index within the pose, from 0.
+    pub goal: usize,
+    /// The goal's kind: `stand`, `imbalance`, `suspend` or `immerse`.
+    pub kind: &'static str,
+}
+
+/// One capsule count the heuristic tried.
+#[derive(Debug, Clone, Serialize)]
+pub struct CandidateReport {
+    /// Number of capsules.
+    pub capsules: usize,
+    /// The smooth objective `f` reached, degrees (at most 0 when every goal is met; lower is
+    /// better).
+    pub objective: f64,
+    /// The smallest tilt margin over every `stand` goal, degrees, when there are stand goals.
+    pub worst_tilt_margin: Option<f64>,
+    /// Whether every goal is met and every capsule can be printed.
+    pub meets_goals: bool,
+    /// Wall-clock seconds. Not deterministic, so never written to a file.
+    #[serde(skip)]
+    pub seconds: f64,
+}
+
+/// One skeleton segment's midpoint.
+#[derive(Debug, Clone, Serialize)]
+pub struct SeedReport {
+    /// The component whose skeleton it is on.
+    pub component: String,
+    /// The midpoint, rest frame of the component.
+    pub midpoint: [f64; 3],
+    /// Distance to the component's surface, project units (positive inside).
+    pub depth: f64,
+    /// Whether a capsule was seeded there.
+    pub seeded: bool,
+}
+
+/// Runs the optimizer on `project` (which has an `optimize` node) and returns the chosen design,
+/// rounded, with what the optimizer did. Grids come from `cache` when it holds them.
+pub fn optimize_design(
+    project: &Project,
+    settings: &Optimize,
+    meshes: &[TriMesh],
+    options: &OptimizeOptions,
+    cache: &mut GridCache,
+) -> (Design, Optimization) {
+    let clock = Instant::now();
+    let parameters = Parameters::for_project(project);
+    let grids = meshes
+        .iter()
+        .map(|mesh| {
+            let cell = settings
+                .grid_cell
+                .unwrap_or_else(|| default_cell(mesh, parameters.min_radius));
+            cache.grid(mesh, cell)
+        })
+        .collect();
+    let interior = Arc::new(GridInterior { grids });
+    let written = written_capsules(project);
+    let (skeleton_starts, sites) = if written.iter().any(|c| !c.pinned) {
+        (Vec::new(), Vec::new())
+    } else {
+        let skeletons: Vec<Skeleton> = meshes.iter().map(Skeleton::new).collect();
+        skeleton_seeds(
+            &skeletons,
+            interior.as_ref(),
+            parameters.min_radius,
+            project.wall,
+        )
+    };
+    let mut seeds = written;
+    seeds.extend(skeleton_starts);
+    let precompute = clock.elapsed().as_secs_f64();
+
+    let clock = Instant::now();
+    let problem = Problem::new(project, meshes, interior.clone(), Method::Cobyla);
+    let requested = options.capsules.or(settings.capsules);
+    let candidates = run_heuristic(&problem, &seeds, requested);
+    let heuristic = clock.elapsed().as_secs_f64();
+
+    let clock = Instant::now();
+    let exhaustive = if options.exhaustive > 0 {
+        rank(
+            &problem,
+            interior.as_ref(),
+            &seeds,
+            &candidates,
+            options.exhaustive,
+            settings.seed,
+        )
+    } else {
+        Vec::new()
+    };
+    let exhaustive_seconds = clock.elapsed().as_secs_f64();
+
+    let chosen = choose(&candidates, requested, settings.tolerance_degrees);
+    let outcome = rounded(&problem, &candidates[chosen].outcome, meshes);
+    let design = named(project, outcome.design.clone());
+
+    let clock = Instant::now();
+    let conflicts = if outcome.meets_goals {
+        Vec::new()
+    } else {
+        let unmet: Vec<GoalRef> = outcome
+            .poses
+            .iter()
+            .enumerate()
+            .flat_map(|(pose, p)| {
+                p.goals
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, g)| !g.met)
+                    .map(move |(goal, _)| GoalRef { pose, goal })
+            })
+            .collect();
+        let start = seeds_for(&seeds, &candidates[chosen]);
+        explain_conflicts(project, meshes, &interior, &start, &unmet)
+            .iter()
+            .map(|c| conflict_report(project, c))
+            .collect()
+    };
+    let conflicts_seconds = clock.elapsed().as_secs_f64();
+    let optimization = Optimization {
+        requested,
+        chosen: design.capsules.len(),
+        meets_goals: outcome.meets_goals,
+        tolerance: settings.tolerance_degrees,
+        candidates: candidates.iter().map(candidate_report).collect(),
+        seeds: sites
+            .iter()
+            .map(|site| seed_report(project, site))
+            .collect(),
+        exhaustive,
+        conflicts,
+        timings: Timings {
+            precompute,
+            heuristic,
+            exhaustive: exhaustive_seconds,
+            conflicts: conflicts_seconds,
+        },
+    };
+    (design, optimization)
+}
+
+/// Digits after the decimal point that keep lengths to about 10⁻⁴ of the model's extent.
+pub fn length_decimals(meshes: &[TriMesh]) -> usize {
+    let extent = meshes
+        .iter()
+        .filter_map(TriMesh::bounding_box)
+        .map(|(lo, hi)| (hi - lo).norm())
+        .fold(0.0, f64::max);
+    if extent > 0.0 && extent.is_finite() {
+        (4.0 - extent.log10().floor()).clamp(0.0, 12.0) as usize
+    } else {
+        4
+    }
+}
+
+/// The capsules of the project file as start capsules, named and pinned as written.
+fn written_capsules(project: &Project) -> Vec<StartCapsule> {
+    project
+        .capsules
+        .iter()
+        .map(|c| StartCapsule {
+            component: c.component.value,
+            from: c.from,
+            to: c.to,
+            radius: c.radius,
+            pinned: c.pinned,
+            name: Some(c.name.value.clone()),
+        })
+        .collect()
+}
+
+/// `outcome`'s design with every length rounded to [`length_decimals`], judged again. Ends move
+/// to the nearest step, and each unpinned radius shrinks by at least one step, so rounding cannot
+/// bring a capsule closer to the surface or to another capsule than it was.
+fn rounded(problem: &Problem, outcome: &Outcome, meshes: &[TriMesh]) -> Outcome {
+    let decimals = length_decimals(meshes);
+    let step = 10f64.powi(-(decimals as i32));
+    let round = |v: f64| (v / step).round() * step;
+    let written = &problem.project().capsules;
+    let mut design = outcome.design.clone();
+    for capsule in &mut design.capsules {
+        let pinned = written
+            .iter()
+            .any(|w| w.pinned && w.name.value == capsule.name);
+        if pinned {
+            continue;
+        }
+        capsule.from = capsule.from.map(round);
+        capsule.to = capsule.to.map(round);
+        capsule.radius = (capsule.radius / step).floor() * step - step;
+        if let Some(ball) = problem.project().ball.radius_for(capsule.radius) {
+            capsule.ball_radius = ball;
+        }
+    }
+    if problem.project().infill.range.is_some() {
+        design.infill = (design.infill * 1e6).round() / 1e6;
+    }
+    let mut judged = problem.judge(design);
+    judged.value = outcome.value;
+    judged
+}
+
+/// Names the capsules the optimizer seeded (`"<component> 1"`, `"<component> 2"`, … in design
+/// order), skipping names already taken.
+fn named(project: &Project, mut design: Design) -> Design {
+    let written: Vec<&str> = project
+        .capsules
+        .iter()
+        .map(|c| c.name.value.as_str())
+        .collect();
+    let mut taken: Vec<String> = design
+        .capsules
+        .iter()
+        .filter(|c| written.contains(&c.name.as_str()))
+        .map(|c| c.name.clone())
+        .collect();
+    for capsule in &mut design.capsules {
+        if written.contains(&capsule.name.as_str()) {
+            continue;
+        }
+        let component = project
+            .components
+            .get(capsule.component)
+            .map_or("capsule", |c| c.name.value.as_str());
+        let name = (1..)
+            .map(|k| format!("{component} {k}"))
+            .find(|name| !taken.contains(name))
+            .unwrap_or_default();
+        taken.push(name.clone());
+        capsule.name = name;
+    }
+    design
+}
+
+/// The start for explaining conflicts: the chosen candidate's capsules where the heuristic left
+/// them, or the seeds when it has none.
+fn seeds_for(seeds: &[StartCapsule], candidate: &Candidate) -> Vec<StartCapsule> {
+    if candidate.outcome.design.capsules.is_empty() {
+        return seeds.to_vec();
+    }
+    candidate
+        .outcome
+        .design
+        .capsules
+        .iter()
+        .map(|c| StartCapsule {
+            component: c.component,
+            from: c.from,
+            to: c.to,
+            radius: c.radius,
+            pinned: seeds.iter().any(|s| s.pinned && s.name.as_deref() == Some(c.name.as_str())),
+            name: Some(c.name.clone()),
+        })
+        .collect()
+}
+
+fn conflict_report(project: &Project, conflict: &Conflict) -> ConflictReport {
+    ConflictReport {
+        goals: conflict
+            .goals
+            .iter()
+            .map(|g| {
+                let pose = &project.poses[g.pose];
+                GoalName {
+                    pose: pose.name.value.clone(),
+                    goal: g.goal,
+                    kind: pose.goals[g.goal].value.keyword(),
+                }
+            })
+            .collect(),
+        shortfall: conflict.shortfall,
+    }
+}
+
+fn candidate_report(candidate: &Candidate) -> CandidateReport {
+    CandidateReport {
+        capsules: candidate.capsules,
+        objective: candidate.outcome.value.to_degrees(),
+        worst_tilt_margin: candidate.outcome.worst_tilt_margin,
+        meets_goals: candidate.outcome.meets_goals,
+        seconds: candidate.seconds,
+    }
+}
+
+fn seed_report(project: &Project, site: &SeedSite) -> SeedReport {
+    let p: Point3<f64> = site.midpoint;
+    SeedReport {
+        component: project
+            .components
+            .get(site.component)
+            .map(|c| c.name.value.clone())
+            .unwrap_or_default(),
+        midpoint: [p.x, p.y, p.z],
+        depth: site.depth,
+        seeded: site.seeded,
+    }
+}

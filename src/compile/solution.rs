@@ -1,0 +1,113 @@
+//! The solution file: the optimizer's design written as capsule nodes, and read back by `check`.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use super::design::{fabrication_problems, hand_placed_design};
+use super::optimize::length_decimals;
+use crate::design::Design;
+use crate::diagnostic::{Problem, SourceFile};
+use crate::emit::{write_solution, Solution, SolutionCapsule};
+use crate::geometry::TriMesh;
+use crate::spec::model::Project;
+use crate::spec::parse_solution;
+
+/// The solution file's text for `design`: a header naming the project, then the infill when the
+/// project lets the optimizer choose it, then the capsules. Lengths carry [`length_decimals`]
+/// digits; the design is rounded to them before it is evaluated, so reading the file back gives
+/// the same design.
+pub fn solution_text(
+    project: &Project,
+    project_name: &str,
+    meshes: &[TriMesh],
+    design: &Design,
+) -> String {
+    let capsules = design
+        .capsules
+        .iter()
+        .map(|c| SolutionCapsule {
+            name: c.name.clone(),
+            component: project
+                .components
+                .get(c.component)
+                .map(|component| component.name.value.clone())
+                .unwrap_or_default(),
+            from: c.from.coords.into(),
+            to: c.to.coords.into(),
+            radius: c.radius,
+            pinned: project
+                .capsules
+                .iter()
+                .any(|w| w.pinned && w.name.value == c.name),
+        })
+        .collect();
+    write_solution(&Solution {
+        header: vec![
+            format!("The capsules ballast chose for {project_name}, in {}.", project.units.keyword()),
+            "`ballast check` evaluates them; `ballast build` writes this file anew.".to_string(),
+        ],
+        infill: project.infill.range.map(|_| design.infill),
+        capsules,
+        decimals: length_decimals(meshes),
+    })
+}
+
+/// The design in the solution file at `path`: `Ok(None)` when there is no such file; every
+/// problem in it otherwise, its spans pointing into that file.
+pub fn read_solution(
+    project: &Project,
+    path: &Path,
+    meshes: &[TriMesh],
+) -> Result<Option<Design>, Vec<Problem>> {
+    let text = match std::fs::read_to_string(path) {
+        Ok(text) => text,
+        Err(error) if error.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(error) => {
+            return Err(vec![Problem::error(
+                "ballast::solution::unreadable",
+                format!("cannot read the solution file {}: {error}", path.display()),
+            )])
+        }
+    };
+    let file = SourceFile {
+        name: path.display().to_string(),
+        text: Arc::from(text.as_str()),
+    };
+    let parsed = parse_solution(&text, path, project);
+    let mut problems: Vec<Problem> = parsed
+        .problems
+        .into_iter()
+        .map(|p| p.in_file(file.clone()))
+        .collect();
+    let Some(capsules) = parsed.capsules else {
+        return Err(problems);
+    };
+    let mut solved = project.clone();
+    solved.capsules = capsules;
+    if let Some(infill) = parsed.infill {
+        solved.infill.value = infill;
+    }
+    let (design, design_problems) = hand_placed_design(&solved);
+    problems.extend(design_problems.into_iter().map(|p| p.in_file(file.clone())));
+    problems.extend(
+        fabrication_problems(&solved, meshes, &design)
+            .into_iter()
+            .map(|p| p.in_file(file.clone())),
+    );
+    if problems.iter().any(Problem::is_error) {
+        return Err(problems);
+    }
+    Ok(Some(design))
+}
+
+/// The warning for a project with `optimize` whose solution file does not exist yet.
+pub fn missing(path: &Path) -> Problem {
+    Problem::warning(
+        "ballast::solution::missing",
+        format!(
+            "there is no solution file at {} yet: evaluating the capsules written in the project",
+            path.display()
+        ),
+    )
+    .with_help("run `ballast build` to optimize the capsules and write the solution file")
+}

@@ -1,0 +1,110 @@
+//! Why no design meets the goals: which goals cannot be met even alone, and which pairs of goals
+//! can each be met but not together.
+
+use std::sync::Arc;
+
+use serde::Serialize;
+
+use super::problem::{Problem, StartCapsule};
+use super::solver::Method;
+use crate::geometry::TriMesh;
+use crate::objective::GridInterior;
+use crate::spec::model::Project;
+
+/// One goal of one pose.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+pub struct GoalRef {
+    /// Index of the pose, project order.
+    pub pose: usize,
+    /// Index of the goal within the pose.
+    pub goal: usize,
+}
+
+/// A goal, or a pair of goals, that the optimizer cannot meet.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Conflict {
+    /// One goal (unreachable even alone) or two (each reachable alone, not together).
+    pub goals: Vec<GoalRef>,
+    /// How far the best design for just these goals is from meeting them: its smooth objective,
+    /// degrees (positive: short by about that much).
+    pub shortfall: f64,
+}
+
+/// Explains why the goals `unmet` (of `project`) were not met by optimizing from `seeds` for
+/// smaller sets of goals: first each goal of the project alone, then each unmet goal paired with
+/// every other goal that can be met alone. Returns the goals unreachable alone, then the pairs
+/// that conflict, in project order.
+pub fn explain(
+    project: &Project,
+    meshes: &[TriMesh],
+    interior: &Arc<GridInterior>,
+    seeds: &[StartCapsule],
+    unmet: &[GoalRef],
+) -> Vec<Conflict> {
+    let all: Vec<GoalRef> = project
+        .poses
+        .iter()
+        .enumerate()
+        .flat_map(|(pose, p)| (0..p.goals.len()).map(move |goal| GoalRef { pose, goal }))
+        .collect();
+    let attempt = |goals: &[GoalRef]| -> (bool, f64) {
+        let only = with_only(project, goals);
+        let problem = Problem::new(&only, meshes, interior.clone(), Method::Cobyla);
+        let outcome = problem.optimize(seeds);
+        (outcome.meets_goals, outcome.value.to_degrees())
+    };
+    let alone: Vec<(GoalRef, bool, f64)> = all
+        .iter()
+        .map(|&goal| {
+            let (met, value) = attempt(&[goal]);
+            (goal, met, value)
+        })
+        .collect();
+    let mut conflicts: Vec<Conflict> = alone
+        .iter()
+        .filter(|(goal, met, _)| !met && unmet.contains(goal))
+        .map(|&(goal, _, shortfall)| Conflict {
+            goals: vec![goal],
+            shortfall,
+        })
+        .collect();
+    for &(goal, met, _) in &alone {
+        if !met || !unmet.contains(&goal) {
+            continue;
+        }
+        for &(other, other_met, _) in &alone {
+            let seen = unmet.contains(&other) && other < goal;
+            if other == goal || !other_met || seen {
+                continue;
+            }
+            let pair = if other < goal {
+                [other, goal]
+            } else {
+                [goal, other]
+            };
+            let (met, shortfall) = attempt(&pair);
+            if !met {
+                conflicts.push(Conflict {
+                    goals: pair.to_vec(),
+                    shortfall,
+                });
+            }
+        }
+    }
+    conflicts
+}
+
+/// `project` with every goal but `goals` removed.
+fn with_only(project: &Project, goals: &[GoalRef]) -> Project {
+    let mut only = project.clone();
+    for (pose, p) in only.poses.iter_mut().enumerate() {
+        let kept = std::mem::take(&mut p.goals)
+            .into_iter()
+            .enumerate()
+            .filter(|(goal, _)| goals.contains(&GoalRef { pose, goal: *goal }))
+            .map(|(_, g)| g)
+            .collect();
+        p.goals = kept;
+    }
+    only
+}
