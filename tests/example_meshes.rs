@@ -60,6 +60,7 @@ fn every_example_mesh_is_a_closed_outward_solid() {
             "hammer.obj",
             "hinged_arm.obj",
             "sheared_cylinder.obj",
+            "spot.obj",
             "t_shape.obj"
         ]
     );
