@@ -48,5 +48,20 @@ pub enum Command {
         /// ranks among them (slow).
         #[arg(long, value_name = "N", default_value_t = 0)]
         exhaustive: usize,
+        /// The local solver: `hybrid` (SLSQP, then COBYLA where SLSQP misses; the default),
+        /// `slsqp` (exact gradients) or `cobyla` (derivative-free).
+        #[arg(long, value_enum, default_value_t = Solver::Hybrid)]
+        solver: Solver,
     },
+}
+
+/// The local solvers `build --solver` offers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Solver {
+    /// SLSQP, then COBYLA from its best point where it misses a goal or a constraint.
+    Hybrid,
+    /// Sequential quadratic programming with exact gradients.
+    Slsqp,
+    /// Constrained optimization by linear approximations, derivative-free.
+    Cobyla,
 }

@@ -13,10 +13,10 @@ use std::path::Path;
 
 use clap::Parser;
 
-pub use args::{Cli, Command};
+pub use args::{Cli, Command, Solver};
 
 use crate::compile::{compile_with, Compilation, CompileOptions, OptimizeOptions};
-use crate::optimize::GridCache;
+use crate::optimize::{GridCache, Method};
 
 /// Every goal of every pose is met.
 pub const EXIT_MET: i32 = 0;
@@ -57,11 +57,17 @@ pub fn run() -> i32 {
             out_dir,
             capsules,
             exhaustive,
+            solver,
         } => build::run(
             &project,
             &CompileOptions {
                 out_dir,
                 optimize: Some(OptimizeOptions {
+                    method: match solver {
+                        Solver::Hybrid => Method::Hybrid,
+                        Solver::Slsqp => Method::Slsqp,
+                        Solver::Cobyla => Method::Cobyla,
+                    },
                     capsules,
                     exhaustive,
                 }),

@@ -201,10 +201,7 @@ pub fn optimization(optimization: &Optimization, compilation: &Compilation) -> S
         optimization.candidates.len(),
         plural(optimization.candidates.len()),
     );
-    let _ = writeln!(
-        out,
-        "  capsules  objective  worst tilt  goals      time"
-    );
+    let _ = writeln!(out, "  capsules  objective  worst tilt  goals      time");
     let mut marked = false;
     for candidate in &optimization.candidates {
         let chosen = !marked && candidate.capsules == optimization.chosen;
@@ -219,7 +216,11 @@ pub fn optimization(optimization: &Optimization, compilation: &Compilation) -> S
             candidate.capsules,
             candidate.objective,
             tilt,
-            if candidate.meets_goals { "all met" } else { "not all" },
+            if candidate.meets_goals {
+                "all met"
+            } else {
+                "not all"
+            },
             candidate.seconds,
         );
     }

@@ -192,7 +192,11 @@ fn undetermined_balls(
                     pose.name.value, capsule.name, ball.elevation, project.ball.min_angle
                 ),
             );
-            if let Some(written) = project.capsules.iter().find(|c| c.name.value == capsule.name) {
+            if let Some(written) = project
+                .capsules
+                .iter()
+                .find(|c| c.name.value == capsule.name)
+            {
                 warning = warning.with_label(written.span, "this capsule");
             }
             warnings.push(

@@ -19,6 +19,8 @@ use crate::spec::model::{Optimize, Project};
 /// How `build` runs the optimizer, beyond what the project file says.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct OptimizeOptions {
+    /// The local solver.
+    pub method: Method,
     /// The capsule count wanted, overriding the project's `optimize capsules=`.
     pub capsules: Option<usize>,
     /// Random starts per capsule count to rank the heuristic's result against (0: none).
@@ -139,7 +141,11 @@ pub fn optimize_design(
     let (skeleton_starts, sites) = if written.iter().any(|c| !c.pinned) {
         (Vec::new(), Vec::new())
     } else {
-        let skeletons: Vec<Skeleton> = meshes.iter().map(Skeleton::new).collect();
+        let skeletons: Vec<Skeleton> = meshes
+            .iter()
+            .zip(&interior.grids)
+            .map(|(mesh, grid)| Skeleton::from_grid(mesh, grid))
+            .collect();
         skeleton_seeds(
             &skeletons,
             interior.as_ref(),
@@ -152,7 +158,7 @@ pub fn optimize_design(
     let precompute = clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
-    let problem = Problem::new(project, meshes, interior.clone(), Method::Cobyla);
+    let problem = Problem::new(project, meshes, interior.clone(), options.method);
     let requested = options.capsules.or(settings.capsules);
     let candidates = run_heuristic(&problem, &seeds, requested);
     let heuristic = clock.elapsed().as_secs_f64();
@@ -330,7 +336,9 @@ fn seeds_for(seeds: &[StartCapsule], candidate: &Candidate) -> Vec<StartCapsule>
             from: c.from,
             to: c.to,
             radius: c.radius,
-            pinned: seeds.iter().any(|s| s.pinned && s.name.as_deref() == Some(c.name.as_str())),
+            pinned: seeds
+                .iter()
+                .any(|s| s.pinned && s.name.as_deref() == Some(c.name.as_str())),
             name: Some(c.name.clone()),
         })
         .collect()

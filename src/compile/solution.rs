@@ -43,7 +43,10 @@ pub fn solution_text(
         .collect();
     write_solution(&Solution {
         header: vec![
-            format!("The capsules ballast chose for {project_name}, in {}.", project.units.keyword()),
+            format!(
+                "The capsules ballast chose for {project_name}, in {}.",
+                project.units.keyword()
+            ),
             "`ballast check` evaluates them; `ballast build` writes this file anew.".to_string(),
         ],
         infill: project.infill.range.map(|_| design.infill),

@@ -67,12 +67,7 @@ pub(crate) fn pair_constraints<D: Scalar>(
                 continue;
             }
             let reach = a.r.clone() + &b.r + limits.wall;
-            let (s, t) = closest_parameters(
-                &a.p.re(),
-                &a.q.re(),
-                &b.p.re(),
-                &b.q.re(),
-            );
+            let (s, t) = closest_parameters(&a.p.re(), &a.q.re(), &b.p.re(), &b.q.re());
             let gap = sample(a, s).sub(&sample(b, t)).norm_squared();
             out.push(gap - reach.clone() * reach);
         }

@@ -14,9 +14,14 @@ use std::cell::RefCell;
 use crate::objective::Objective;
 
 /// Which solver runs a local solve.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub enum Method {
-    /// Sequential quadratic programming with exact gradients (default).
+    /// SLSQP, then COBYLA from SLSQP's best point when that misses a goal or a constraint
+    /// (default: SLSQP is fast and precise when it converges; COBYLA gets out of the places
+    /// where its line search fails).
+    #[default]
+    Hybrid,
+    /// Sequential quadratic programming with exact gradients.
     Slsqp,
     /// Derivative-free linear approximations.
     Cobyla,
@@ -121,6 +126,42 @@ pub fn solve(
     method: Method,
     budget: Budget,
 ) -> Solve {
+    if method != Method::Hybrid {
+        return solve_by(objective, x0, bounds, method, budget);
+    }
+    let first = solve_by(objective, x0, bounds, Method::Slsqp, budget);
+    if first.violation <= FEASIBLE && first.value <= 0.0 {
+        return first;
+    }
+    let from = if first.violation <= FEASIBLE {
+        &first.x
+    } else {
+        x0
+    };
+    let second = solve_by(objective, from, bounds, Method::Cobyla, budget);
+    let evaluations = first.evaluations + second.evaluations;
+    let feasible = |s: &Solve| s.violation <= FEASIBLE;
+    let better = match (feasible(&second), feasible(&first)) {
+        (true, false) => true,
+        (false, true) => false,
+        (true, true) => second.value < first.value,
+        (false, false) => second.violation < first.violation,
+    };
+    let best = if better { second } else { first };
+    Solve {
+        evaluations,
+        ..best
+    }
+}
+
+/// [`solve`] with one solver.
+fn solve_by(
+    objective: &Objective,
+    x0: &[f64],
+    bounds: &Bounds,
+    method: Method,
+    budget: Budget,
+) -> Solve {
     let n = objective.layout().len();
     let start: Vec<f64> = (0..n)
         .map(|i| {
@@ -159,7 +200,7 @@ pub fn solve(
         values: Vec::new(),
     });
     // COBYLA never asks for gradients, so its constraints are evaluated without them.
-    let gradients = method == Method::Slsqp;
+    let gradients = method != Method::Cobyla;
     let constraints_at = |u: &[f64], with_gradients: bool| {
         let mut cache = cache.borrow_mut();
         if cache.u != u || (with_gradients && !cache.with_gradients) {
@@ -230,7 +271,7 @@ pub fn solve(
     let (outcome_u, converged) = match method {
         // Nothing to move (no capsules, or only pinned ones, and a fixed infill).
         _ if free.is_empty() => (u0.clone(), true),
-        Method::Slsqp => {
+        Method::Slsqp | Method::Hybrid => {
             let f = |u: &[f64], gradient: Option<&mut [f64]>, _: &mut ()| -> f64 {
                 let x = to_x(u);
                 let value = match gradient {
