@@ -240,8 +240,8 @@ pub fn optimization(optimization: &Optimization, compilation: &Compilation) -> S
             plural(ranking.capsules),
             ranking.rank,
             ranking.starts + 1,
-            ranking.best_value.to_degrees(),
-            ranking.heuristic_value.to_degrees(),
+            ranking.best_objective,
+            ranking.heuristic_objective,
             ranking.meeting_goals,
         );
     }

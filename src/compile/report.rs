@@ -5,7 +5,7 @@ use std::path::{Component as PathPart, Path};
 
 use serde::Serialize;
 
-use super::Compilation;
+use super::{Compilation, DesignSource, Optimization};
 use crate::balance::PoseEvaluation;
 
 /// Version of the report's layout; raised when a field changes meaning or disappears.
@@ -42,6 +42,11 @@ pub struct Report<'a> {
     pub goals: GoalCount,
     /// Whether every goal of every pose is met (the exit status is 0 exactly then).
     pub all_goals_met: bool,
+    /// Where the capsules came from: `written` in the project file, the `solution` file, or
+    /// `optimized` by this build.
+    pub design: &'static str,
+    /// What the optimizer did, when this build ran it; `null` otherwise.
+    pub optimization: Option<&'a Optimization>,
 }
 
 /// The print material.
@@ -206,6 +211,12 @@ impl<'a> Report<'a> {
                 met: all_goals.iter().filter(|met| **met).count(),
             },
             all_goals_met: all_goals.iter().all(|met| *met),
+            design: match compilation.source {
+                DesignSource::Written => "written",
+                DesignSource::SolutionFile(_) => "solution",
+                DesignSource::Optimized => "optimized",
+            },
+            optimization: compilation.optimization.as_ref(),
         }
     }
 

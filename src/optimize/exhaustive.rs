@@ -15,14 +15,14 @@ pub struct Ranking {
     pub capsules: usize,
     /// Random starts optimized.
     pub starts: usize,
-    /// The lowest objective any random start reached.
-    pub best_value: f64,
+    /// The lowest objective any random start reached, degrees.
+    pub best_objective: f64,
     /// The worst stand tilt margin of that best start, degrees.
     pub best_tilt_margin: Option<f64>,
     /// How many random starts met every goal.
     pub meeting_goals: usize,
-    /// The heuristic's objective for this count.
-    pub heuristic_value: f64,
+    /// The heuristic's objective for this count, degrees.
+    pub heuristic_objective: f64,
     /// 1 + the number of random starts that reached a lower objective than the heuristic.
     pub rank: usize,
 }
@@ -62,14 +62,14 @@ pub fn rank(
             values.push(outcome.value);
         }
         let heuristic_value = candidate.outcome.value;
-        let (best_value, best_tilt_margin) = best.unwrap_or((f64::NAN, None));
+        let (best_value, best_tilt_margin) = best.unwrap_or((f64::INFINITY, None));
         rankings.push(Ranking {
             capsules: candidate.capsules,
             starts,
-            best_value,
+            best_objective: best_value.to_degrees(),
             best_tilt_margin,
             meeting_goals,
-            heuristic_value,
+            heuristic_objective: heuristic_value.to_degrees(),
             rank: 1 + values.iter().filter(|&&v| v < heuristic_value).count(),
         });
     }
