@@ -1,0 +1,145 @@
+//! The optimizer on every example: what it must achieve, and that the committed solution files are
+//! what a build writes today (so they are current and the build is deterministic).
+
+use std::path::{Path, PathBuf};
+
+use ballast::balance::GoalOutcome;
+use ballast::compile::{
+    compile_with, solution_text, Compilation, CompileOptions, DesignSource, OptimizeOptions,
+};
+use ballast::optimize::GridCache;
+
+fn example(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("examples")
+        .join(format!("{name}.kdl"))
+}
+
+fn optimized(name: &str, options: OptimizeOptions) -> Compilation {
+    let path = example(name);
+    let source = std::fs::read_to_string(&path).unwrap();
+    let options = CompileOptions {
+        out_dir: None,
+        optimize: Some(options),
+    };
+    compile_with(&source, &path, &options, &mut GridCache::new())
+        .unwrap_or_else(|problems| panic!("{name} is invalid: {problems:?}"))
+}
+
+/// Every goal's verdict, pose by pose, as (pose, kind, met, tilt margin if any).
+fn verdicts(compilation: &Compilation) -> Vec<(String, bool, Option<f64>)> {
+    compilation
+        .poses
+        .iter()
+        .flat_map(|pose| {
+            pose.goals.iter().map(move |goal| {
+                let tilt = match goal.outcome {
+                    GoalOutcome::Stand { tilt_margin, .. }
+                    | GoalOutcome::Imbalance { tilt_margin, .. } => Some(tilt_margin),
+                    _ => None,
+                };
+                (pose.pose.clone(), goal.met, tilt)
+            })
+        })
+        .collect()
+}
+
+/// Optimizes `name` and checks that the committed solution file is exactly what was written.
+fn optimized_and_current(name: &str) -> Compilation {
+    let compilation = optimized(name, OptimizeOptions::default());
+    assert_eq!(compilation.source, DesignSource::Optimized);
+    let written = solution_text(
+        &compilation.project,
+        &format!("{name}.kdl"),
+        &compilation.meshes,
+        &compilation.design,
+    );
+    let committed = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("examples")
+            .join(format!("{name}.solution.kdl")),
+    )
+    .unwrap();
+    assert_eq!(
+        written, committed,
+        "examples/{name}.solution.kdl is not what `ballast build` writes now"
+    );
+    compilation
+}
+
+#[test]
+fn sheared_cylinder_stands_on_both_ends_and_no_capsule_cannot() {
+    let compilation = optimized_and_current("sheared_cylinder");
+    assert!(compilation.all_goals_met(), "{:?}", verdicts(&compilation));
+    assert!(!compilation.design.capsules.is_empty());
+    let optimization = compilation.optimization.as_ref().unwrap();
+    let none = optimization
+        .candidates
+        .iter()
+        .find(|c| c.capsules == 0)
+        .expect("the heuristic goes down to zero capsules");
+    assert!(!none.meets_goals);
+    assert!(none.worst_tilt_margin.unwrap() < 0.0);
+}
+
+#[test]
+fn t_shape_stands_in_all_four_orientations_with_one_and_with_two_capsules() {
+    let compilation = optimized_and_current("t_shape");
+    assert!(compilation.all_goals_met(), "{:?}", verdicts(&compilation));
+    let candidates = &compilation.optimization.as_ref().unwrap().candidates;
+    for count in [1, 2] {
+        let candidate = candidates
+            .iter()
+            .find(|c| c.capsules == count)
+            .unwrap_or_else(|| panic!("no candidate with {count} capsules: {candidates:?}"));
+        assert!(candidate.meets_goals, "{candidate:?}");
+        // The paper reports 8° with one capsule and 13° with two on its T; ours has other
+        // proportions. Solid, the T topples on its sides (−9°).
+        assert!(candidate.worst_tilt_margin.unwrap() > 8.0, "{candidate:?}");
+    }
+    let one = candidates.iter().find(|c| c.capsules == 1).unwrap();
+    let two = candidates.iter().find(|c| c.capsules == 2).unwrap();
+    assert!(two.objective <= one.objective, "{one:?} {two:?}");
+}
+
+#[test]
+fn a_requested_capsule_count_is_honoured() {
+    let compilation = optimized(
+        "t_shape",
+        OptimizeOptions {
+            capsules: Some(2),
+            ..OptimizeOptions::default()
+        },
+    );
+    assert_eq!(compilation.design.capsules.len(), 2);
+    assert_eq!(compilation.optimization.as_ref().unwrap().requested, Some(2));
+    assert!(compilation.all_goals_met(), "{:?}", verdicts(&compilation));
+}
+
+#[test]
+fn articulated_arm_stands_in_one_pose_and_topples_in_its_mirror() {
+    let compilation = optimized_and_current("articulated");
+    let verdicts = verdicts(&compilation);
+    assert!(compilation.all_goals_met(), "{verdicts:?}");
+    assert!(verdicts[0].2.unwrap() > 0.0, "{verdicts:?}");
+    assert!(verdicts[1].2.unwrap() < 0.0, "{verdicts:?}");
+}
+
+#[test]
+fn hammer_hangs_level_and_fish_self_rights() {
+    for name in ["hammer", "fish"] {
+        let compilation = optimized_and_current(name);
+        assert!(compilation.all_goals_met(), "{name}: {:?}", verdicts(&compilation));
+        let optimization = compilation.optimization.as_ref().unwrap();
+        let none = optimization.candidates.iter().find(|c| c.capsules == 0);
+        assert!(!none.unwrap().meets_goals, "{name}: solid already meets it");
+    }
+}
+
+#[test]
+fn spot_meets_all_six_goals_that_the_solid_misses_three_of() {
+    let compilation = optimized_and_current("spot");
+    assert_eq!(compilation.poses.len(), 6);
+    assert!(compilation.all_goals_met(), "{:?}", verdicts(&compilation));
+    assert!(compilation.design.capsules.len() <= 2);
+}
