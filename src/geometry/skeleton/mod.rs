@@ -9,9 +9,10 @@
 //! for seeding capsules a skeleton within a voxel of the medial axis is good enough.
 //!
 //! 1. **Voxels.** The grid nodes with a negative signed distance. [`Skeleton::new`] builds its
-//!    own grid: first [`COARSE_CELLS`] cells across the longest side of the bounding box, then,
-//!    if the thickest part is less than [`MIN_RADIUS_CELLS`] cells in radius, a finer one, with
-//!    at most [`MAX_NODES`] nodes.
+//!    own grid: a probe of [`PROBE_CELLS`] cells across the longest side of the bounding box
+//!    finds the thickest part's inscribed radius, then the grid has at least [`COARSE_CELLS`]
+//!    cells across and [`MIN_RADIUS_CELLS`] cells in that radius, with at most [`MAX_NODES`]
+//!    nodes.
 //! 2. **Thinning.** Directional sequential thinning (Lee, Kashyap and Chu 1994): layer by layer
 //!    from the six face directions, removing simple voxels that do not end a curve, until one
 //!    voxel wide. Topology is kept (26-connected object, 6-connected background).
@@ -42,12 +43,14 @@ use super::mass::mass_properties;
 use super::mesh::TriMesh;
 use graph::{Field, Graph, Pruning};
 
-/// Cells across the longest side of the bounding box in [`Skeleton::new`]'s first grid.
+/// Cells across the longest side of the bounding box in [`Skeleton::new`]'s probe for the
+/// thickest part.
+pub const PROBE_CELLS: f64 = 24.0;
+/// The fewest cells across the longest side of the bounding box in [`Skeleton::new`]'s grid.
 pub const COARSE_CELLS: f64 = 48.0;
-/// The inscribed radius of the thickest part, in cells, below which [`Skeleton::new`] builds a
-/// finer grid.
+/// The fewest cells [`Skeleton::new`]'s grid puts in the inscribed radius of the thickest part.
 pub const MIN_RADIUS_CELLS: f64 = 4.0;
-/// The most nodes [`Skeleton::new`] lets a grid have (it caps the refinement).
+/// The most nodes [`Skeleton::new`] lets its grid have (it caps the refinement).
 pub const MAX_NODES: usize = 120_000;
 /// Spur pruning: an end branch goes when the distance from its junction to its end is below
 /// this times the larger inscribed radius of the two (a bump, a corner, or the fork at the end
@@ -111,27 +114,27 @@ impl Skeleton {
             return empty;
         };
         let extent = hi - lo;
-        let coarse_cell = extent.max() / COARSE_CELLS;
-        // The smallest cell that keeps the node count within MAX_NODES.
         let nodes = |cell: f64| -> f64 {
             extent
                 .iter()
                 .map(|e| (e / cell).ceil() + 7.0)
                 .product::<f64>()
         };
-        let mut finest = coarse_cell;
+        // The smallest cell, in steps of 1.25, that keeps the node count within MAX_NODES.
+        let mut finest = extent.max() / COARSE_CELLS;
+        while nodes(finest) > MAX_NODES as f64 {
+            finest *= 1.25;
+        }
         while nodes(finest / 1.25) <= MAX_NODES as f64 {
             finest /= 1.25;
         }
-        let coarse = DistanceGrid::new(mesh, coarse_cell.max(finest));
-        let deepest = deepest_radius(&coarse);
-        let wanted = deepest / MIN_RADIUS_CELLS;
-        if wanted < 0.9 * coarse.cell() && finest < 0.9 * coarse.cell() {
-            let fine = DistanceGrid::new(mesh, wanted.max(finest));
-            Skeleton::from_grid(mesh, &fine)
-        } else {
-            Skeleton::from_grid(mesh, &coarse)
-        }
+        // A cheap probe for the thickest part; with nothing inside it, the finest grid.
+        let probe = DistanceGrid::new(mesh, (extent.max() / PROBE_CELLS).max(finest));
+        let deepest = deepest_radius(&probe);
+        let cell = (extent.max() / COARSE_CELLS)
+            .min(deepest / MIN_RADIUS_CELLS)
+            .max(finest);
+        Skeleton::from_grid(mesh, &DistanceGrid::new(mesh, cell))
     }
 
     /// The skeleton of `mesh` with the nodes of `grid` (built from the same mesh) as voxels:
