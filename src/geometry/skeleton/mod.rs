@@ -45,28 +45,28 @@ use graph::{Field, Graph, Pruning};
 
 /// Cells across the longest side of the bounding box in [`Skeleton::new`]'s probe for the
 /// thickest part.
-pub const PROBE_CELLS: f64 = 24.0;
+pub(crate) const PROBE_CELLS: f64 = 24.0;
 /// The fewest cells across the longest side of the bounding box in [`Skeleton::new`]'s grid.
-pub const COARSE_CELLS: f64 = 48.0;
+pub(crate) const COARSE_CELLS: f64 = 48.0;
 /// The fewest cells [`Skeleton::new`]'s grid puts in the inscribed radius of the thickest part.
-pub const MIN_RADIUS_CELLS: f64 = 4.0;
+pub(crate) const MIN_RADIUS_CELLS: f64 = 4.0;
 /// The most nodes [`Skeleton::new`] lets its grid have (it caps the refinement).
-pub const MAX_NODES: usize = 120_000;
+pub(crate) const MAX_NODES: usize = 120_000;
 /// Spur pruning: an end branch goes when the distance from its junction to its end is below
 /// this times the larger inscribed radius of the two (a bump, a corner, or the fork at the end
 /// of a flat part).
-pub const SPUR_RATIO: f64 = 1.75;
+pub(crate) const SPUR_RATIO: f64 = 1.75;
 /// A branch between two junctions shorter than this times the larger of their inscribed radii
 /// is contracted to a point.
-pub const CONTRACT_RATIO: f64 = 1.0;
+pub(crate) const CONTRACT_RATIO: f64 = 1.0;
 /// A loop shorter than this times its node's inscribed radius is removed.
-pub const LOOP_RATIO: f64 = 2.0 * std::f64::consts::PI;
+pub(crate) const LOOP_RATIO: f64 = 2.0 * std::f64::consts::PI;
 /// A node is a voxel of the solid when it is deeper than this many cells inside.
-pub const SURFACE_FRACTION: f64 = 1e-3;
+pub(crate) const SURFACE_FRACTION: f64 = 1e-3;
 /// Thinning removes voxels in order of depth, in layers this many cells deep.
-pub const DEPTH_STEP: f64 = 0.5;
+pub(crate) const DEPTH_STEP: f64 = 0.5;
 /// Douglas-Peucker tolerance, as a fraction of the branch's mean inscribed radius.
-pub const BEND_RATIO: f64 = 0.5;
+pub(crate) const BEND_RATIO: f64 = 0.5;
 
 /// One straight piece of a [`Skeleton`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -102,8 +102,9 @@ pub struct Skeleton {
 }
 
 impl Skeleton {
-    /// The skeleton of `mesh` on grids of its own (see [`COARSE_CELLS`], [`MIN_RADIUS_CELLS`],
-    /// [`MAX_NODES`]). Deterministic, whatever the number of cores. A mesh without triangles,
+    /// The skeleton of `mesh` on a grid of its own: a 24-cell probe finds the thickest part, then
+    /// the grid has at least 48 cells across and 4 cells in that part's inscribed radius, with at
+    /// most 120,000 nodes. Deterministic, whatever the number of cores. A mesh without triangles,
     /// with an index out of range or a non-finite coordinate, or flat, gives an empty skeleton.
     pub fn new(mesh: &TriMesh) -> Skeleton {
         let empty = Skeleton {
