@@ -12,7 +12,7 @@ use std::time::Duration;
 use ballast::balance::{evaluate_pose, ComponentBody};
 use ballast::design::{Design, PlacedCapsule};
 use ballast::geometry::{
-    distance_to_point, load_mesh, mass_properties, DistanceGrid, MeshSelector, TriMesh,
+    distance_to_point, load_mesh, mass_properties, DistanceGrid, MeshSelector, Skeleton, TriMesh,
     TriangleTree,
 };
 use ballast::spec::model::{
@@ -221,6 +221,14 @@ fn pipeline(c: &mut Criterion) {
         eprintln!("  field: {:?} nodes, cell {cell}", grid.dims());
         group.bench_function("field/build", |b| {
             b.iter(|| DistanceGrid::new(black_box(&mesh), cell))
+        });
+        // Curve skeleton on its own grids (the capsule seeds).
+        eprintln!(
+            "  skeleton: {} segments",
+            Skeleton::new(&mesh).segments.len()
+        );
+        group.bench_function("skeleton/new", |b| {
+            b.iter(|| Skeleton::new(black_box(&mesh)))
         });
         group.finish();
     }

@@ -116,8 +116,8 @@ impl Graph {
         // Branches from every node.
         let mut visited = vec![false; occupied.len()];
         let mut direct = Vec::new();
-        for id in 0..members.len() {
-            for &u in &members[id].clone() {
+        for (id, cluster) in members.iter().enumerate() {
+            for &u in cluster {
                 for w in neighbours(u) {
                     let other = node_of[w];
                     if other == id as u32 {

@@ -9,9 +9,10 @@
 //! for seeding capsules a skeleton within a voxel of the medial axis is good enough.
 //!
 //! 1. **Voxels.** The grid nodes with a negative signed distance. [`Skeleton::new`] builds its
-//!    own grid: first [`COARSE_CELLS`] cells across the longest side of the bounding box, then,
-//!    if the thickest part is less than [`MIN_RADIUS_CELLS`] cells in radius, a finer one, with
-//!    at most [`MAX_NODES`] nodes.
+//!    own grid: a probe of [`PROBE_CELLS`] cells across the longest side of the bounding box
+//!    finds the thickest part's inscribed radius, then the grid has at least [`COARSE_CELLS`]
+//!    cells across and [`MIN_RADIUS_CELLS`] cells in that radius, with at most [`MAX_NODES`]
+//!    nodes.
 //! 2. **Thinning.** Directional sequential thinning (Lee, Kashyap and Chu 1994): layer by layer
 //!    from the six face directions, removing simple voxels that do not end a curve, until one
 //!    voxel wide. Topology is kept (26-connected object, 6-connected background).
@@ -42,28 +43,30 @@ use super::mass::mass_properties;
 use super::mesh::TriMesh;
 use graph::{Field, Graph, Pruning};
 
-/// Cells across the longest side of the bounding box in [`Skeleton::new`]'s first grid.
-pub const COARSE_CELLS: f64 = 48.0;
-/// The inscribed radius of the thickest part, in cells, below which [`Skeleton::new`] builds a
-/// finer grid.
-pub const MIN_RADIUS_CELLS: f64 = 4.0;
-/// The most nodes [`Skeleton::new`] lets a grid have (it caps the refinement).
-pub const MAX_NODES: usize = 120_000;
+/// Cells across the longest side of the bounding box in [`Skeleton::new`]'s probe for the
+/// thickest part.
+pub(crate) const PROBE_CELLS: f64 = 24.0;
+/// The fewest cells across the longest side of the bounding box in [`Skeleton::new`]'s grid.
+pub(crate) const COARSE_CELLS: f64 = 48.0;
+/// The fewest cells [`Skeleton::new`]'s grid puts in the inscribed radius of the thickest part.
+pub(crate) const MIN_RADIUS_CELLS: f64 = 4.0;
+/// The most nodes [`Skeleton::new`] lets its grid have (it caps the refinement).
+pub(crate) const MAX_NODES: usize = 120_000;
 /// Spur pruning: an end branch goes when the distance from its junction to its end is below
 /// this times the larger inscribed radius of the two (a bump, a corner, or the fork at the end
 /// of a flat part).
-pub const SPUR_RATIO: f64 = 1.75;
+pub(crate) const SPUR_RATIO: f64 = 1.75;
 /// A branch between two junctions shorter than this times the larger of their inscribed radii
 /// is contracted to a point.
-pub const CONTRACT_RATIO: f64 = 1.0;
+pub(crate) const CONTRACT_RATIO: f64 = 1.0;
 /// A loop shorter than this times its node's inscribed radius is removed.
-pub const LOOP_RATIO: f64 = 2.0 * std::f64::consts::PI;
+pub(crate) const LOOP_RATIO: f64 = 2.0 * std::f64::consts::PI;
 /// A node is a voxel of the solid when it is deeper than this many cells inside.
-pub const SURFACE_FRACTION: f64 = 1e-3;
+pub(crate) const SURFACE_FRACTION: f64 = 1e-3;
 /// Thinning removes voxels in order of depth, in layers this many cells deep.
-pub const DEPTH_STEP: f64 = 0.5;
+pub(crate) const DEPTH_STEP: f64 = 0.5;
 /// Douglas-Peucker tolerance, as a fraction of the branch's mean inscribed radius.
-pub const BEND_RATIO: f64 = 0.5;
+pub(crate) const BEND_RATIO: f64 = 0.5;
 
 /// One straight piece of a [`Skeleton`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -99,8 +102,9 @@ pub struct Skeleton {
 }
 
 impl Skeleton {
-    /// The skeleton of `mesh` on grids of its own (see [`COARSE_CELLS`], [`MIN_RADIUS_CELLS`],
-    /// [`MAX_NODES`]). Deterministic, whatever the number of cores. A mesh without triangles,
+    /// The skeleton of `mesh` on a grid of its own: a 24-cell probe finds the thickest part, then
+    /// the grid has at least 48 cells across and 4 cells in that part's inscribed radius, with at
+    /// most 120,000 nodes. Deterministic, whatever the number of cores. A mesh without triangles,
     /// with an index out of range or a non-finite coordinate, or flat, gives an empty skeleton.
     pub fn new(mesh: &TriMesh) -> Skeleton {
         let empty = Skeleton {
@@ -111,27 +115,27 @@ impl Skeleton {
             return empty;
         };
         let extent = hi - lo;
-        let coarse_cell = extent.max() / COARSE_CELLS;
-        // The smallest cell that keeps the node count within MAX_NODES.
         let nodes = |cell: f64| -> f64 {
             extent
                 .iter()
                 .map(|e| (e / cell).ceil() + 7.0)
                 .product::<f64>()
         };
-        let mut finest = coarse_cell;
+        // The smallest cell, in steps of 1.25, that keeps the node count within MAX_NODES.
+        let mut finest = extent.max() / COARSE_CELLS;
+        while nodes(finest) > MAX_NODES as f64 {
+            finest *= 1.25;
+        }
         while nodes(finest / 1.25) <= MAX_NODES as f64 {
             finest /= 1.25;
         }
-        let coarse = DistanceGrid::new(mesh, coarse_cell.max(finest));
-        let deepest = deepest_radius(&coarse);
-        let wanted = deepest / MIN_RADIUS_CELLS;
-        if wanted < 0.9 * coarse.cell() && finest < 0.9 * coarse.cell() {
-            let fine = DistanceGrid::new(mesh, wanted.max(finest));
-            Skeleton::from_grid(mesh, &fine)
-        } else {
-            Skeleton::from_grid(mesh, &coarse)
-        }
+        // A cheap probe for the thickest part; with nothing inside it, the finest grid.
+        let probe = DistanceGrid::new(mesh, (extent.max() / PROBE_CELLS).max(finest));
+        let deepest = deepest_radius(&probe);
+        let cell = (extent.max() / COARSE_CELLS)
+            .min(deepest / MIN_RADIUS_CELLS)
+            .max(finest);
+        Skeleton::from_grid(mesh, &DistanceGrid::new(mesh, cell))
     }
 
     /// The skeleton of `mesh` with the nodes of `grid` (built from the same mesh) as voxels:

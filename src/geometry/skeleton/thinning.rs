@@ -112,7 +112,7 @@ fn components(set: u32, adjacent: &[u32; 27], seeds: u32) -> u32 {
 pub(super) fn thin(dims: [usize; 3], occupied: &mut [bool], depth: &[f64], step: f64) {
     let [nx, ny, nz] = dims;
     let sizes_agree = occupied.len() == nx * ny * nz && depth.len() == occupied.len();
-    if nx < 3 || ny < 3 || nz < 3 || !sizes_agree || !(step > 0.0) {
+    if nx < 3 || ny < 3 || nz < 3 || !sizes_agree || step.is_nan() || step <= 0.0 {
         occupied.iter_mut().for_each(|o| *o = false);
         return;
     }
