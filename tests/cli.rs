@@ -225,3 +225,96 @@ fn components_can_be_named_nodes_of_a_gltf_file() {
     assert_eq!(components[1]["part"], "arm");
     assert_eq!(components[1]["triangles"], 4);
 }
+
+const T_OPTIMIZED: &str = r#"
+ball clearance=0.2
+infill 0.15
+wall 1.2
+optimize capsules=1
+component "T" mesh="meshes/t_shape.obj"
+pose "upright" { stand margin=2 }
+pose "on its right side" {
+    rotate 0 36.8699 0
+    stand margin=2
+}
+pose "on its left side" {
+    rotate 0 -36.8699 0
+    stand margin=2
+}
+"#;
+
+#[test]
+fn an_optimized_build_writes_a_solution_that_check_evaluates() {
+    let (folder, project) = scratch_project(T_OPTIMIZED);
+    let project = project.to_str().unwrap();
+    let solution = folder.path().join("model.solution.kdl");
+
+    // Before any build, check evaluates the written capsules (none) and says so.
+    let before = ballast(&["check", project]);
+    assert_eq!(before.status.code(), Some(1), "stderr: {}", stderr(&before));
+    assert!(stderr(&before).contains("ballast::solution::missing"));
+
+    let build = ballast(&["build", project]);
+    assert_eq!(build.status.code(), Some(0), "stderr: {}", stderr(&build));
+    assert!(stdout(&build).contains("optimized:"), "{}", stdout(&build));
+    let text = fs::read_to_string(&solution).unwrap();
+    assert_eq!(text.matches("capsule \"").count(), 1, "{text}");
+    let report: serde_json::Value =
+        serde_json::from_slice(&fs::read(folder.path().join("build/model.report.json")).unwrap())
+            .unwrap();
+    assert_eq!(report["design"], "optimized");
+    assert_eq!(report["optimization"]["chosen"], 1);
+
+    let after = ballast(&["check", project, "--json"]);
+    assert_eq!(after.status.code(), Some(0), "stderr: {}", stderr(&after));
+    let checked: serde_json::Value = serde_json::from_slice(&after.stdout).unwrap();
+    assert_eq!(checked["design"], "solution");
+    assert_eq!(checked["capsules"], report["capsules"]);
+    assert_eq!(checked["poses"], report["poses"]);
+}
+
+#[test]
+fn a_broken_solution_file_is_reported_against_its_own_text() {
+    let (folder, project) = scratch_project(T_OPTIMIZED);
+    fs::write(
+        folder.path().join("model.solution.kdl"),
+        "capsule \"c\" component=\"Tee\" radius=5 {\n    from -10 0 15\n    to 10 0 16\n}\n",
+    )
+    .unwrap();
+    let output = ballast(&["check", project.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(2));
+    let errors = stderr(&output);
+    assert!(errors.contains("model.solution.kdl"), "{errors}");
+    assert!(errors.contains("component=\"Tee\""), "{errors}");
+    assert!(errors.contains("`T`"), "{errors}");
+}
+
+#[test]
+fn goals_that_cannot_hold_together_are_named_and_the_best_design_is_still_written() {
+    // The same orientation asked to stand and to topple.
+    let (folder, project) = scratch_project(
+        r#"
+infill 0.15
+optimize capsules=1
+component "T" mesh="meshes/t_shape.obj"
+pose "on its right side" {
+    rotate 0 36.8699 0
+    stand margin=2
+}
+pose "again on its right side" {
+    rotate 0 36.8699 0
+    imbalance margin=2
+}
+"#,
+    );
+    let output = ballast(&["build", project.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(1), "stderr: {}", stderr(&output));
+    let printed = stdout(&output);
+    assert!(printed.contains("no design met every goal"), "{printed}");
+    assert!(
+        printed.contains("`stand` in pose \"on its right side\" and `imbalance` in pose \"again on its right side\" conflict"),
+        "{printed}"
+    );
+    assert!(folder.path().join("model.solution.kdl").exists());
+    assert!(folder.path().join("build/model.glb").exists());
+}

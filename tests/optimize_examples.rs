@@ -112,7 +112,10 @@ fn a_requested_capsule_count_is_honoured() {
         },
     );
     assert_eq!(compilation.design.capsules.len(), 2);
-    assert_eq!(compilation.optimization.as_ref().unwrap().requested, Some(2));
+    assert_eq!(
+        compilation.optimization.as_ref().unwrap().requested,
+        Some(2)
+    );
     assert!(compilation.all_goals_met(), "{:?}", verdicts(&compilation));
 }
 
@@ -129,7 +132,11 @@ fn articulated_arm_stands_in_one_pose_and_topples_in_its_mirror() {
 fn hammer_hangs_level_and_fish_self_rights() {
     for name in ["hammer", "fish"] {
         let compilation = optimized_and_current(name);
-        assert!(compilation.all_goals_met(), "{name}: {:?}", verdicts(&compilation));
+        assert!(
+            compilation.all_goals_met(),
+            "{name}: {:?}",
+            verdicts(&compilation)
+        );
         let optimization = compilation.optimization.as_ref().unwrap();
         let none = optimization.candidates.iter().find(|c| c.capsules == 0);
         assert!(!none.unwrap().meets_goals, "{name}: solid already meets it");
@@ -142,4 +149,40 @@ fn spot_meets_all_six_goals_that_the_solid_misses_three_of() {
     assert_eq!(compilation.poses.len(), 6);
     assert!(compilation.all_goals_met(), "{:?}", verdicts(&compilation));
     assert!(compilation.design.capsules.len() <= 2);
+}
+
+#[test]
+fn a_pinned_capsule_is_kept_exactly_and_a_written_seed_may_move() {
+    let path = example("t_shape");
+    let source = std::fs::read_to_string(&path).unwrap().replace(
+        "\noptimize\n",
+        "\noptimize capsules=2\n\
+         capsule \"junction\" component=\"T\" radius=8 pinned=#true { from -15 0 23; to 15 0 26; }\n\
+         capsule \"bar\" component=\"T\" radius=2 { from -50 0 35; to -40 0 36; }\n",
+    );
+    let options = CompileOptions {
+        out_dir: None,
+        optimize: Some(OptimizeOptions::default()),
+    };
+    let compilation = compile_with(&source, &path, &options, &mut GridCache::new()).unwrap();
+    let capsules = &compilation.design.capsules;
+    assert_eq!(capsules.len(), 2, "{capsules:?}");
+    let junction = capsules.iter().find(|c| c.name == "junction").unwrap();
+    assert_eq!(junction.from, nalgebra::Point3::new(-15.0, 0.0, 23.0));
+    assert_eq!(junction.to, nalgebra::Point3::new(15.0, 0.0, 26.0));
+    assert_eq!(junction.radius, 8.0);
+    let bar = capsules.iter().find(|c| c.name == "bar").unwrap();
+    assert_ne!(bar.from, nalgebra::Point3::new(-50.0, 0.0, 35.0));
+    // The written seed replaces the skeleton's seeds.
+    assert!(compilation.optimization.as_ref().unwrap().seeds.is_empty());
+    let text = solution_text(
+        &compilation.project,
+        "t_shape.kdl",
+        &compilation.meshes,
+        &compilation.design,
+    );
+    assert!(
+        text.contains("capsule \"junction\" component=\"T\" radius=8 pinned=#true {"),
+        "{text}"
+    );
 }

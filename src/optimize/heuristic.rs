@@ -170,3 +170,71 @@ fn split_until(seeds: &mut Vec<StartCapsule>, n: usize) {
         seeds.insert(i + 1, half(nalgebra::center(&middle, &seed.to)));
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::design::Design;
+
+    fn candidate(capsules: usize, degrees: f64, meets_goals: bool) -> Candidate {
+        Candidate {
+            capsules,
+            outcome: Outcome {
+                design: Design {
+                    capsules: Vec::new(),
+                    infill: 1.0,
+                },
+                value: degrees.to_radians(),
+                feasible: true,
+                meets_goals,
+                worst_tilt_margin: None,
+                poses: Vec::new(),
+                fabrication: Vec::new(),
+                evaluations: 0,
+            },
+            seconds: 0.0,
+        }
+    }
+
+    #[test]
+    fn the_fewest_capsules_within_the_tolerance_of_the_best_are_chosen() {
+        let candidates = [
+            candidate(4, -9.0, true),
+            candidate(2, -8.5, true),
+            candidate(1, -7.0, true),
+            candidate(0, 5.0, false),
+        ];
+        assert_eq!(choose(&candidates, None, 1.0), 1);
+        assert_eq!(choose(&candidates, None, 2.5), 2);
+        assert_eq!(choose(&candidates, None, 0.1), 0);
+        assert_eq!(choose(&candidates, Some(4), 1.0), 0);
+    }
+
+    #[test]
+    fn a_design_that_misses_a_goal_is_chosen_only_when_none_meets_them_all() {
+        let some = [candidate(3, -9.0, false), candidate(1, -2.0, true)];
+        assert_eq!(choose(&some, None, 1.0), 1);
+        let none = [candidate(3, 4.0, false), candidate(1, 2.0, false)];
+        assert_eq!(choose(&none, None, 1.0), 1);
+    }
+
+    #[test]
+    fn splitting_seeds_keeps_pinned_ones_and_reaches_the_count() {
+        let seed = |pinned| StartCapsule {
+            component: 0,
+            from: nalgebra::Point3::new(0.0, 0.0, 0.0),
+            to: nalgebra::Point3::new(0.0, 0.0, 8.0),
+            radius: 1.0,
+            pinned,
+            name: None,
+        };
+        let mut seeds = vec![seed(true), seed(false)];
+        split_until(&mut seeds, 4);
+        assert_eq!(seeds.len(), 4);
+        assert!(seeds[0].pinned);
+        assert_eq!(seeds.iter().filter(|s| s.pinned).count(), 1);
+        let mut only_pinned = vec![seed(true)];
+        split_until(&mut only_pinned, 3);
+        assert_eq!(only_pinned.len(), 1);
+    }
+}
