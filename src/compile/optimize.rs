@@ -4,7 +4,6 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use nalgebra::Point3;
 use serde::Serialize;
 
 use crate::design::Design;
@@ -306,10 +305,7 @@ fn named(project: &Project, mut design: Design) -> Design {
         if written.contains(&capsule.name.as_str()) {
             continue;
         }
-        let component = project
-            .components
-            .get(capsule.component)
-            .map_or("capsule", |c| c.name.value.as_str());
+        let component = project.component_name(capsule.component);
         let name = (1..)
             .map(|k| format!("{component} {k}"))
             .find(|name| !taken.contains(name))
@@ -373,14 +369,9 @@ fn candidate_report(candidate: &Candidate) -> CandidateReport {
 }
 
 fn seed_report(project: &Project, site: &SeedSite) -> SeedReport {
-    let p: Point3<f64> = site.midpoint;
     SeedReport {
-        component: project
-            .components
-            .get(site.component)
-            .map(|c| c.name.value.clone())
-            .unwrap_or_default(),
-        midpoint: [p.x, p.y, p.z],
+        component: project.component_name(site.component).to_string(),
+        midpoint: site.midpoint.coords.into(),
         depth: site.depth,
         seeded: site.seeded,
     }

@@ -164,11 +164,7 @@ impl<'a> Report<'a> {
             .iter()
             .map(|capsule| CapsuleReport {
                 name: capsule.name.clone(),
-                component: project
-                    .components
-                    .get(capsule.component)
-                    .map(|component| component.name.value.clone())
-                    .unwrap_or_default(),
+                component: project.component_name(capsule.component).to_string(),
                 from: capsule.from.coords.into(),
                 to: capsule.to.coords.into(),
                 radius: capsule.radius,

@@ -27,11 +27,7 @@ pub fn solution_text(
         .iter()
         .map(|c| SolutionCapsule {
             name: c.name.clone(),
-            component: project
-                .components
-                .get(c.component)
-                .map(|component| component.name.value.clone())
-                .unwrap_or_default(),
+            component: project.component_name(c.component).to_string(),
             from: c.from.coords.into(),
             to: c.to.coords.into(),
             radius: c.radius,

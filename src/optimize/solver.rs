@@ -267,7 +267,6 @@ fn solve_by(
             .fold(0.0, f64::max);
         tracker.borrow_mut().record(u, value, violation);
     };
-    let stop = |x: &[f64], x_tol: f64| (x.len(), budget.relative_tolerance, x_tol);
     let (outcome_u, converged) = match method {
         // Nothing to move (no capsules, or only pinned ones, and a fixed infill).
         _ if free.is_empty() => (u0.clone(), true),
@@ -305,10 +304,9 @@ fn solve_by(
                 })
                 .collect();
             let cons: Vec<&dyn slsqp::Func<()>> = closures.iter().map(|c| c.as_ref()).collect();
-            let (len, ftol, xtol) = stop(&u0, 1e-9);
             let tols = slsqp::StopTols {
-                ftol_rel: ftol,
-                xtol_abs: vec![xtol; len],
+                ftol_rel: budget.relative_tolerance,
+                xtol_abs: vec![1e-9; u0.len()],
                 ..Default::default()
             };
             // SLSQP stops when a line search fails, often far from a minimum; restarting from
@@ -364,10 +362,9 @@ fn solve_by(
                 })
                 .collect();
             let cons: Vec<&dyn cobyla::Func<()>> = closures.iter().map(|c| c.as_ref()).collect();
-            let (len, ftol, xtol) = stop(&u0, 1e-7);
             let tols = cobyla::StopTols {
-                ftol_rel: ftol,
-                xtol_abs: vec![xtol; len],
+                ftol_rel: budget.relative_tolerance,
+                xtol_abs: vec![1e-7; u0.len()],
                 ..Default::default()
             };
             match cobyla::minimize(

@@ -48,6 +48,15 @@ pub enum Units {
     Inch,
 }
 
+impl Project {
+    /// The name of component `index`, or `""` past the last component.
+    pub fn component_name(&self, index: usize) -> &str {
+        self.components
+            .get(index)
+            .map_or("", |component| component.name.value.as_str())
+    }
+}
+
 impl Units {
     /// The unit for its keyword in the project file (`mm`, `cm`, `m`, `in`).
     pub fn from_keyword(keyword: &str) -> Option<Units> {
