@@ -39,7 +39,8 @@ pub struct Outcome {
     pub design: Design,
     /// The smooth objective `f` there (radians; at most 0 when every goal is met).
     pub value: f64,
-    /// Whether the solve ended within the constraints.
+    /// Whether the design is within the constraints: those of the smooth program after a solve,
+    /// the fabrication checks for a design only judged.
     pub feasible: bool,
     /// Whether every goal of every pose is met by the exact evaluation and no capsule has a
     /// fabrication issue.
