@@ -493,6 +493,7 @@ fn examples_and_valid_projects_satisfy_the_schema_and_the_parser() {
     let schema = read_schema();
     let mut files = kdl_files(Path::new("examples"));
     files.extend(kdl_files(Path::new("tests/data/spec/ok")));
+    files.retain(|file| !is_solution(file));
     assert!(!files.is_empty(), "no project file to check");
     let mut failures = Vec::new();
     for file in &files {
@@ -512,6 +513,43 @@ fn examples_and_valid_projects_satisfy_the_schema_and_the_parser() {
                 problem.code,
                 problem.message
             ));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// Whether `file` is a solution file (`<project>.solution.kdl`) rather than a project.
+fn is_solution(file: &Path) -> bool {
+    file.to_string_lossy().ends_with(".solution.kdl")
+}
+
+#[test]
+fn example_solution_files_parse_against_their_projects() {
+    let solutions: Vec<PathBuf> = kdl_files(Path::new("examples"))
+        .into_iter()
+        .filter(|file| is_solution(file))
+        .collect();
+    assert!(!solutions.is_empty(), "no solution file to check");
+    let mut failures = Vec::new();
+    for solution in &solutions {
+        let name = solution.file_name().unwrap().to_string_lossy();
+        let project_path = solution.with_file_name(name.replace(".solution.kdl", ".kdl"));
+        let project_text = std::fs::read_to_string(&project_path).unwrap();
+        let project = parse_project(&project_text, &project_path)
+            .project
+            .expect("the example project is valid");
+        let text = std::fs::read_to_string(solution).unwrap();
+        let parsed = ballast::spec::parse_solution(&text, solution, &project);
+        for problem in &parsed.problems {
+            failures.push(format!(
+                "{}: {}: {}",
+                solution.display(),
+                problem.code,
+                problem.message
+            ));
+        }
+        if parsed.capsules.is_none_or(|c| c.is_empty()) {
+            failures.push(format!("{}: no capsules", solution.display()));
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
