@@ -2,8 +2,8 @@
 //!
 //! Two solvers are wired in, both pure-Rust translations of NLopt's: SLSQP (`slsqp` crate,
 //! sequential quadratic programming with the exact gradients) and COBYLA (`cobyla` crate, linear
-//! approximations, no gradients). `docs/benchmarks.md` compares them on the examples; SLSQP is
-//! the default.
+//! approximations, no gradients). `docs/benchmarks.md` compares them on the examples. The
+//! default, [`Method::Hybrid`], runs SLSQP and falls back to COBYLA where SLSQP misses.
 //!
 //! The solvers see a scaled design vector `u = (x − shift) / scale`: positions relative to the
 //! centre of their component's bounding box and lengths divided by the model's extent, so every
