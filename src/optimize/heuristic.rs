@@ -22,7 +22,8 @@ pub struct Candidate {
 /// Runs the heuristic from `seeds` (pinned capsules are kept in every round and never removed).
 ///
 /// Each round optimizes the current capsules from their seeds (the paper's reset) and, after the
-/// first round, also from where the previous round left them, keeping the better; then it marks the unpinned capsules
+/// first round, also from where the previous round left them, keeping the better (with one
+/// unpinned capsule left, also from each seed alone); then it marks the unpinned capsules
 /// whose radius did not grow by 10 %, removes the least grown of them (at most half of the
 /// unpinned capsules, and at least one even when none is marked) and starts the next round from
 /// the survivors' seeds. It stops after the round with no unpinned capsule left. With
@@ -45,6 +46,19 @@ pub fn run(problem: &Problem, seeds: &[StartCapsule], stop_at: Option<usize>) ->
             let resumed = problem.optimize(warm);
             if better(&resumed, &outcome) {
                 outcome = resumed;
+            }
+        }
+        // Down to one movable capsule, every seed can be tried on its own at little cost.
+        if current.iter().filter(|c| !c.pinned).count() == 1 {
+            for alone in seeds.iter().filter(|s| !s.pinned) {
+                let mut start: Vec<StartCapsule> =
+                    current.iter().filter(|c| c.pinned).cloned().collect();
+                start.push(alone.clone());
+                let tried = problem.optimize(&start);
+                if better(&tried, &outcome) {
+                    outcome = tried;
+                    current = start;
+                }
             }
         }
         let seconds = clock.elapsed().as_secs_f64();
