@@ -40,7 +40,7 @@ pub fn solution_text(
     write_solution(&Solution {
         header: vec![
             format!(
-                "The capsules ballast chose for {project_name}, in {}.",
+                "The capsules ballast chose for {project_name}; lengths in the project's units ({}).",
                 project.units.keyword()
             ),
             "`ballast check` evaluates them; `ballast build` writes this file anew.".to_string(),
