@@ -76,9 +76,14 @@ pub fn run() -> i32 {
     }
 }
 
-/// Reads and compiles the project at `path` as `options` say, printing every diagnostic (warnings
-/// too) to standard error. `None` when the project is invalid or unreadable.
-fn compile_file(path: &Path, options: &CompileOptions) -> Option<Compilation> {
+/// Reads and compiles the project at `path` as `options` say, taking distance grids from `cache`
+/// when it has them, and printing every diagnostic (warnings too) to standard error. `None` when
+/// the project is invalid or unreadable.
+fn compile_file(
+    path: &Path,
+    options: &CompileOptions,
+    cache: &mut GridCache,
+) -> Option<Compilation> {
     let source = match std::fs::read_to_string(path) {
         Ok(source) => source,
         Err(error) => {
@@ -87,7 +92,7 @@ fn compile_file(path: &Path, options: &CompileOptions) -> Option<Compilation> {
         }
     };
     let name = path.display().to_string();
-    match compile_with(&source, path, options, &mut GridCache::new()) {
+    match compile_with(&source, path, options, cache) {
         Ok(compilation) => {
             if !compilation.warnings.is_empty() {
                 eprint!(
