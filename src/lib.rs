@@ -27,3 +27,4 @@ pub mod geometry;
 pub mod objective;
 pub mod optimize;
 pub mod spec;
+pub mod watch;

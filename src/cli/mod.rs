@@ -8,12 +8,13 @@ mod build;
 mod check;
 mod diagnostics;
 mod table;
+mod watch;
 
 use std::path::Path;
 
 use clap::Parser;
 
-pub use args::{Cli, Command, Solver};
+pub use args::{Cli, Command, OptimizeArgs, Solver};
 
 use crate::compile::{compile_with, Compilation, CompileOptions, OptimizeOptions};
 use crate::optimize::{GridCache, Method};
@@ -55,24 +56,29 @@ pub fn run() -> i32 {
         Command::Build {
             project,
             out_dir,
-            capsules,
-            exhaustive,
-            solver,
-        } => build::run(
-            &project,
-            &CompileOptions {
-                out_dir,
-                optimize: Some(OptimizeOptions {
-                    method: match solver {
-                        Solver::Hybrid => Method::Hybrid,
-                        Solver::Slsqp => Method::Slsqp,
-                        Solver::Cobyla => Method::Cobyla,
-                    },
-                    capsules,
-                    exhaustive,
-                }),
+            optimize,
+        } => build::run(&project, &optimize_options(out_dir, &optimize)),
+        Command::Watch {
+            project,
+            out_dir,
+            optimize,
+        } => watch::run(&project, &optimize_options(out_dir, &optimize)),
+    }
+}
+
+/// The options of a command that optimizes.
+fn optimize_options(out_dir: Option<std::path::PathBuf>, args: &OptimizeArgs) -> CompileOptions {
+    CompileOptions {
+        out_dir,
+        optimize: Some(OptimizeOptions {
+            method: match args.solver {
+                Solver::Hybrid => Method::Hybrid,
+                Solver::Slsqp => Method::Slsqp,
+                Solver::Cobyla => Method::Cobyla,
             },
-        ),
+            capsules: args.capsules,
+            exhaustive: args.exhaustive,
+        }),
     }
 }
 
