@@ -375,3 +375,18 @@ fn touch_mesh(path: &Path, dx: f64) {
         .collect();
     fs::write(path, moved.join("\n") + "\n").unwrap();
 }
+
+#[test]
+fn a_project_in_a_missing_folder_cannot_be_watched() {
+    let folder = tempfile::tempdir().unwrap();
+    let output = Command::new(env!("CARGO_BIN_EXE_ballast"))
+        .arg("watch")
+        .arg(folder.path().join("no/such/model.kdl"))
+        .env("NO_COLOR", "1")
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("cannot watch"), "{stderr}");
+}

@@ -62,6 +62,9 @@ pub fn run(mut rebuild: impl FnMut(&[PathBuf]) -> BTreeSet<PathBuf>) -> Result<(
     let mut watched = Watched::default();
     let files = rebuild(&[]);
     watched.follow(&mut debouncer, files);
+    if watched.folders.is_empty() {
+        return Err("cannot watch the project's folder".to_string());
+    }
     loop {
         let Ok(message) = receiver.recv() else {
             return Ok(());
