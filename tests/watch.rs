@@ -302,6 +302,25 @@ fn a_mesh_edit_rebuilds_the_grids_and_a_goal_edit_reuses_them() {
     );
 }
 
+#[test]
+fn saves_during_a_build_give_one_build_after_it() {
+    let optimized = |margin: u32| {
+        format!(
+            "optimize capsules=1\ncomponent \"T\" mesh=\"meshes/t_shape.obj\"\npose \"upright\" {{ stand margin={margin} }}\n"
+        )
+    };
+    let (_folder, project) = scratch(&optimized(1));
+    let watch = Watch::start(&project, &[]);
+    // The first build optimizes, which takes seconds: save twice while it runs.
+    watch.wait_for("building model.kdl");
+    fs::write(&project, optimized(2)).unwrap();
+    save_by_rename(&project, &optimized(40));
+    // Whichever version the first build read, the last one is built once more, after it.
+    let second = watch.wait_builds(2);
+    assert!(second.contains("model.kdl: 0 of 1 goal met"), "{second}");
+    watch.assert_quiet(2);
+}
+
 #[cfg(unix)]
 #[test]
 fn ctrl_c_stops_with_status_zero() {

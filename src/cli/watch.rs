@@ -22,8 +22,11 @@ pub fn run(path: &Path, options: &CompileOptions) -> i32 {
         last: None,
         files: referenced_files(path, None),
     };
+    // Watched from before the first build, so a save during it is not missed.
+    session.follow_parsed();
     println!("watching {}; Ctrl-C to stop", file_name(path));
-    match watch::run(|changed| session.rebuild(changed)) {
+    let files = session.files.clone();
+    match watch::run(files, |changed| session.rebuild(changed)) {
         Ok(()) => {
             println!("stopped watching {}", file_name(path));
             EXIT_MET
@@ -64,7 +67,7 @@ impl Session<'_> {
         let compile_seconds = start.elapsed().as_secs_f64();
         let Some(compilation) = compiled else {
             println!("{name} is invalid: the last good outputs are left as they were");
-            self.follow_invalid();
+            self.follow_parsed();
             return self.files.clone();
         };
         self.files = referenced_files(self.path, Some(&compilation.project));
@@ -99,9 +102,9 @@ impl Session<'_> {
         self.files.clone()
     }
 
-    /// After an invalid build, follows the files the project names if it can still be parsed;
-    /// otherwise keeps the set it had.
-    fn follow_invalid(&mut self) {
+    /// Follows the files the project names if it can be parsed (before the first build, after
+    /// an invalid one); otherwise keeps the set it had.
+    fn follow_parsed(&mut self) {
         let Ok(source) = std::fs::read_to_string(self.path) else {
             return;
         };

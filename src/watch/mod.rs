@@ -36,11 +36,15 @@ enum Message {
     Stop,
 }
 
-/// Rebuilds once at the start, then after every burst of changes to the watched files, until
-/// Ctrl-C. `rebuild` gets the changed files (none for the first build) and returns the files the
-/// project now references (see [`referenced_files`]); the watched folders follow that set.
+/// Watches `files`, rebuilds once, then rebuilds after every burst of changes to the watched
+/// files, until Ctrl-C. `rebuild` gets the changed files (none for the first build) and returns
+/// the files the project now references (see [`referenced_files`]); the watched folders follow
+/// that set. Changes made during a build, the first one included, give one build after it.
 /// Returns when Ctrl-C was pressed; an error when watching cannot start.
-pub fn run(mut rebuild: impl FnMut(&[PathBuf]) -> BTreeSet<PathBuf>) -> Result<(), String> {
+pub fn run(
+    files: BTreeSet<PathBuf>,
+    mut rebuild: impl FnMut(&[PathBuf]) -> BTreeSet<PathBuf>,
+) -> Result<(), String> {
     let (sender, receiver) = channel();
     let stop_sender = sender.clone();
     let stopping = Arc::new(AtomicBool::new(false));
@@ -60,11 +64,12 @@ pub fn run(mut rebuild: impl FnMut(&[PathBuf]) -> BTreeSet<PathBuf>) -> Result<(
     .map_err(|error| format!("cannot watch files: {error}"))?;
 
     let mut watched = Watched::default();
-    let files = rebuild(&[]);
     watched.follow(&mut debouncer, files);
     if watched.folders.is_empty() {
         return Err("cannot watch the project's folder".to_string());
     }
+    let files = rebuild(&[]);
+    watched.follow(&mut debouncer, files);
     loop {
         let Ok(message) = receiver.recv() else {
             return Ok(());
