@@ -191,3 +191,88 @@ pub fn shown(path: &Path) -> PathBuf {
         .and_then(|here| path.strip_prefix(here).ok().map(Path::to_path_buf))
         .unwrap_or_else(|| path.to_path_buf())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use notify::event::{AccessKind, AccessMode, CreateKind, ModifyKind, RenameMode};
+    use notify::{Event, EventKind};
+    use notify_debouncer_full::DebouncedEvent;
+    use std::time::Instant;
+
+    fn events(list: &[(EventKind, &[&str])]) -> Message {
+        Message::Events(Ok(list
+            .iter()
+            .map(|(kind, paths)| {
+                let mut event = Event::new(*kind);
+                for path in *paths {
+                    event = event.add_path(PathBuf::from(path));
+                }
+                DebouncedEvent::new(event, Instant::now())
+            })
+            .collect()))
+    }
+
+    fn watched() -> BTreeSet<PathBuf> {
+        ["/p/model.kdl", "/p/meshes/t.obj"]
+            .iter()
+            .map(PathBuf::from)
+            .collect()
+    }
+
+    #[test]
+    fn queued_bursts_join_one_rebuild_and_reads_are_ignored() {
+        let (sender, receiver) = channel();
+        let rename = EventKind::Modify(ModifyKind::Name(RenameMode::Both));
+        let read = EventKind::Access(AccessKind::Close(AccessMode::Read));
+        sender
+            .send(events(&[
+                (EventKind::Create(CreateKind::File), &["/p/.model.kdl.swp"]),
+                (rename, &["/p/.model.kdl.swp", "/p/model.kdl"]),
+            ]))
+            .unwrap();
+        sender
+            .send(events(&[(read, &["/p/meshes/t.obj"])]))
+            .unwrap();
+        sender
+            .send(events(&[(
+                EventKind::Create(CreateKind::File),
+                &["/p/meshes/t.obj", "/p/build/model.glb"],
+            )]))
+            .unwrap();
+        let mut changed = BTreeSet::new();
+        assert!(drain(&receiver, &watched(), &mut changed));
+        let changed: Vec<PathBuf> = changed.into_iter().collect();
+        assert_eq!(
+            changed,
+            vec![
+                PathBuf::from("/p/meshes/t.obj"),
+                PathBuf::from("/p/model.kdl")
+            ]
+        );
+    }
+
+    #[test]
+    fn ctrl_c_in_the_queue_stops() {
+        let (sender, receiver) = channel();
+        sender
+            .send(events(&[(
+                EventKind::Create(CreateKind::File),
+                &["/p/model.kdl"],
+            )]))
+            .unwrap();
+        sender.send(Message::Stop).unwrap();
+        let mut changed = BTreeSet::new();
+        assert!(!drain(&receiver, &watched(), &mut changed));
+    }
+
+    #[test]
+    fn only_reads_give_nothing_to_rebuild() {
+        let (sender, receiver) = channel();
+        let open = EventKind::Access(AccessKind::Open(AccessMode::Any));
+        sender.send(events(&[(open, &["/p/model.kdl"])])).unwrap();
+        let mut changed = BTreeSet::new();
+        assert!(drain(&receiver, &watched(), &mut changed));
+        assert!(changed.is_empty());
+    }
+}
