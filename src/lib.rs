@@ -12,6 +12,7 @@
 //! - [`objective`]: the smooth objective and constraints, with exact gradients, an optimizer
 //!   descends.
 //! - [`emit`]: glTF scenes (one per pose) and atomic file writes.
+//! - [`watch`]: watch mode's loop: rebuild once per burst of changes to a project's files.
 //!
 //! `docs/architecture.md` describes the whole pipeline, including the stages still to come.
 //! The `ballast` binary will only parse arguments and print; the pipeline lives here.
@@ -27,3 +28,4 @@ pub mod geometry;
 pub mod objective;
 pub mod optimize;
 pub mod spec;
+pub mod watch;

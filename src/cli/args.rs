@@ -41,18 +41,43 @@ pub enum Command {
         /// Write the outputs into this folder instead of the ones the project file names.
         #[arg(long, value_name = "DIR")]
         out_dir: Option<PathBuf>,
-        /// Use exactly this many capsules (pinned ones included), overriding `optimize capsules=`.
-        #[arg(long, value_name = "N")]
-        capsules: Option<usize>,
-        /// Also optimize N random starts per capsule count and show where the heuristic's result
-        /// ranks among them (slow).
-        #[arg(long, value_name = "N", default_value_t = 0)]
-        exhaustive: usize,
-        /// The local solver: `hybrid` (SLSQP, then COBYLA where SLSQP misses; the default),
-        /// `slsqp` (exact gradients) or `cobyla` (derivative-free).
-        #[arg(long, value_enum, default_value_t = Solver::Hybrid)]
-        solver: Solver,
+        /// How to optimize.
+        #[command(flatten)]
+        optimize: OptimizeArgs,
     },
+    /// Build the project, then rebuild it whenever the project file or one of its meshes changes,
+    /// until Ctrl-C.
+    ///
+    /// Prints what changed since the last good build and how long it took. An invalid project
+    /// prints its diagnostics and leaves the last good outputs as they were. Distance grids are
+    /// kept between builds, so a change that leaves the meshes alone does not rebuild them.
+    /// Exit status 0 on Ctrl-C; 2 when watching cannot start.
+    Watch {
+        /// The project file (.kdl).
+        project: PathBuf,
+        /// Write the outputs into this folder instead of the ones the project file names.
+        #[arg(long, value_name = "DIR")]
+        out_dir: Option<PathBuf>,
+        /// How to optimize.
+        #[command(flatten)]
+        optimize: OptimizeArgs,
+    },
+}
+
+/// The optimizer options of `build` and `watch`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct OptimizeArgs {
+    /// Use exactly this many capsules (pinned ones included), overriding `optimize capsules=`.
+    #[arg(long, value_name = "N")]
+    pub capsules: Option<usize>,
+    /// Also optimize N random starts per capsule count and show where the heuristic's result
+    /// ranks among them (slow).
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    pub exhaustive: usize,
+    /// The local solver: `hybrid` (SLSQP, then COBYLA where SLSQP misses; the default),
+    /// `slsqp` (exact gradients) or `cobyla` (derivative-free).
+    #[arg(long, value_enum, default_value_t = Solver::Hybrid)]
+    pub solver: Solver,
 }
 
 /// The local solvers `build --solver` offers.

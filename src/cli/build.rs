@@ -1,25 +1,48 @@
 //! `ballast build`: check, optimize when the project asks, then write the glTF file, the JSON
 //! report and the solution file atomically.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use super::{compile_file, file_name, goals_status, table, EXIT_INVALID};
-use crate::compile::{output_path, solution_text, CompileOptions, DesignSource, Report};
+use crate::compile::{
+    output_path, solution_text, Compilation, CompileOptions, DesignSource, Report,
+};
 use crate::emit::{write_atomic, write_glb};
+use crate::optimize::GridCache;
 
 /// Builds the project at `path` as `options` say.
 pub fn run(path: &Path, options: &CompileOptions) -> i32 {
-    let Some(compilation) = compile_file(path, options) else {
+    let Some(compilation) = compile_file(path, options, &mut GridCache::new()) else {
         return EXIT_INVALID;
     };
-    let glb = match write_glb(&compilation.scene()) {
-        Ok(bytes) => bytes,
-        Err(error) => {
-            eprintln!("error: cannot encode the glTF file: {error}");
+    let written = match write_outputs(&compilation, path, options) {
+        Ok(written) => written,
+        Err(message) => {
+            eprintln!("error: {message}");
             return EXIT_INVALID;
         }
     };
-    let report = Report::new(&compilation, path).to_json();
+    if let Some(optimization) = &compilation.optimization {
+        print!("{}", table::optimization(optimization, &compilation));
+    }
+    print!("{}", table::summary(&compilation, &file_name(path)));
+    for target in &written {
+        println!("wrote {}", target.display());
+    }
+    goals_status(&compilation)
+}
+
+/// Encodes every output of `compilation` (the project read from `path`), then writes each one
+/// atomically where the project and `options` say; returns the paths written, in order. Nothing
+/// is written when an output cannot be encoded.
+pub(super) fn write_outputs(
+    compilation: &Compilation,
+    path: &Path,
+    options: &CompileOptions,
+) -> Result<Vec<PathBuf>, String> {
+    let glb = write_glb(&compilation.scene())
+        .map_err(|error| format!("cannot encode the glTF file: {error}"))?;
+    let report = Report::new(compilation, path).to_json();
     let output = &compilation.project.output;
     let out_dir = options.out_dir.as_deref();
     let mut targets = vec![
@@ -37,19 +60,10 @@ pub fn run(path: &Path, options: &CompileOptions) -> i32 {
     }
     // Every output is encoded before any is written; each write replaces its file whole.
     for (target, bytes) in &targets {
-        if let Err(error) = write_output(target, bytes) {
-            eprintln!("error: cannot write {}: {error}", target.display());
-            return EXIT_INVALID;
-        }
+        write_output(target, bytes)
+            .map_err(|error| format!("cannot write {}: {error}", target.display()))?;
     }
-    if let Some(optimization) = &compilation.optimization {
-        print!("{}", table::optimization(optimization, &compilation));
-    }
-    print!("{}", table::summary(&compilation, &file_name(path)));
-    for (target, _) in &targets {
-        println!("wrote {}", target.display());
-    }
-    goals_status(&compilation)
+    Ok(targets.into_iter().map(|(target, _)| target).collect())
 }
 
 fn write_output(path: &Path, bytes: &[u8]) -> std::io::Result<()> {

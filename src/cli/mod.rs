@@ -8,12 +8,13 @@ mod build;
 mod check;
 mod diagnostics;
 mod table;
+mod watch;
 
 use std::path::Path;
 
 use clap::Parser;
 
-pub use args::{Cli, Command, Solver};
+pub use args::{Cli, Command, OptimizeArgs, Solver};
 
 use crate::compile::{compile_with, Compilation, CompileOptions, OptimizeOptions};
 use crate::optimize::{GridCache, Method};
@@ -55,30 +56,40 @@ pub fn run() -> i32 {
         Command::Build {
             project,
             out_dir,
-            capsules,
-            exhaustive,
-            solver,
-        } => build::run(
-            &project,
-            &CompileOptions {
-                out_dir,
-                optimize: Some(OptimizeOptions {
-                    method: match solver {
-                        Solver::Hybrid => Method::Hybrid,
-                        Solver::Slsqp => Method::Slsqp,
-                        Solver::Cobyla => Method::Cobyla,
-                    },
-                    capsules,
-                    exhaustive,
-                }),
-            },
-        ),
+            optimize,
+        } => build::run(&project, &optimize_options(out_dir, &optimize)),
+        Command::Watch {
+            project,
+            out_dir,
+            optimize,
+        } => watch::run(&project, &optimize_options(out_dir, &optimize)),
     }
 }
 
-/// Reads and compiles the project at `path` as `options` say, printing every diagnostic (warnings
-/// too) to standard error. `None` when the project is invalid or unreadable.
-fn compile_file(path: &Path, options: &CompileOptions) -> Option<Compilation> {
+/// The options of a command that optimizes.
+fn optimize_options(out_dir: Option<std::path::PathBuf>, args: &OptimizeArgs) -> CompileOptions {
+    CompileOptions {
+        out_dir,
+        optimize: Some(OptimizeOptions {
+            method: match args.solver {
+                Solver::Hybrid => Method::Hybrid,
+                Solver::Slsqp => Method::Slsqp,
+                Solver::Cobyla => Method::Cobyla,
+            },
+            capsules: args.capsules,
+            exhaustive: args.exhaustive,
+        }),
+    }
+}
+
+/// Reads and compiles the project at `path` as `options` say, taking distance grids from `cache`
+/// when it has them, and printing every diagnostic (warnings too) to standard error. `None` when
+/// the project is invalid or unreadable.
+fn compile_file(
+    path: &Path,
+    options: &CompileOptions,
+    cache: &mut GridCache,
+) -> Option<Compilation> {
     let source = match std::fs::read_to_string(path) {
         Ok(source) => source,
         Err(error) => {
@@ -87,7 +98,7 @@ fn compile_file(path: &Path, options: &CompileOptions) -> Option<Compilation> {
         }
     };
     let name = path.display().to_string();
-    match compile_with(&source, path, options, &mut GridCache::new()) {
+    match compile_with(&source, path, options, cache) {
         Ok(compilation) => {
             if !compilation.warnings.is_empty() {
                 eprint!(

@@ -1,0 +1,166 @@
+//! The watched set: which files a project depends on, which folders to watch for them, and which
+//! file-system events concern them.
+
+use std::collections::BTreeSet;
+use std::path::{Component, Path, PathBuf};
+
+use notify::event::{AccessKind, AccessMode};
+use notify::EventKind;
+
+use crate::spec::model::Project;
+
+/// The files a build of the project at `project_path` reads: the project file itself and every
+/// component's mesh, each as a [`watch_key`]. Sorted and without duplicates.
+pub fn referenced_files(project_path: &Path, project: Option<&Project>) -> BTreeSet<PathBuf> {
+    let mut files = BTreeSet::new();
+    files.insert(watch_key(project_path));
+    if let Some(project) = project {
+        for component in &project.components {
+            files.insert(watch_key(&component.mesh.value));
+        }
+    }
+    files
+}
+
+/// The folders to watch (non-recursively) to see every change to `files`: their parents. Watching
+/// the folder rather than the file keeps the watch alive when an editor replaces the file by
+/// renaming another over it, or deletes and re-creates it.
+pub fn watched_folders(files: &BTreeSet<PathBuf>) -> BTreeSet<PathBuf> {
+    files
+        .iter()
+        .filter_map(|file| file.parent().map(Path::to_path_buf))
+        .collect()
+}
+
+/// The form of `path` that events are compared in: absolute, with `.` and `..` resolved, its folder
+/// canonical (symbolic links followed) when it exists. Event paths are the watched folder joined
+/// with the file name, so they compare equal to this.
+pub fn watch_key(path: &Path) -> PathBuf {
+    let absolute = normalize(&std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf()));
+    match (absolute.parent(), absolute.file_name()) {
+        (Some(folder), Some(name)) => match folder.canonicalize() {
+            Ok(folder) => folder.join(name),
+            Err(_) => absolute,
+        },
+        _ => absolute,
+    }
+}
+
+/// `.` and `..` removed lexically.
+fn normalize(path: &Path) -> PathBuf {
+    let mut out = PathBuf::new();
+    for component in path.components() {
+        match component {
+            Component::CurDir => {}
+            Component::ParentDir => {
+                out.pop();
+            }
+            other => out.push(other),
+        }
+    }
+    out
+}
+
+/// Whether an event of this kind can mean a file's content changed. Reads are left out: a build
+/// reads the watched files, and reacting to its own `Access(Open)` or read-only `Access(Close)`
+/// events would rebuild forever.
+pub fn is_change(kind: &EventKind) -> bool {
+    matches!(
+        kind,
+        EventKind::Create(_)
+            | EventKind::Modify(_)
+            | EventKind::Remove(_)
+            | EventKind::Access(AccessKind::Close(AccessMode::Write))
+            | EventKind::Any
+    )
+}
+
+/// The watched files among `paths` (an event's paths: both ends of a rename).
+pub fn touched<'a>(
+    paths: impl IntoIterator<Item = &'a PathBuf>,
+    files: &BTreeSet<PathBuf>,
+) -> Vec<PathBuf> {
+    paths
+        .into_iter()
+        .filter(|path| files.contains(*path))
+        .cloned()
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use notify::event::{CreateKind, DataChange, ModifyKind, RemoveKind, RenameMode};
+
+    #[test]
+    fn keys_resolve_dots_and_relative_paths() {
+        let folder = tempfile::tempdir().unwrap();
+        let inner = folder.path().join("a");
+        std::fs::create_dir(&inner).unwrap();
+        let direct = watch_key(&inner.join("x.obj"));
+        let dotted = watch_key(&folder.path().join("a/./../a/x.obj"));
+        assert_eq!(direct, dotted);
+        assert!(direct.is_absolute());
+        assert_eq!(
+            direct,
+            folder.path().canonicalize().unwrap().join("a/x.obj")
+        );
+    }
+
+    #[test]
+    fn a_missing_folder_still_gives_an_absolute_key() {
+        let key = watch_key(Path::new("no/such/folder/model.kdl"));
+        assert!(key.is_absolute());
+        assert!(key.ends_with("no/such/folder/model.kdl"));
+    }
+
+    #[test]
+    fn folders_are_the_parents_without_duplicates() {
+        let files: BTreeSet<PathBuf> = ["/p/model.kdl", "/p/meshes/a.obj", "/p/meshes/b.obj"]
+            .iter()
+            .map(PathBuf::from)
+            .collect();
+        let folders: Vec<PathBuf> = watched_folders(&files).into_iter().collect();
+        assert_eq!(
+            folders,
+            vec![PathBuf::from("/p"), PathBuf::from("/p/meshes")]
+        );
+    }
+
+    #[test]
+    fn reads_are_not_changes() {
+        assert!(!is_change(&EventKind::Access(AccessKind::Open(
+            AccessMode::Any
+        ))));
+        assert!(!is_change(&EventKind::Access(AccessKind::Close(
+            AccessMode::Read
+        ))));
+        assert!(is_change(&EventKind::Access(AccessKind::Close(
+            AccessMode::Write
+        ))));
+        assert!(is_change(&EventKind::Create(CreateKind::File)));
+        assert!(is_change(&EventKind::Remove(RemoveKind::File)));
+        assert!(is_change(&EventKind::Modify(ModifyKind::Data(
+            DataChange::Content
+        ))));
+        assert!(is_change(&EventKind::Modify(ModifyKind::Name(
+            RenameMode::Both
+        ))));
+    }
+
+    #[test]
+    fn only_watched_paths_are_touched() {
+        let files: BTreeSet<PathBuf> = ["/p/model.kdl"].iter().map(PathBuf::from).collect();
+        // A rename over the project file names the temp file and the project file.
+        let rename = [
+            PathBuf::from("/p/.model.kdl.tmp"),
+            PathBuf::from("/p/model.kdl"),
+        ];
+        assert_eq!(
+            touched(&rename, &files),
+            vec![PathBuf::from("/p/model.kdl")]
+        );
+        let output = [PathBuf::from("/p/model.solution.kdl")];
+        assert!(touched(&output, &files).is_empty());
+    }
+}

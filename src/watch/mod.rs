@@ -1,0 +1,278 @@
+//! Watch mode: rebuild a project whenever it or a file it references changes.
+//!
+//! [`run`] watches the folders holding the project file and its meshes (non-recursively, so an
+//! editor's save by rename or by delete and re-create keeps the watch), filters the debounced
+//! events by path ([`files`]), and calls a rebuild once per burst of changes: events that arrive
+//! while a rebuild runs are coalesced into one rebuild after it. The rebuild itself (compile,
+//! write, print) is the caller's: `ballast watch` passes one that shares `build`'s code path and
+//! keeps one grid cache for the session; [`changes`] says what changed between good builds.
+
+pub mod changes;
+pub mod files;
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{channel, Receiver, TryRecvError};
+use std::sync::Arc;
+use std::time::Duration;
+
+use notify::{RecommendedWatcher, RecursiveMode};
+use notify_debouncer_full::{new_debouncer, DebounceEventResult, Debouncer, RecommendedCache};
+
+pub use changes::{differences, Snapshot};
+pub use files::{is_change, referenced_files, touched, watch_key, watched_folders};
+
+/// How long the file system must be quiet before a burst of events becomes one rebuild: long
+/// enough to cover an editor's temp-file-and-rename save or a tool writing several files.
+pub const DEBOUNCE: Duration = Duration::from_millis(300);
+
+/// The exit status when Ctrl-C is pressed a second time while a rebuild runs: stop at once.
+pub const EXIT_FORCED: i32 = 130;
+
+/// What the watch loop hears: debounced file-system events, or Ctrl-C.
+enum Message {
+    Events(DebounceEventResult),
+    Stop,
+}
+
+/// Watches `files`, rebuilds once, then rebuilds after every burst of changes to the watched
+/// files, until Ctrl-C. `rebuild` gets the changed files (none for the first build) and returns
+/// the files the project now references (see [`referenced_files`]); the watched folders follow
+/// that set. Changes made during a build, the first one included, give one build after it.
+/// Returns when Ctrl-C was pressed; an error when watching cannot start.
+pub fn run(
+    files: BTreeSet<PathBuf>,
+    mut rebuild: impl FnMut(&[PathBuf]) -> BTreeSet<PathBuf>,
+) -> Result<(), String> {
+    let (sender, receiver) = channel();
+    let stop_sender = sender.clone();
+    let stopping = Arc::new(AtomicBool::new(false));
+    let flag = stopping.clone();
+    if let Err(error) = ctrlc::set_handler(move || {
+        if flag.swap(true, Ordering::SeqCst) {
+            // A second Ctrl-C while a rebuild runs: do not wait for it.
+            std::process::exit(EXIT_FORCED);
+        }
+        let _ = stop_sender.send(Message::Stop);
+    }) {
+        eprintln!("warning: cannot catch Ctrl-C ({error}); stop with a signal instead");
+    }
+    let mut debouncer = new_debouncer(DEBOUNCE, None, move |result: DebounceEventResult| {
+        let _ = sender.send(Message::Events(result));
+    })
+    .map_err(|error| format!("cannot watch files: {error}"))?;
+
+    let mut watched = Watched::default();
+    watched.follow(&mut debouncer, files);
+    if watched.folders.is_empty() {
+        return Err("cannot watch the project's folder".to_string());
+    }
+    let files = rebuild(&[]);
+    watched.follow(&mut debouncer, files);
+    loop {
+        let Ok(message) = receiver.recv() else {
+            return Ok(());
+        };
+        let mut changed = BTreeSet::new();
+        if !take(message, &watched.files, &mut changed) {
+            return Ok(());
+        }
+        if changed.is_empty() {
+            continue;
+        }
+        // Everything already queued joins this rebuild.
+        if !drain(&receiver, &watched.files, &mut changed) {
+            return Ok(());
+        }
+        let changed: Vec<PathBuf> = changed.into_iter().collect();
+        let files = rebuild(&changed);
+        watched.follow(&mut debouncer, files);
+        if stopping.load(Ordering::SeqCst) {
+            return Ok(());
+        }
+    }
+}
+
+/// Adds the watched files a message names to `changed`; `false` for Ctrl-C.
+fn take(message: Message, files: &BTreeSet<PathBuf>, changed: &mut BTreeSet<PathBuf>) -> bool {
+    match message {
+        Message::Stop => false,
+        Message::Events(Ok(events)) => {
+            for event in events.iter().filter(|event| is_change(&event.kind)) {
+                changed.extend(touched(&event.paths, files));
+            }
+            true
+        }
+        Message::Events(Err(errors)) => {
+            for error in errors {
+                eprintln!("warning: watching: {error}");
+            }
+            true
+        }
+    }
+}
+
+/// Takes every message already queued; `false` when one of them is Ctrl-C.
+fn drain(
+    receiver: &Receiver<Message>,
+    files: &BTreeSet<PathBuf>,
+    changed: &mut BTreeSet<PathBuf>,
+) -> bool {
+    loop {
+        match receiver.try_recv() {
+            Ok(message) => {
+                if !take(message, files, changed) {
+                    return false;
+                }
+            }
+            Err(TryRecvError::Empty) => return true,
+            Err(TryRecvError::Disconnected) => return false,
+        }
+    }
+}
+
+/// The files followed and the folders watched for them.
+#[derive(Default)]
+struct Watched {
+    files: BTreeSet<PathBuf>,
+    folders: BTreeSet<PathBuf>,
+}
+
+impl Watched {
+    /// Follows `files` from now on: unwatches folders no longer needed, watches new ones (and
+    /// retries any that could not be watched before, such as a folder that did not exist).
+    fn follow(
+        &mut self,
+        debouncer: &mut Debouncer<RecommendedWatcher, RecommendedCache>,
+        files: BTreeSet<PathBuf>,
+    ) {
+        let wanted = watched_folders(&files);
+        for folder in self.folders.difference(&wanted) {
+            let _ = debouncer.unwatch(folder);
+        }
+        let mut folders = BTreeSet::new();
+        for folder in &wanted {
+            if self.folders.contains(folder) {
+                folders.insert(folder.clone());
+                continue;
+            }
+            match debouncer.watch(folder, RecursiveMode::NonRecursive) {
+                Ok(()) => {
+                    folders.insert(folder.clone());
+                }
+                Err(error) => {
+                    eprintln!("warning: cannot watch {}: {error}", folder.display());
+                }
+            }
+        }
+        if files != self.files {
+            println!("watching {}", list(&files));
+        }
+        self.files = files;
+        self.folders = folders;
+    }
+}
+
+/// File paths for a message, relative to the current folder when under it.
+pub fn list(files: &BTreeSet<PathBuf>) -> String {
+    files
+        .iter()
+        .map(|file| shown(file).display().to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// `path` relative to the current folder when under it.
+pub fn shown(path: &Path) -> PathBuf {
+    std::env::current_dir()
+        .ok()
+        .and_then(|here| here.canonicalize().ok())
+        .and_then(|here| path.strip_prefix(here).ok().map(Path::to_path_buf))
+        .unwrap_or_else(|| path.to_path_buf())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use notify::event::{AccessKind, AccessMode, CreateKind, ModifyKind, RenameMode};
+    use notify::{Event, EventKind};
+    use notify_debouncer_full::DebouncedEvent;
+    use std::time::Instant;
+
+    fn events(list: &[(EventKind, &[&str])]) -> Message {
+        Message::Events(Ok(list
+            .iter()
+            .map(|(kind, paths)| {
+                let mut event = Event::new(*kind);
+                for path in *paths {
+                    event = event.add_path(PathBuf::from(path));
+                }
+                DebouncedEvent::new(event, Instant::now())
+            })
+            .collect()))
+    }
+
+    fn watched() -> BTreeSet<PathBuf> {
+        ["/p/model.kdl", "/p/meshes/t.obj"]
+            .iter()
+            .map(PathBuf::from)
+            .collect()
+    }
+
+    #[test]
+    fn queued_bursts_join_one_rebuild_and_reads_are_ignored() {
+        let (sender, receiver) = channel();
+        let rename = EventKind::Modify(ModifyKind::Name(RenameMode::Both));
+        let read = EventKind::Access(AccessKind::Close(AccessMode::Read));
+        sender
+            .send(events(&[
+                (EventKind::Create(CreateKind::File), &["/p/.model.kdl.swp"]),
+                (rename, &["/p/.model.kdl.swp", "/p/model.kdl"]),
+            ]))
+            .unwrap();
+        sender
+            .send(events(&[(read, &["/p/meshes/t.obj"])]))
+            .unwrap();
+        sender
+            .send(events(&[(
+                EventKind::Create(CreateKind::File),
+                &["/p/meshes/t.obj", "/p/build/model.glb"],
+            )]))
+            .unwrap();
+        let mut changed = BTreeSet::new();
+        assert!(drain(&receiver, &watched(), &mut changed));
+        let changed: Vec<PathBuf> = changed.into_iter().collect();
+        assert_eq!(
+            changed,
+            vec![
+                PathBuf::from("/p/meshes/t.obj"),
+                PathBuf::from("/p/model.kdl")
+            ]
+        );
+    }
+
+    #[test]
+    fn ctrl_c_in_the_queue_stops() {
+        let (sender, receiver) = channel();
+        sender
+            .send(events(&[(
+                EventKind::Create(CreateKind::File),
+                &["/p/model.kdl"],
+            )]))
+            .unwrap();
+        sender.send(Message::Stop).unwrap();
+        let mut changed = BTreeSet::new();
+        assert!(!drain(&receiver, &watched(), &mut changed));
+    }
+
+    #[test]
+    fn only_reads_give_nothing_to_rebuild() {
+        let (sender, receiver) = channel();
+        let open = EventKind::Access(AccessKind::Open(AccessMode::Any));
+        sender.send(events(&[(open, &["/p/model.kdl"])])).unwrap();
+        let mut changed = BTreeSet::new();
+        assert!(drain(&receiver, &watched(), &mut changed));
+        assert!(changed.is_empty());
+    }
+}

@@ -1,0 +1,395 @@
+//! `ballast watch` end to end: the real binary watches a scratch folder while the tests edit it.
+//!
+//! Every wait polls the binary's output with a generous timeout instead of sleeping a fixed time,
+//! so a loaded machine only makes the tests slower. The few negative checks (no rebuild happened)
+//! wait a fixed time well beyond the debounce window.
+
+use std::fs;
+use std::io::{BufRead, BufReader, Read};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::sync::{Arc, Mutex};
+use std::thread;
+use std::time::{Duration, Instant};
+
+/// How long a build may take before a test gives up: optimizing builds take seconds in a debug
+/// build and more on a busy machine.
+const TIMEOUT: Duration = Duration::from_secs(120);
+
+/// Longer than the debounce window and the time a fast build takes, for checks that nothing
+/// happened.
+const QUIET: Duration = Duration::from_millis(2500);
+
+/// Printed once per finished build, good or not.
+const GOOD: &str = "  wrote ";
+const BAD: &str = "the last good outputs are left as they were";
+
+/// A `ballast watch` process and everything it has printed so far (standard output and error
+/// interleaved by line). Killed when dropped.
+struct Watch {
+    child: Child,
+    output: Arc<Mutex<String>>,
+}
+
+impl Watch {
+    fn start(project: &Path, args: &[&str]) -> Watch {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_ballast"))
+            .arg("watch")
+            .arg(project)
+            .args(args)
+            .env("NO_COLOR", "1")
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("the ballast binary starts");
+        let output = Arc::new(Mutex::new(String::new()));
+        let stdout = child.stdout.take().unwrap();
+        let stderr = child.stderr.take().unwrap();
+        collect(stdout, output.clone());
+        collect(stderr, output.clone());
+        Watch { child, output }
+    }
+
+    fn output(&self) -> String {
+        self.output.lock().unwrap().clone()
+    }
+
+    /// Builds finished so far, good and bad.
+    fn builds(&self) -> usize {
+        let output = self.output();
+        output.matches(GOOD).count() + output.matches(BAD).count()
+    }
+
+    /// Waits until `builds` builds have finished; returns the output from the start of the last
+    /// one.
+    fn wait_builds(&self, builds: usize) -> String {
+        let start = Instant::now();
+        while self.builds() < builds {
+            assert!(
+                start.elapsed() < TIMEOUT,
+                "waited {TIMEOUT:?} for build {builds}; output so far:\n{}",
+                self.output()
+            );
+            thread::sleep(Duration::from_millis(50));
+        }
+        last_build(&self.output())
+    }
+
+    /// Waits until no build has finished for [`QUIET`]; returns the number of builds.
+    fn settle(&self) -> usize {
+        let mut builds = self.builds();
+        loop {
+            thread::sleep(QUIET);
+            let now = self.builds();
+            if now == builds {
+                return now;
+            }
+            builds = now;
+        }
+    }
+
+    /// Checks that no build starts within [`QUIET`].
+    fn assert_quiet(&self, builds: usize) {
+        thread::sleep(QUIET);
+        assert_eq!(
+            self.builds(),
+            builds,
+            "an unexpected rebuild; output:\n{}",
+            self.output()
+        );
+    }
+}
+
+impl Drop for Watch {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// Appends every line read from `stream` to `output`, on a thread of its own.
+fn collect(stream: impl Read + Send + 'static, output: Arc<Mutex<String>>) {
+    thread::spawn(move || {
+        for line in BufReader::new(stream).lines() {
+            let Ok(line) = line else { break };
+            let mut output = output.lock().unwrap();
+            output.push_str(&line);
+            output.push('\n');
+        }
+    });
+}
+
+/// The output from the last build's heading line on.
+fn last_build(output: &str) -> String {
+    let start = [output.rfind("\nbuilding "), output.rfind("\nchanged: ")]
+        .into_iter()
+        .flatten()
+        .max()
+        .unwrap_or(0);
+    output[start..].to_string()
+}
+
+/// A scratch folder holding `project` as `model.kdl` and a copy of the T shape in `meshes/`.
+fn scratch(project: &str) -> (tempfile::TempDir, PathBuf) {
+    let folder = tempfile::tempdir().unwrap();
+    let meshes = folder.path().join("meshes");
+    fs::create_dir(&meshes).unwrap();
+    let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/meshes");
+    fs::copy(examples.join("t_shape.obj"), meshes.join("t_shape.obj")).unwrap();
+    let path = folder.path().join("model.kdl");
+    fs::write(&path, project).unwrap();
+    (folder, path)
+}
+
+/// Hand-placed capsules: a build takes milliseconds.
+const HAND_PLACED: &str = r#"
+component "T" mesh="meshes/t_shape.obj"
+capsule "keel" component="T" radius=4 {
+    from -15 0 29
+    to 15 0 32
+}
+pose "upright" { stand margin=1 }
+"#;
+
+/// The files a good build of `model.kdl` writes, and their bytes.
+fn outputs(folder: &Path) -> Vec<(PathBuf, Vec<u8>)> {
+    ["build/model.glb", "build/model.report.json"]
+        .iter()
+        .map(|name| {
+            let path = folder.join(name);
+            let bytes = fs::read(&path).unwrap_or_default();
+            (path, bytes)
+        })
+        .collect()
+}
+
+/// Saves `text` as an editor does: into a temp file beside `path`, then renamed over it. Tests
+/// save this way so that a build never reads a half-written file (on a busy machine the debounce
+/// window can close between truncating a file and writing it).
+fn save_by_rename(path: &Path, text: &str) {
+    let name = path.file_name().unwrap().to_string_lossy();
+    let temp = path.with_file_name(format!(".{name}.swp"));
+    fs::write(&temp, text).unwrap();
+    fs::rename(&temp, path).unwrap();
+}
+
+#[test]
+fn a_broken_save_keeps_the_outputs_and_fixing_it_rebuilds() {
+    let (folder, project) = scratch(HAND_PLACED);
+    let watch = Watch::start(&project, &[]);
+    let first = watch.wait_builds(1);
+    assert!(
+        first.contains("model.kdl: 1 of 1 goal met, 1 capsule"),
+        "{first}"
+    );
+    let good = outputs(folder.path());
+    assert!(good.iter().all(|(_, bytes)| !bytes.is_empty()));
+    assert_eq!(&good[0].1[..4], b"glTF");
+
+    save_by_rename(&project, &HAND_PLACED.replace("margin=1 }", "margin= }"));
+    let broken = watch.wait_builds(2);
+    assert!(broken.contains(BAD), "{broken}");
+    // Diagnostics go to standard error, read on a thread of its own: wait for them too.
+    watch.wait_for("ballast::syntax");
+    watch.wait_for("model.kdl is invalid: 1 error");
+    assert_eq!(
+        outputs(folder.path()),
+        good,
+        "outputs changed after a broken save"
+    );
+
+    // The fix asks for more than the design gives: the summary names the goal now broken.
+    save_by_rename(&project, &HAND_PLACED.replace("margin=1", "margin=40"));
+    let fixed = watch.wait_builds(3);
+    assert!(fixed.contains(GOOD), "{fixed}");
+    assert!(
+        fixed.contains("now broken: `stand` in pose \"upright\""),
+        "{fixed}"
+    );
+    assert!(fixed.contains("distance grids: not needed"), "{fixed}");
+    assert_ne!(outputs(folder.path()), good);
+}
+
+#[test]
+fn a_rename_save_rebuilds_once_and_the_watched_set_follows_the_project() {
+    let (folder, project) = scratch(HAND_PLACED);
+    let watch = Watch::start(&project, &[]);
+    watch.wait_builds(1);
+
+    let two_poses = format!("{HAND_PLACED}pose \"down\" {{ rotate 180 0 0; stand }}\n");
+    save_by_rename(&project, &two_poses);
+    let renamed = watch.wait_builds(2);
+    assert!(
+        renamed.contains("new goal: `stand` in pose \"down\""),
+        "{renamed}"
+    );
+    watch.assert_quiet(2);
+
+    // Delete and re-create: picked up, and the watch survives it.
+    fs::remove_file(&project).unwrap();
+    fs::write(&project, HAND_PLACED).unwrap();
+    watch.wait_for("goal gone: `stand` in pose \"down\"");
+    // The deletion may have been a build of its own, seeing no file; let the burst settle.
+    let builds = watch.settle();
+
+    // Point the component at a mesh in another folder: that folder is watched, the old mesh not.
+    let parts = folder.path().join("parts");
+    fs::create_dir(&parts).unwrap();
+    fs::copy(
+        folder.path().join("meshes/t_shape.obj"),
+        parts.join("copy.obj"),
+    )
+    .unwrap();
+    save_by_rename(
+        &project,
+        &HAND_PLACED.replace("meshes/t_shape.obj", "parts/copy.obj"),
+    );
+    let moved = watch.wait_builds(builds + 1);
+    assert!(moved.contains(GOOD), "{moved}");
+    watch.wait_for_line_containing("watching ", "copy.obj");
+    let builds = watch.settle();
+
+    touch_mesh(&folder.path().join("meshes/t_shape.obj"), 0.5);
+    watch.assert_quiet(builds);
+    touch_mesh(&parts.join("copy.obj"), 0.5);
+    let edited = watch.wait_builds(builds + 1);
+    assert!(edited.contains("copy.obj"), "{edited}");
+}
+
+#[test]
+fn a_mesh_edit_rebuilds_the_grids_and_a_goal_edit_reuses_them() {
+    let (folder, project) = scratch(
+        "optimize capsules=1\ncomponent \"T\" mesh=\"meshes/t_shape.obj\"\npose \"upright\" { stand margin=1 }\n",
+    );
+    let watch = Watch::start(&project, &[]);
+    let first = watch.wait_builds(1);
+    assert!(
+        first.contains("distance grids: 1 built (1 in the cache)"),
+        "{first}"
+    );
+    assert!(folder.path().join("model.solution.kdl").exists());
+
+    save_by_rename(&project, "optimize capsules=1\ncomponent \"T\" mesh=\"meshes/t_shape.obj\"\npose \"upright\" { stand margin=2 }\n");
+    let goal = watch.wait_builds(2);
+    assert!(
+        goal.contains("distance grids: reused (1 in the cache)"),
+        "{goal}"
+    );
+
+    touch_mesh(&folder.path().join("meshes/t_shape.obj"), 1.0);
+    let mesh = watch.wait_builds(3);
+    assert!(mesh.contains("t_shape.obj"), "{mesh}");
+    assert!(
+        mesh.contains("distance grids: 1 built (2 in the cache)"),
+        "{mesh}"
+    );
+}
+
+#[test]
+fn saves_during_a_build_give_one_build_after_it() {
+    let optimized = |margin: u32| {
+        format!(
+            "optimize capsules=1\ncomponent \"T\" mesh=\"meshes/t_shape.obj\"\npose \"upright\" {{ stand margin={margin} }}\n"
+        )
+    };
+    let (_folder, project) = scratch(&optimized(1));
+    let watch = Watch::start(&project, &[]);
+    // The first build optimizes, which takes seconds: save twice while it runs.
+    watch.wait_for("building model.kdl");
+    save_by_rename(&project, &optimized(2));
+    save_by_rename(&project, &optimized(40));
+    // Whichever version the first build read, the last one is built once more, after it.
+    let second = watch.wait_builds(2);
+    assert!(second.contains("model.kdl: 0 of 1 goal met"), "{second}");
+    watch.assert_quiet(2);
+}
+
+#[cfg(unix)]
+#[test]
+fn ctrl_c_stops_with_status_zero() {
+    let (_folder, project) = scratch(HAND_PLACED);
+    let mut watch = Watch::start(&project, &[]);
+    watch.wait_builds(1);
+    let status = Command::new("kill")
+        .args(["-INT", &watch.child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let start = Instant::now();
+    let code = loop {
+        if let Some(status) = watch.child.try_wait().unwrap() {
+            break status.code();
+        }
+        assert!(start.elapsed() < TIMEOUT, "{}", watch.output());
+        thread::sleep(Duration::from_millis(50));
+    };
+    assert_eq!(code, Some(0), "{}", watch.output());
+    // The reader threads may still be draining the pipes.
+    watch.wait_for("stopped watching model.kdl");
+}
+
+impl Watch {
+    /// Waits until the output contains `text`.
+    fn wait_for(&self, text: &str) {
+        self.wait_until(|output| output.contains(text), text);
+    }
+
+    /// Waits for a line starting with `start` that contains `text`.
+    fn wait_for_line_containing(&self, start: &str, text: &str) {
+        self.wait_until(
+            |output| {
+                output
+                    .lines()
+                    .any(|line| line.starts_with(start) && line.contains(text))
+            },
+            text,
+        );
+    }
+
+    fn wait_until(&self, done: impl Fn(&str) -> bool, what: &str) {
+        let begun = Instant::now();
+        while !done(&self.output()) {
+            assert!(
+                begun.elapsed() < TIMEOUT,
+                "waited {TIMEOUT:?} for {what:?}; output so far:\n{}",
+                self.output()
+            );
+            thread::sleep(Duration::from_millis(50));
+        }
+    }
+}
+
+/// Moves every vertex of the OBJ file at `path` by `dx` along x: the same shape, a new content.
+fn touch_mesh(path: &Path, dx: f64) {
+    let text = fs::read_to_string(path).unwrap();
+    let moved: Vec<String> = text
+        .lines()
+        .map(|line| match line.strip_prefix("v ") {
+            Some(rest) => {
+                let c: Vec<f64> = rest
+                    .split_whitespace()
+                    .map(|v| v.parse().unwrap())
+                    .collect();
+                format!("v {} {} {}", c[0] + dx, c[1], c[2])
+            }
+            None => line.to_string(),
+        })
+        .collect();
+    save_by_rename(path, &(moved.join("\n") + "\n"));
+}
+
+#[test]
+fn a_project_in_a_missing_folder_cannot_be_watched() {
+    let folder = tempfile::tempdir().unwrap();
+    let output = Command::new(env!("CARGO_BIN_EXE_ballast"))
+        .arg("watch")
+        .arg(folder.path().join("no/such/model.kdl"))
+        .env("NO_COLOR", "1")
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("cannot watch"), "{stderr}");
+}
