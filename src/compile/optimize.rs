@@ -197,8 +197,8 @@ pub fn optimize_design(
                     .map(move |(goal, _)| GoalRef { pose, goal })
             })
             .collect();
-        let start = seeds_for(&seeds, &candidates[chosen]);
-        explain_conflicts(project, meshes, &interior, &start, &unmet)
+        let starts = [seeds_for(&seeds, &candidates[chosen]), seeds.clone()];
+        explain_conflicts(project, meshes, &interior, &starts, &unmet)
             .iter()
             .map(|c| conflict_report(project, c))
             .collect()

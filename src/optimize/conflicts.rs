@@ -30,15 +30,16 @@ pub struct Conflict {
     pub shortfall: f64,
 }
 
-/// Explains why the goals `unmet` (of `project`) were not met by optimizing from `seeds` for
-/// smaller sets of goals: first each goal of the project alone, then each unmet goal paired with
-/// every other goal that can be met alone. Returns the goals unreachable alone, then the pairs
-/// that conflict, in project order.
+/// Explains why the goals `unmet` (of `project`) were not met by optimizing for smaller sets of
+/// goals: first each goal of the project alone, then each unmet goal paired with every other goal
+/// that can be met alone. Each set of goals is optimized from every one of `starts` (e.g. the
+/// chosen design and the seeds), keeping the best. Returns the goals unreachable alone, then the
+/// pairs that conflict, in project order.
 pub fn explain(
     project: &Project,
     meshes: &[TriMesh],
     interior: &Arc<GridInterior>,
-    seeds: &[StartCapsule],
+    starts: &[Vec<StartCapsule>],
     unmet: &[GoalRef],
 ) -> Vec<Conflict> {
     let all: Vec<GoalRef> = project
@@ -49,9 +50,15 @@ pub fn explain(
         .collect();
     let attempt = |goals: &[GoalRef]| -> (bool, f64) {
         let only = with_only(project, goals);
-        let problem = Problem::new(&only, meshes, interior.clone(), Method::Cobyla);
-        let outcome = problem.optimize(seeds);
-        (outcome.meets_goals, outcome.value.to_degrees())
+        let problem = Problem::new(&only, meshes, interior.clone(), Method::Hybrid);
+        starts
+            .iter()
+            .map(|start| {
+                let outcome = problem.optimize(start);
+                (outcome.meets_goals, outcome.value.to_degrees())
+            })
+            .max_by(|a, b| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1)))
+            .unwrap_or((false, f64::INFINITY))
     };
     let alone: Vec<(GoalRef, bool, f64)> = all
         .iter()
