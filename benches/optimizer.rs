@@ -22,12 +22,11 @@ use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
 
-use ballast::compile::{compile_with, CompileOptions, OptimizeOptions};
+use ballast::compile::{self, compile_with, CompileOptions, OptimizeOptions, Preparation};
 use ballast::geometry::{load_mesh, DistanceGrid, MeshSelector, Skeleton, TriMesh};
 use ballast::objective::{GridInterior, Parameters};
 use ballast::optimize::{
-    choose, default_cell, rank, run_heuristic, skeleton_seeds, Candidate, GridCache, Method,
-    Problem, StartCapsule,
+    choose, default_cell, rank, run_heuristic, Candidate, GridCache, Method, Problem,
 };
 use ballast::spec::model::{Optimize, Project};
 
@@ -142,55 +141,15 @@ impl Example {
     }
 }
 
-/// The distance grids, skeletons and seeds of an example, as `optimize_design` builds them.
-struct Prepared {
-    interior: Arc<GridInterior>,
-    seeds: Vec<StartCapsule>,
-}
-
-fn prepare(example: &Example) -> Prepared {
-    let parameters = example.parameters();
-    let settings = example.settings();
-    let grids = example
-        .meshes
-        .iter()
-        .map(|mesh| {
-            let cell = settings
-                .grid_cell
-                .unwrap_or_else(|| default_cell(mesh, parameters.min_radius));
-            Arc::new(DistanceGrid::new(mesh, cell))
-        })
-        .collect();
-    let interior = Arc::new(GridInterior { grids });
-    let mut seeds: Vec<StartCapsule> = example
-        .project
-        .capsules
-        .iter()
-        .map(|c| StartCapsule {
-            component: c.component.value,
-            from: c.from,
-            to: c.to,
-            radius: c.radius,
-            pinned: c.pinned,
-            name: Some(c.name.value.clone()),
-        })
-        .collect();
-    if seeds.iter().all(|c| c.pinned) {
-        let skeletons: Vec<Skeleton> = example
-            .meshes
-            .iter()
-            .zip(&interior.grids)
-            .map(|(mesh, grid)| Skeleton::from_grid(mesh, grid))
-            .collect();
-        let (starts, _) = skeleton_seeds(
-            &skeletons,
-            interior.as_ref(),
-            parameters.min_radius,
-            example.project.wall,
-        );
-        seeds.extend(starts);
-    }
-    Prepared { interior, seeds }
+/// The distance grids, skeletons and seeds of an example, built afresh as `optimize_design`
+/// builds them.
+fn prepare(example: &Example) -> Preparation {
+    compile::prepare(
+        &example.project,
+        example.settings(),
+        &example.meshes,
+        &mut GridCache::new(),
+    )
 }
 
 /// One run of the heuristic with one method.
@@ -207,7 +166,7 @@ impl Run {
     }
 }
 
-fn heuristic(example: &Example, prepared: &Prepared, method: Method, base: &TriMesh) -> Run {
+fn heuristic(example: &Example, prepared: &Preparation, method: Method, base: &TriMesh) -> Run {
     let baseline = baseline(base);
     let settings = example.settings();
     let problem = Problem::new(
@@ -271,7 +230,7 @@ fn main() {
     );
 
     let examples: Vec<Example> = names.iter().map(|n| Example::load(n)).collect();
-    let mut prepared: HashMap<String, Prepared> = HashMap::new();
+    let mut prepared: HashMap<String, Preparation> = HashMap::new();
     let mut runs: HashMap<(String, &str), Run> = HashMap::new();
     let mut get_prepared = |example: &Example| -> Arc<GridInterior> {
         prepared

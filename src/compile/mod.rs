@@ -21,8 +21,8 @@ use std::path::{Path, PathBuf};
 pub use design::hand_placed_design;
 pub use meshes::load_components;
 pub use optimize::{
-    length_decimals, optimize_design, CandidateReport, Optimization, OptimizeOptions, SeedReport,
-    Timings,
+    length_decimals, optimize_design, prepare, CandidateReport, Optimization, OptimizeOptions,
+    Preparation, SeedReport, Timings,
 };
 pub use report::{Report, REPORT_FORMAT};
 pub use solution::{read_solution, solution_text};

@@ -115,16 +115,27 @@ pub struct SeedReport {
     pub seeded: bool,
 }
 
-/// Runs the optimizer on `project` (which has an `optimize` node) and returns the chosen design,
-/// rounded, with what the optimizer did. Grids come from `cache` when it holds them.
-pub fn optimize_design(
+/// What the heuristic starts from: the interior distance of every component and the start
+/// capsules.
+pub struct Preparation {
+    /// One distance grid per component, in component order.
+    pub interior: Arc<GridInterior>,
+    /// The written capsules (pinned or not), then, unless some written capsule is unpinned, one
+    /// seed per skeleton segment deep enough inside its component.
+    pub seeds: Vec<StartCapsule>,
+    /// Every skeleton segment's midpoint and whether it was seeded (empty when the written
+    /// capsules are the seeds).
+    pub sites: Vec<SeedSite>,
+}
+
+/// The precomputation of the optimizer: distance grids (from `cache` when it holds them, at the
+/// project's `grid-cell` or [`default_cell`]), skeletons thinned on them, and the seeds.
+pub fn prepare(
     project: &Project,
     settings: &Optimize,
     meshes: &[TriMesh],
-    options: &OptimizeOptions,
     cache: &mut GridCache,
-) -> (Design, Optimization) {
-    let clock = Instant::now();
+) -> Preparation {
     let parameters = Parameters::for_project(project);
     let grids = meshes
         .iter()
@@ -136,24 +147,46 @@ pub fn optimize_design(
         })
         .collect();
     let interior = Arc::new(GridInterior { grids });
-    let written = written_capsules(project);
-    let (skeleton_starts, sites) = if written.iter().any(|c| !c.pinned) {
-        (Vec::new(), Vec::new())
+    let mut seeds = written_capsules(project);
+    let sites = if seeds.iter().any(|c| !c.pinned) {
+        Vec::new()
     } else {
         let skeletons: Vec<Skeleton> = meshes
             .iter()
             .zip(&interior.grids)
             .map(|(mesh, grid)| Skeleton::from_grid(mesh, grid))
             .collect();
-        skeleton_seeds(
+        let (starts, sites) = skeleton_seeds(
             &skeletons,
             interior.as_ref(),
             parameters.min_radius,
             project.wall,
-        )
+        );
+        seeds.extend(starts);
+        sites
     };
-    let mut seeds = written;
-    seeds.extend(skeleton_starts);
+    Preparation {
+        interior,
+        seeds,
+        sites,
+    }
+}
+
+/// Runs the optimizer on `project` (which has an `optimize` node) and returns the chosen design,
+/// rounded, with what the optimizer did. Grids come from `cache` when it holds them.
+pub fn optimize_design(
+    project: &Project,
+    settings: &Optimize,
+    meshes: &[TriMesh],
+    options: &OptimizeOptions,
+    cache: &mut GridCache,
+) -> (Design, Optimization) {
+    let clock = Instant::now();
+    let Preparation {
+        interior,
+        seeds,
+        sites,
+    } = prepare(project, settings, meshes, cache);
     let precompute = clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
