@@ -94,19 +94,24 @@ impl Tracker {
         let better = match &self.best {
             None => true,
             Some((_, best_value, best_violation)) => {
-                let (feasible, best_feasible) =
-                    (violation <= FEASIBLE, *best_violation <= FEASIBLE);
-                match (feasible, best_feasible) {
-                    (true, true) => value < *best_value,
-                    (true, false) => true,
-                    (false, true) => false,
-                    (false, false) => violation < *best_violation,
-                }
+                preferred((value, violation), (*best_value, *best_violation))
             }
         };
         if better {
             self.best = Some((u.to_vec(), value, violation));
         }
+    }
+}
+
+/// Whether a point with `(value, violation)` is preferred to one with `(other_value,
+/// other_violation)`: a feasible point to an infeasible one, then the lower objective among
+/// feasible points, the smaller violation among infeasible ones.
+fn preferred((value, violation): (f64, f64), (other_value, other_violation): (f64, f64)) -> bool {
+    match (violation <= FEASIBLE, other_violation <= FEASIBLE) {
+        (true, true) => value < other_value,
+        (true, false) => true,
+        (false, true) => false,
+        (false, false) => violation < other_violation,
     }
 }
 
@@ -130,7 +135,8 @@ pub fn solve(
         return solve_by(objective, x0, bounds, method, budget);
     }
     let first = solve_by(objective, x0, bounds, Method::Slsqp, budget);
-    if first.violation <= FEASIBLE && first.value <= 0.0 {
+    let fixed = bounds.range.iter().all(|(lo, hi)| lo >= hi);
+    if fixed || (first.violation <= FEASIBLE && first.value <= 0.0) {
         return first;
     }
     let from = if first.violation <= FEASIBLE {
@@ -140,13 +146,10 @@ pub fn solve(
     };
     let second = solve_by(objective, from, bounds, Method::Cobyla, budget);
     let evaluations = first.evaluations + second.evaluations;
-    let feasible = |s: &Solve| s.violation <= FEASIBLE;
-    let better = match (feasible(&second), feasible(&first)) {
-        (true, false) => true,
-        (false, true) => false,
-        (true, true) => second.value < first.value,
-        (false, false) => second.violation < first.violation,
-    };
+    let better = preferred(
+        (second.value, second.violation),
+        (first.value, first.violation),
+    );
     let best = if better { second } else { first };
     Solve {
         evaluations,
