@@ -22,12 +22,12 @@ use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
 
-use ballast::compile::{self, compile_with, CompileOptions, OptimizeOptions, Preparation};
+use ballast::compile::{
+    self, compile_with, CompileOptions, OptimizeOptions, Preparation, Workspace,
+};
 use ballast::geometry::{load_mesh, DistanceGrid, MeshSelector, Skeleton, TriMesh};
 use ballast::objective::{GridInterior, Parameters};
-use ballast::optimize::{
-    choose, default_cell, rank, run_heuristic, Candidate, GridCache, Method, Problem,
-};
+use ballast::optimize::{choose, default_cell, rank, run_heuristic, Candidate, Method, Problem};
 use ballast::spec::model::{Optimize, Project};
 
 /// Every example, in the order of `examples/README.md`.
@@ -115,9 +115,9 @@ impl Example {
             &source,
             &path,
             &CompileOptions::default(),
-            &mut GridCache::new(),
+            &mut Workspace::new(),
         )
-        .unwrap_or_else(|problems| panic!("{name} is invalid: {problems:?}"));
+        .unwrap_or_else(|failure| panic!("{name} did not compile: {failure:?}"));
         Example {
             name: name.to_string(),
             project: compiled.project,
@@ -148,8 +148,10 @@ fn prepare(example: &Example) -> Preparation {
         &example.project,
         example.settings(),
         &example.meshes,
-        &mut GridCache::new(),
+        &mut Workspace::new(),
+        None,
     )
+    .expect("nothing cancels the bench")
 }
 
 /// One run of the heuristic with one method.
@@ -176,7 +178,7 @@ fn heuristic(example: &Example, prepared: &Preparation, method: Method, base: &T
         method,
     );
     let clock = Instant::now();
-    let candidates = run_heuristic(&problem, &prepared.seeds, settings.capsules);
+    let candidates = run_heuristic(&problem, &prepared.seeds, settings.capsules, &|_| {});
     let seconds = clock.elapsed().as_secs_f64();
     let chosen = choose(&candidates, settings.capsules, settings.tolerance_degrees);
     Run {
@@ -498,7 +500,7 @@ fn main() {
                 optimize: Some(OptimizeOptions::default()),
             };
             let clock = Instant::now();
-            let compiled = compile_with(&source, &path, &options, &mut GridCache::new())
+            let compiled = compile_with(&source, &path, &options, &mut Workspace::new())
                 .expect("spot compiles");
             let seconds = clock.elapsed().as_secs_f64();
             let optimization = compiled.optimization.as_ref().expect("spot is optimized");

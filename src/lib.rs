@@ -12,12 +12,14 @@
 //! - [`objective`]: the smooth objective and constraints, with exact gradients, an optimizer
 //!   descends.
 //! - [`emit`]: glTF scenes (one per pose) and atomic file writes.
+//! - [`cancel`]: a flag another thread sets to stop a long build early.
 //! - [`watch`]: watch mode's loop: rebuild once per burst of changes to a project's files.
 //!
 //! `docs/architecture.md` describes the whole pipeline, including the stages still to come.
 //! The `ballast` binary will only parse arguments and print; the pipeline lives here.
 
 pub mod balance;
+pub mod cancel;
 pub mod cli;
 pub mod compile;
 pub mod design;

@@ -6,8 +6,8 @@ use std::path::{Path, PathBuf};
 use ballast::balance::GoalOutcome;
 use ballast::compile::{
     compile_with, solution_text, Compilation, CompileOptions, DesignSource, OptimizeOptions,
+    Workspace,
 };
-use ballast::optimize::GridCache;
 
 fn example(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -22,8 +22,8 @@ fn optimized(name: &str, options: OptimizeOptions) -> Compilation {
         out_dir: None,
         optimize: Some(options),
     };
-    compile_with(&source, &path, &options, &mut GridCache::new())
-        .unwrap_or_else(|problems| panic!("{name} is invalid: {problems:?}"))
+    compile_with(&source, &path, &options, &mut Workspace::new())
+        .unwrap_or_else(|failure| panic!("{name} did not compile: {failure:?}"))
 }
 
 /// Every goal's verdict, pose by pose, as (pose, kind, met, tilt margin if any).
@@ -164,7 +164,7 @@ fn a_pinned_capsule_is_kept_exactly_and_a_written_seed_may_move() {
         out_dir: None,
         optimize: Some(OptimizeOptions::default()),
     };
-    let compilation = compile_with(&source, &path, &options, &mut GridCache::new()).unwrap();
+    let compilation = compile_with(&source, &path, &options, &mut Workspace::new()).unwrap();
     let capsules = &compilation.design.capsules;
     assert_eq!(capsules.len(), 2, "{capsules:?}");
     let junction = capsules.iter().find(|c| c.name == "junction").unwrap();

@@ -20,8 +20,10 @@ const TIMEOUT: Duration = Duration::from_secs(120);
 /// happened.
 const QUIET: Duration = Duration::from_millis(2500);
 
-/// Printed once per finished build, good or not.
+/// Printed once per finished build, good or not. A build that starts from the last design writes
+/// that early result first, saying the full search follows; that line does not end the build.
 const GOOD: &str = "  wrote ";
+const EARLY: &str = "now the full search";
 const BAD: &str = "the last good outputs are left as they were";
 
 /// A `ballast watch` process and everything it has printed so far (standard output and error
@@ -58,7 +60,11 @@ impl Watch {
     /// Builds finished so far, good and bad.
     fn builds(&self) -> usize {
         let output = self.output();
-        output.matches(GOOD).count() + output.matches(BAD).count()
+        let good = output
+            .lines()
+            .filter(|line| line.starts_with(GOOD) && !line.contains(EARLY))
+            .count();
+        good + output.matches(BAD).count()
     }
 
     /// Waits until `builds` builds have finished; returns the output from the start of the last
@@ -207,7 +213,7 @@ fn a_broken_save_keeps_the_outputs_and_fixing_it_rebuilds() {
         fixed.contains("now broken: `stand` in pose \"upright\""),
         "{fixed}"
     );
-    assert!(fixed.contains("distance grids: not needed"), "{fixed}");
+    assert!(fixed.contains("grids and skeletons: not needed"), "{fixed}");
     assert_ne!(outputs(folder.path()), good);
 }
 
@@ -258,51 +264,99 @@ fn a_rename_save_rebuilds_once_and_the_watched_set_follows_the_project() {
 }
 
 #[test]
-fn a_mesh_edit_rebuilds_the_grids_and_a_goal_edit_reuses_them() {
+fn a_mesh_edit_rebuilds_the_grids_and_a_goal_edit_reuses_them_and_starts_warm() {
     let (folder, project) = scratch(
         "optimize capsules=1\ncomponent \"T\" mesh=\"meshes/t_shape.obj\"\npose \"upright\" { stand margin=1 }\n",
     );
     let watch = Watch::start(&project, &[]);
     let first = watch.wait_builds(1);
     assert!(
-        first.contains("distance grids: 1 built (1 in the cache)"),
+        first.contains("grids and skeletons: 1 grid and 1 skeleton built (1 mesh in the cache)"),
         "{first}"
     );
+    assert!(!first.contains("from the last design"), "{first}");
     assert!(folder.path().join("model.solution.kdl").exists());
 
     save_by_rename(&project, "optimize capsules=1\ncomponent \"T\" mesh=\"meshes/t_shape.obj\"\npose \"upright\" { stand margin=2 }\n");
     let goal = watch.wait_builds(2);
+    // The early result from the last design, then the full search; neither samples anything.
     assert!(
-        goal.contains("distance grids: reused (1 in the cache)"),
+        goal.contains("model.kdl (from the last design): 1 of 1 goal met"),
         "{goal}"
     );
+    assert_eq!(
+        goal.matches("grids and skeletons: reused (1 mesh in the cache)")
+            .count(),
+        2,
+        "{goal}"
+    );
+    let settled = outputs_with_solution(folder.path());
 
+    // Once quiet, the outputs are exactly what `build` writes.
+    drop(watch);
+    let built = Command::new(env!("CARGO_BIN_EXE_ballast"))
+        .arg("build")
+        .arg(&project)
+        .output()
+        .unwrap();
+    assert!(built.status.success(), "{built:?}");
+    assert_eq!(outputs_with_solution(folder.path()), settled);
+
+    let watch = Watch::start(&project, &[]);
+    watch.wait_builds(1);
     touch_mesh(&folder.path().join("meshes/t_shape.obj"), 1.0);
-    let mesh = watch.wait_builds(3);
+    let mesh = watch.wait_builds(2);
     assert!(mesh.contains("t_shape.obj"), "{mesh}");
+    // A new mesh: nothing to start warm from, and the old mesh's grid is dropped.
+    assert!(!mesh.contains("from the last design"), "{mesh}");
     assert!(
-        mesh.contains("distance grids: 1 built (2 in the cache)"),
+        mesh.contains("grids and skeletons: 1 grid and 1 skeleton built (1 mesh in the cache)"),
         "{mesh}"
     );
 }
 
+/// [`outputs`] and the solution file.
+fn outputs_with_solution(folder: &Path) -> Vec<(PathBuf, Vec<u8>)> {
+    let mut files = outputs(folder);
+    let solution = folder.join("model.solution.kdl");
+    files.push((solution.clone(), fs::read(&solution).unwrap_or_default()));
+    files
+}
+
 #[test]
-fn saves_during_a_build_give_one_build_after_it() {
-    let optimized = |margin: u32| {
+fn a_save_during_a_build_cancels_it_and_the_newest_version_is_built() {
+    let optimized = |optimize: &str, margin: u32| {
         format!(
-            "optimize capsules=1\ncomponent \"T\" mesh=\"meshes/t_shape.obj\"\npose \"upright\" {{ stand margin={margin} }}\n"
+            "{optimize}\ncomponent \"T\" mesh=\"meshes/t_shape.obj\"\npose \"upright\" {{ stand margin={margin} }}\n"
         )
     };
-    let (_folder, project) = scratch(&optimized(1));
+    // A grid of 1.6 million nodes: minutes of sampling unless the build gives up.
+    let slow = "optimize capsules=1 grid-cell=0.4";
+    let (_folder, project) = scratch(&optimized(slow, 1));
     let watch = Watch::start(&project, &[]);
-    // The first build optimizes, which takes seconds: save twice while it runs.
     watch.wait_for("building model.kdl");
-    save_by_rename(&project, &optimized(2));
-    save_by_rename(&project, &optimized(40));
-    // Whichever version the first build read, the last one is built once more, after it.
-    let second = watch.wait_builds(2);
-    assert!(second.contains("model.kdl: 0 of 1 goal met"), "{second}");
-    watch.assert_quiet(2);
+    save_by_rename(&project, &optimized("optimize capsules=1", 2));
+    save_by_rename(&project, &optimized("optimize capsules=1", 40));
+    watch.wait_builds(1);
+    let output = watch.output();
+    let cancelled = output.find("cancelled by a newer change");
+    assert!(
+        cancelled.is_some_and(|at| !output[..at].contains(GOOD)),
+        "{output}"
+    );
+    // Whichever saves the first rebuild saw, the last version is the one built in the end.
+    watch.wait_for("model.kdl: 0 of 1 goal met");
+    let builds = watch.settle();
+    assert!(
+        watch.output().ends_with(&last_build(&watch.output())),
+        "{}",
+        watch.output()
+    );
+    assert!(
+        last_build(&watch.output()).contains("model.kdl: 0 of 1 goal met"),
+        "{builds} builds: {}",
+        watch.output()
+    );
 }
 
 #[cfg(unix)]

@@ -3,16 +3,19 @@
 
 use std::path::{Path, PathBuf};
 
-use super::{compile_file, file_name, goals_status, table, EXIT_INVALID};
+use super::{compile_file, file_name, goals_status, progress, table, EXIT_INVALID};
 use crate::compile::{
-    output_path, solution_text, Compilation, CompileOptions, DesignSource, Report,
+    output_path, solution_text, Compilation, CompileOptions, DesignSource, Report, Workspace,
 };
 use crate::emit::{write_atomic, write_glb};
-use crate::optimize::GridCache;
 
 /// Builds the project at `path` as `options` say.
 pub fn run(path: &Path, options: &CompileOptions) -> i32 {
-    let Some(compilation) = compile_file(path, options, &mut GridCache::new()) else {
+    let mut workspace = Workspace {
+        progress: progress::on_terminal(),
+        ..Workspace::new()
+    };
+    let Ok(compilation) = compile_file(path, options, &mut workspace) else {
         return EXIT_INVALID;
     };
     let written = match write_outputs(&compilation, path, options) {

@@ -3,12 +3,11 @@
 use std::path::Path;
 
 use super::{compile_file, file_name, goals_status, table, EXIT_INVALID};
-use crate::compile::{CompileOptions, Report};
-use crate::optimize::GridCache;
+use crate::compile::{CompileOptions, Report, Workspace};
 
 /// Checks the project at `path`; prints the summary table, or the report when `json`.
 pub fn run(path: &Path, json: bool, options: &CompileOptions) -> i32 {
-    let Some(compilation) = compile_file(path, options, &mut GridCache::new()) else {
+    let Ok(compilation) = compile_file(path, options, &mut Workspace::new()) else {
         return EXIT_INVALID;
     };
     if json {

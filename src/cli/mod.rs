@@ -7,6 +7,7 @@ mod args;
 mod build;
 mod check;
 mod diagnostics;
+mod progress;
 mod table;
 mod watch;
 
@@ -16,8 +17,10 @@ use clap::Parser;
 
 pub use args::{Cli, Command, OptimizeArgs, Solver};
 
-use crate::compile::{compile_with, Compilation, CompileOptions, OptimizeOptions};
-use crate::optimize::{GridCache, Method};
+use crate::compile::{
+    compile_with, Compilation, CompileOptions, Failure, OptimizeOptions, Workspace,
+};
+use crate::optimize::Method;
 
 /// Every goal of every pose is met.
 pub const EXIT_MET: i32 = 0;
@@ -78,27 +81,37 @@ fn optimize_options(out_dir: Option<std::path::PathBuf>, args: &OptimizeArgs) ->
             },
             capsules: args.capsules,
             exhaustive: args.exhaustive,
+            warm_start: None,
         }),
     }
 }
 
-/// Reads and compiles the project at `path` as `options` say, taking distance grids from `cache`
-/// when it has them, and printing every diagnostic (warnings too) to standard error. `None` when
-/// the project is invalid or unreadable.
+/// Why [`compile_file`] gave no compilation.
+enum NotCompiled {
+    /// The project is unreadable or invalid; its diagnostics were printed.
+    Invalid,
+    /// The workspace's cancel flag was set.
+    Cancelled,
+}
+
+/// Reads and compiles the project at `path` as `options` say, in `workspace` (its cache, cancel
+/// flag and progress), printing every diagnostic (warnings too) to standard error.
 fn compile_file(
     path: &Path,
     options: &CompileOptions,
-    cache: &mut GridCache,
-) -> Option<Compilation> {
+    workspace: &mut Workspace,
+) -> Result<Compilation, NotCompiled> {
     let source = match std::fs::read_to_string(path) {
         Ok(source) => source,
         Err(error) => {
             eprintln!("error: cannot read {}: {error}", path.display());
-            return None;
+            return Err(NotCompiled::Invalid);
         }
     };
     let name = path.display().to_string();
-    match compile_with(&source, path, options, cache) {
+    let compiled = compile_with(&source, path, options, workspace);
+    progress::clear(workspace);
+    match compiled {
         Ok(compilation) => {
             if !compilation.warnings.is_empty() {
                 eprint!(
@@ -106,9 +119,10 @@ fn compile_file(
                     diagnostics::render_for_terminal(&compilation.warnings, &name, &source)
                 );
             }
-            Some(compilation)
+            Ok(compilation)
         }
-        Err(problems) => {
+        Err(Failure::Cancelled) => Err(NotCompiled::Cancelled),
+        Err(Failure::Invalid(problems)) => {
             eprint!(
                 "{}",
                 diagnostics::render_for_terminal(&problems, &name, &source)
@@ -118,7 +132,7 @@ fn compile_file(
                 "error: {name} is invalid: {errors} error{}",
                 if errors == 1 { "" } else { "s" }
             );
-            None
+            Err(NotCompiled::Invalid)
         }
     }
 }

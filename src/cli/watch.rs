@@ -1,5 +1,11 @@
 //! `ballast watch`: build, then rebuild on every change to the project file or its meshes, with
-//! one grid cache for the whole session, printing a short summary of each build.
+//! one workspace (grid and skeleton cache) for the whole session, printing a short summary of
+//! each build.
+//!
+//! After an edit that leaves the meshes alone, a rebuild first optimizes from the last design
+//! (a warm start) and writes that at once; it then runs the same full search `build` runs and
+//! writes its result, so once the session is quiet the outputs are exactly `build`'s. A newer
+//! save cancels either step.
 
 use std::collections::BTreeSet;
 use std::fmt::Write;
@@ -7,9 +13,10 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use super::build::write_outputs;
-use super::{compile_file, file_name, EXIT_INVALID, EXIT_MET};
-use crate::compile::{Compilation, CompileOptions};
-use crate::optimize::GridCache;
+use super::{compile_file, file_name, progress, NotCompiled, EXIT_INVALID, EXIT_MET};
+use crate::cancel::Cancel;
+use crate::compile::{Compilation, CompileOptions, WarmStart, Workspace};
+use crate::optimize::Built;
 use crate::spec::parse_project;
 use crate::watch::{self, differences, list, referenced_files, shown, Snapshot};
 
@@ -18,7 +25,10 @@ pub fn run(path: &Path, options: &CompileOptions) -> i32 {
     let mut session = Session {
         path,
         options,
-        cache: GridCache::new(),
+        workspace: Workspace {
+            progress: progress::on_terminal(),
+            ..Workspace::new()
+        },
         last: None,
         files: referenced_files(path, None),
     };
@@ -26,7 +36,7 @@ pub fn run(path: &Path, options: &CompileOptions) -> i32 {
     session.follow_parsed();
     println!("watching {}; Ctrl-C to stop", file_name(path));
     let files = session.files.clone();
-    match watch::run(files, |changed| session.rebuild(changed)) {
+    match watch::run(files, |changed, cancel| session.rebuild(changed, cancel)) {
         Ok(()) => {
             println!("stopped watching {}", file_name(path));
             EXIT_MET
@@ -42,17 +52,33 @@ pub fn run(path: &Path, options: &CompileOptions) -> i32 {
 struct Session<'a> {
     path: &'a Path,
     options: &'a CompileOptions,
-    /// Distance grids, reused while the meshes stay the same.
-    cache: GridCache,
+    /// Grids and skeletons, reused while the meshes stay the same.
+    workspace: Workspace,
     /// The last good build.
-    last: Option<Snapshot>,
+    last: Option<Last>,
     /// The files the project referenced when last read.
     files: BTreeSet<PathBuf>,
 }
 
+/// The last good build: what the summary compares with, and where the next optimization starts.
+struct Last {
+    snapshot: Snapshot,
+    design: WarmStart,
+}
+
+/// How one step of a rebuild ended.
+enum Step {
+    /// Built and written.
+    Written(Box<Compilation>),
+    /// Nothing written: invalid, cancelled or not writable (already said).
+    Stopped,
+}
+
 impl Session<'_> {
-    /// Builds after `changed` changed (nothing: the first build); returns the files to watch.
-    fn rebuild(&mut self, changed: &[PathBuf]) -> BTreeSet<PathBuf> {
+    /// Builds after `changed` changed (nothing: the first build) unless `cancel` is set first;
+    /// returns the files to watch.
+    fn rebuild(&mut self, changed: &[PathBuf], cancel: &Cancel) -> BTreeSet<PathBuf> {
+        self.workspace.cancel = cancel.clone();
         let name = file_name(self.path);
         println!();
         if changed.is_empty() {
@@ -61,45 +87,88 @@ impl Session<'_> {
             let changed: BTreeSet<PathBuf> = changed.iter().cloned().collect();
             println!("changed: {}; rebuilding {name}", list(&changed));
         }
-        let grids_before = self.cache.len();
-        let start = Instant::now();
-        let compiled = compile_file(self.path, self.options, &mut self.cache);
-        let compile_seconds = start.elapsed().as_secs_f64();
-        let Some(compilation) = compiled else {
-            println!("{name} is invalid: the last good outputs are left as they were");
-            self.follow_parsed();
+        let warm = self.last.as_ref().map(|last| last.design.clone());
+        let Step::Written(first) = self.step(warm) else {
             return self.files.clone();
         };
+        let warm_started = first
+            .optimization
+            .as_ref()
+            .is_some_and(|optimization| optimization.warm_started);
+        let done = if warm_started {
+            match self.step(None) {
+                Step::Written(full) => full,
+                Step::Stopped => return self.files.clone(),
+            }
+        } else {
+            first
+        };
+        self.last = Some(Last {
+            snapshot: Snapshot::new(&done),
+            design: WarmStart::new(&done.meshes, done.design.clone()),
+        });
+        self.files.clone()
+    }
+
+    /// Compiles (from `warm`, when given), writes and prints a summary.
+    fn step(&mut self, warm: Option<WarmStart>) -> Step {
+        let name = file_name(self.path);
+        let mut options = self.options.clone();
+        if let Some(optimize) = &mut options.optimize {
+            optimize.warm_start = warm;
+        }
+        self.workspace.cache.start_build();
+        let start = Instant::now();
+        let compiled = compile_file(self.path, &options, &mut self.workspace);
+        let compile_seconds = start.elapsed().as_secs_f64();
+        let compilation = match compiled {
+            Ok(compilation) => compilation,
+            Err(NotCompiled::Invalid) => {
+                println!("{name} is invalid: the last good outputs are left as they were");
+                self.follow_parsed();
+                return Step::Stopped;
+            }
+            Err(NotCompiled::Cancelled) => {
+                println!(
+                    "cancelled by a newer change: the last good outputs are left as they were"
+                );
+                return Step::Stopped;
+            }
+        };
+        // Only what this build used stays cached.
+        self.workspace.cache.prune();
         self.files = referenced_files(self.path, Some(&compilation.project));
         let write_start = Instant::now();
-        let written = match write_outputs(&compilation, self.path, self.options) {
+        let written = match write_outputs(&compilation, self.path, &options) {
             Ok(written) => written,
             Err(message) => {
                 eprintln!("error: {message}");
                 println!(
                     "{name} built but not written: the last good outputs are left as they were"
                 );
-                return self.files.clone();
+                return Step::Stopped;
             }
         };
         let write_seconds = write_start.elapsed().as_secs_f64();
-        let snapshot = Snapshot::new(&compilation);
         print!(
             "{}",
             summary(&SummaryInput {
                 name: &name,
                 compilation: &compilation,
-                snapshot: &snapshot,
-                last: self.last.as_ref(),
-                grids_built: self.cache.len().saturating_sub(grids_before),
-                grids_held: self.cache.len(),
+                snapshot: &Snapshot::new(&compilation),
+                last: self.last.as_ref().map(|last| &last.snapshot),
+                built: self.workspace.cache.built(),
+                held: self.workspace.cache.len(),
                 compile_seconds,
                 write_seconds,
                 written: &written,
+                warm_started: compilation
+                    .optimization
+                    .as_ref()
+                    .is_some_and(|optimization| optimization.warm_started),
             })
         );
-        self.last = Some(snapshot);
-        self.files.clone()
+        Step::Written(Box::new(compilation))
     }
 
     /// Follows the files the project names if it can be parsed (before the first build, after
@@ -119,11 +188,13 @@ struct SummaryInput<'a> {
     compilation: &'a Compilation,
     snapshot: &'a Snapshot,
     last: Option<&'a Snapshot>,
-    grids_built: usize,
-    grids_held: usize,
+    built: Built,
+    held: usize,
     compile_seconds: f64,
     write_seconds: f64,
     written: &'a [PathBuf],
+    /// Optimized from the last design: the full search follows.
+    warm_started: bool,
 }
 
 /// The few lines printed after a good build.
@@ -131,9 +202,14 @@ fn summary(input: &SummaryInput) -> String {
     let mut out = String::new();
     let snapshot = input.snapshot;
     let (met, total) = snapshot.goals_met();
+    let from = if input.warm_started {
+        " (from the last design)"
+    } else {
+        ""
+    };
     let _ = write!(
         out,
-        "{}: {met} of {total} goal{} met, {} capsule{}",
+        "{}{from}: {met} of {total} goal{} met, {} capsule{}",
         input.name,
         plural(total),
         snapshot.capsules,
@@ -157,12 +233,32 @@ fn summary(input: &SummaryInput) -> String {
         }
     }
     let optimization = input.compilation.optimization.as_ref();
-    let grids = match (optimization, input.grids_built) {
+    let precompute = match (optimization, input.built) {
         (None, _) => "not needed (the design is not optimized)".to_string(),
-        (Some(_), 0) => format!("reused ({} in the cache)", input.grids_held),
-        (Some(_), built) => format!("{built} built ({} in the cache)", input.grids_held),
+        (
+            Some(_),
+            Built {
+                grids: 0,
+                skeletons: 0,
+            },
+        ) => {
+            format!(
+                "reused ({} mesh{} in the cache)",
+                input.held,
+                plural_es(input.held)
+            )
+        }
+        (Some(_), built) => format!(
+            "{} grid{} and {} skeleton{} built ({} mesh{} in the cache)",
+            built.grids,
+            plural(built.grids),
+            built.skeletons,
+            plural(built.skeletons),
+            input.held,
+            plural_es(input.held)
+        ),
     };
-    let _ = writeln!(out, "  distance grids: {grids}");
+    let _ = writeln!(out, "  grids and skeletons: {precompute}");
     let stages = match optimization {
         Some(optimization) => format!(
             " (precompute {:.2} s, optimizer {:.2} s)",
@@ -183,7 +279,11 @@ fn summary(input: &SummaryInput) -> String {
         .iter()
         .map(|path| shown(&watch::watch_key(path)).display().to_string())
         .collect();
-    let _ = writeln!(out, "  wrote {}", written.join(", "));
+    let _ = write!(out, "  wrote {}", written.join(", "));
+    if input.warm_started {
+        out.push_str("; now the full search, as `build` runs it");
+    }
+    out.push('\n');
     out
 }
 
@@ -192,5 +292,13 @@ fn plural(count: usize) -> &'static str {
         ""
     } else {
         "s"
+    }
+}
+
+fn plural_es(count: usize) -> &'static str {
+    if count == 1 {
+        ""
+    } else {
+        "es"
     }
 }

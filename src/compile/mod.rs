@@ -15,6 +15,7 @@ mod optimize;
 mod report;
 mod scene;
 mod solution;
+mod workspace;
 
 use std::path::{Path, PathBuf};
 
@@ -22,16 +23,16 @@ pub use design::hand_placed_design;
 pub use meshes::load_components;
 pub use optimize::{
     length_decimals, optimize_design, prepare, CandidateReport, Optimization, OptimizeOptions,
-    Preparation, SeedReport, Timings,
+    Preparation, SeedReport, Timings, WarmStart,
 };
 pub use report::{Report, REPORT_FORMAT};
 pub use solution::{read_solution, solution_text};
+pub use workspace::{Failure, Stage, Workspace};
 
 use crate::balance::{evaluate_pose, BallRest, ComponentBody, PoseEvaluation};
 use crate::design::Design;
 use crate::diagnostic::Problem;
 use crate::geometry::{MassProperties, TriMesh};
-use crate::optimize::GridCache;
 use crate::spec::model::Project;
 use crate::spec::parse_project;
 
@@ -90,27 +91,28 @@ impl Compilation {
 /// Compiles the project file text `source`, read from `project_path`, without optimizing: the
 /// design is the written capsules, or the solution file for a project with `optimize`.
 pub fn compile(source: &str, project_path: &Path) -> Result<Compilation, Vec<Problem>> {
-    compile_with(
-        source,
-        project_path,
-        &CompileOptions::default(),
-        &mut GridCache::new(),
-    )
+    let options = CompileOptions::default();
+    match compile_with(source, project_path, &options, &mut Workspace::new()) {
+        Ok(compilation) => Ok(compilation),
+        Err(Failure::Invalid(problems)) => Err(problems),
+        Err(Failure::Cancelled) => unreachable!("nobody holds the fresh workspace's cancel flag"),
+    }
 }
 
 /// Compiles the project file text `source`, read from `project_path` (mesh and output paths are
-/// relative to its folder), as `options` say; distance grids come from `cache` when it has them.
-/// On an invalid project, returns every problem found, warnings included.
+/// relative to its folder), as `options` say; grids and skeletons come from the workspace's cache
+/// when it has them. On an invalid project, fails with every problem found, warnings included;
+/// when the workspace's cancel flag is set before the build is done, fails as cancelled.
 pub fn compile_with(
     source: &str,
     project_path: &Path,
     options: &CompileOptions,
-    cache: &mut GridCache,
-) -> Result<Compilation, Vec<Problem>> {
+    workspace: &mut Workspace,
+) -> Result<Compilation, Failure> {
     let parsed = parse_project(source, project_path);
     let mut problems = parsed.problems;
     let Some(project) = parsed.project else {
-        return Err(problems);
+        return Err(Failure::Invalid(problems));
     };
     let (meshes, mesh_problems) = load_components(&project);
     problems.extend(mesh_problems);
@@ -121,12 +123,14 @@ pub fn compile_with(
     }
     let meshes = match meshes {
         Some(meshes) if !problems.iter().any(Problem::is_error) => meshes,
-        _ => return Err(problems),
+        _ => return Err(Failure::Invalid(problems)),
     };
     let (design, source, optimization) = match (&project.optimize, &options.optimize) {
         (None, _) => (written, DesignSource::Written, None),
         (Some(settings), Some(run)) => {
-            let (design, optimization) = optimize_design(&project, settings, &meshes, run, cache);
+            let (design, optimization) =
+                optimize_design(&project, settings, &meshes, run, workspace)
+                    .ok_or(Failure::Cancelled)?;
             (design, DesignSource::Optimized, Some(optimization))
         }
         (Some(_), None) => {
@@ -139,7 +143,7 @@ pub fn compile_with(
                 }
                 Err(solution_problems) => {
                     problems.extend(solution_problems);
-                    return Err(problems);
+                    return Err(Failure::Invalid(problems));
                 }
             }
         }

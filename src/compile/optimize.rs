@@ -6,12 +6,13 @@ use std::time::Instant;
 
 use serde::Serialize;
 
+use super::workspace::{Stage, Workspace};
 use crate::design::Design;
-use crate::geometry::{Skeleton, TriMesh};
+use crate::geometry::{DistanceGrid, Skeleton, TriMesh};
 use crate::objective::{GridInterior, Parameters};
 use crate::optimize::{
-    choose, default_cell, explain_conflicts, rank, run_heuristic, skeleton_seeds, Candidate,
-    Conflict, GoalRef, GridCache, Method, Outcome, Problem, Ranking, SeedSite, StartCapsule,
+    choose, content_hash, default_cell, explain_conflicts, rank, run_heuristic, skeleton_seeds,
+    Candidate, Conflict, GoalRef, Method, Outcome, Problem, Ranking, SeedSite, StartCapsule,
 };
 use crate::spec::model::{Optimize, Project};
 
@@ -24,6 +25,38 @@ pub struct OptimizeOptions {
     pub capsules: Option<usize>,
     /// Random starts per capsule count to rank the heuristic's result against (0: none).
     pub exhaustive: usize,
+    /// Start from this earlier design instead of the skeleton seeds, when the meshes are the
+    /// ones it was made for (watch mode, after an edit that left the geometry alone).
+    pub warm_start: Option<WarmStart>,
+}
+
+/// An earlier design of the same project and the meshes it was made for.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WarmStart {
+    /// The [`content_hash`] of each component's mesh, in component order.
+    pub meshes: Vec<u64>,
+    /// The capsules and infill.
+    pub design: Design,
+}
+
+impl WarmStart {
+    /// `design`, made for `meshes`.
+    pub fn new(meshes: &[TriMesh], design: Design) -> WarmStart {
+        WarmStart {
+            meshes: meshes.iter().map(content_hash).collect(),
+            design,
+        }
+    }
+
+    /// Whether it was made for exactly these meshes.
+    pub fn fits(&self, meshes: &[TriMesh]) -> bool {
+        self.meshes.len() == meshes.len()
+            && self
+                .meshes
+                .iter()
+                .zip(meshes)
+                .all(|(&h, m)| h == content_hash(m))
+    }
 }
 
 /// What the optimizer did: every capsule count tried and which one was chosen.
@@ -37,6 +70,9 @@ pub struct Optimization {
     pub meets_goals: bool,
     /// The tolerance of the choice, degrees.
     pub tolerance: f64,
+    /// Whether the heuristic started from the previous build's design (watch mode) rather than
+    /// from the skeleton seeds.
+    pub warm_started: bool,
     /// Every capsule count the heuristic tried, most capsules first.
     pub candidates: Vec<CandidateReport>,
     /// Every skeleton segment's midpoint and whether a capsule was seeded there.
@@ -121,82 +157,145 @@ pub struct Preparation {
     /// One distance grid per component, in component order.
     pub interior: Arc<GridInterior>,
     /// The written capsules (pinned or not), then, unless some written capsule is unpinned, one
-    /// seed per skeleton segment deep enough inside its component.
+    /// seed per skeleton segment deep enough inside its component. From a warm start: the pinned
+    /// written capsules, then the earlier design's other capsules.
     pub seeds: Vec<StartCapsule>,
     /// Every skeleton segment's midpoint and whether it was seeded (empty when the written
-    /// capsules are the seeds).
+    /// capsules or a warm start are the seeds).
     pub sites: Vec<SeedSite>,
 }
 
-/// The precomputation of the optimizer: distance grids (from `cache` when it holds them, at the
-/// project's `grid-cell` or [`default_cell`]), skeletons thinned on them, and the seeds.
+/// The precomputation of the optimizer: distance grids (from the workspace's cache when it holds
+/// them, at the project's `grid-cell` or [`default_cell`]), then the seeds: from `warm` when
+/// given, else from skeletons thinned on the grids. `None` when the workspace was cancelled.
 pub fn prepare(
     project: &Project,
     settings: &Optimize,
     meshes: &[TriMesh],
-    cache: &mut GridCache,
-) -> Preparation {
+    workspace: &mut Workspace,
+    warm: Option<&Design>,
+) -> Option<Preparation> {
     let parameters = Parameters::for_project(project);
-    let grids = meshes
+    let cells: Vec<f64> = meshes
         .iter()
         .map(|mesh| {
-            let cell = settings
+            settings
                 .grid_cell
-                .unwrap_or_else(|| default_cell(mesh, parameters.min_radius));
-            cache.grid(mesh, cell)
+                .unwrap_or_else(|| default_cell(mesh, parameters.min_radius))
         })
         .collect();
+    let mut grids = Vec::with_capacity(meshes.len());
+    for (index, (mesh, &cell)) in meshes.iter().zip(&cells).enumerate() {
+        if !workspace.cache.holds_grid(mesh, cell) {
+            workspace.report(Stage::Grid {
+                component: project.component_name(index).to_string(),
+                nodes: DistanceGrid::node_count(mesh, cell),
+            });
+        }
+        grids.push(workspace.cache.grid(mesh, cell, &workspace.cancel)?);
+    }
     let interior = Arc::new(GridInterior { grids });
     let mut seeds = written_capsules(project);
-    let sites = if seeds.iter().any(|c| !c.pinned) {
-        Vec::new()
-    } else {
-        let skeletons: Vec<Skeleton> = meshes
-            .iter()
-            .zip(&interior.grids)
-            .map(|(mesh, grid)| Skeleton::from_grid(mesh, grid))
-            .collect();
-        let (starts, sites) = skeleton_seeds(
-            &skeletons,
-            interior.as_ref(),
-            parameters.min_radius,
-            project.wall,
-        );
-        seeds.extend(starts);
-        sites
-    };
-    Preparation {
+    if let Some(design) = warm {
+        seeds.retain(|c| c.pinned);
+        seeds.extend(warm_capsules(design, &seeds));
+        return Some(Preparation {
+            interior,
+            seeds,
+            sites: Vec::new(),
+        });
+    }
+    if seeds.iter().any(|c| !c.pinned) {
+        return Some(Preparation {
+            interior,
+            seeds,
+            sites: Vec::new(),
+        });
+    }
+    let mut skeletons: Vec<Arc<Skeleton>> = Vec::with_capacity(meshes.len());
+    for (index, (mesh, &cell)) in meshes.iter().zip(&cells).enumerate() {
+        if !workspace.cache.holds_skeleton(mesh, cell) {
+            workspace.report(Stage::Skeleton {
+                component: project.component_name(index).to_string(),
+            });
+        }
+        skeletons.push(workspace.cache.skeleton(mesh, cell, &workspace.cancel)?);
+    }
+    let (starts, sites) = skeleton_seeds(
+        &skeletons,
+        interior.as_ref(),
+        parameters.min_radius,
+        project.wall,
+    );
+    seeds.extend(starts);
+    Some(Preparation {
         interior,
         seeds,
         sites,
-    }
+    })
 }
 
 /// Runs the optimizer on `project` (which has an `optimize` node) and returns the chosen design,
-/// rounded, with what the optimizer did. Grids come from `cache` when it holds them.
+/// rounded, with what the optimizer did; `None` when the workspace was cancelled.
+///
+/// With a warm start that fits the meshes, the heuristic starts from that design; when what it
+/// reaches misses a goal, the full search from the skeleton seeds runs too and the better choice
+/// is kept.
 pub fn optimize_design(
     project: &Project,
     settings: &Optimize,
     meshes: &[TriMesh],
     options: &OptimizeOptions,
-    cache: &mut GridCache,
-) -> (Design, Optimization) {
+    workspace: &mut Workspace,
+) -> Option<(Design, Optimization)> {
+    let warm = options
+        .warm_start
+        .as_ref()
+        .filter(|warm| warm.fits(meshes))
+        .map(|warm| &warm.design);
+    if let Some(design) = warm {
+        let optimized = optimize_from(project, settings, meshes, options, workspace, Some(design))?;
+        if optimized.1.meets_goals {
+            return Some(optimized);
+        }
+    }
+    optimize_from(project, settings, meshes, options, workspace, None)
+}
+
+/// [`optimize_design`] from the seeds [`prepare`] gives for `warm`.
+fn optimize_from(
+    project: &Project,
+    settings: &Optimize,
+    meshes: &[TriMesh],
+    options: &OptimizeOptions,
+    workspace: &mut Workspace,
+    warm: Option<&Design>,
+) -> Option<(Design, Optimization)> {
     let clock = Instant::now();
     let Preparation {
         interior,
         seeds,
         sites,
-    } = prepare(project, settings, meshes, cache);
+    } = prepare(project, settings, meshes, workspace, warm)?;
     let precompute = clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
-    let problem = Problem::new(project, meshes, interior.clone(), options.method);
+    let problem = Problem::new(project, meshes, interior.clone(), options.method)
+        .with_cancel(workspace.cancel.clone());
     let requested = options.capsules.or(settings.capsules);
-    let candidates = run_heuristic(&problem, &seeds, requested);
+    let candidates = run_heuristic(&problem, &seeds, requested, &|capsules| {
+        workspace.report(Stage::Round { capsules })
+    });
+    if problem.is_cancelled() || candidates.is_empty() {
+        return None;
+    }
     let heuristic = clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
     let exhaustive = if options.exhaustive > 0 {
+        workspace.report(Stage::Exhaustive {
+            starts: options.exhaustive,
+        });
         rank(
             &problem,
             interior.as_ref(),
@@ -218,6 +317,7 @@ pub fn optimize_design(
     let conflicts = if outcome.meets_goals {
         Vec::new()
     } else {
+        workspace.report(Stage::Conflicts);
         let unmet: Vec<GoalRef> = outcome
             .poses
             .iter()
@@ -231,17 +331,28 @@ pub fn optimize_design(
             })
             .collect();
         let starts = [seeds_for(&seeds, &candidates[chosen]), seeds.clone()];
-        explain_conflicts(project, meshes, &interior, &starts, &unmet)
-            .iter()
-            .map(|c| conflict_report(project, c))
-            .collect()
+        explain_conflicts(
+            project,
+            meshes,
+            &interior,
+            &starts,
+            &unmet,
+            &workspace.cancel,
+        )
+        .iter()
+        .map(|c| conflict_report(project, c))
+        .collect()
     };
+    if problem.is_cancelled() {
+        return None;
+    }
     let conflicts_seconds = clock.elapsed().as_secs_f64();
     let optimization = Optimization {
         requested,
         chosen: design.capsules.len(),
         meets_goals: outcome.meets_goals,
         tolerance: settings.tolerance_degrees,
+        warm_started: warm.is_some(),
         candidates: candidates.iter().map(candidate_report).collect(),
         seeds: sites
             .iter()
@@ -256,7 +367,7 @@ pub fn optimize_design(
             conflicts: conflicts_seconds,
         },
     };
-    (design, optimization)
+    Some((design, optimization))
 }
 
 /// Digits after the decimal point that keep lengths to about 10⁻⁴ of the model's extent.
@@ -285,6 +396,28 @@ fn written_capsules(project: &Project) -> Vec<StartCapsule> {
             radius: c.radius,
             pinned: c.pinned,
             name: Some(c.name.value.clone()),
+        })
+        .collect()
+}
+
+/// The capsules of an earlier design to start from, leaving out those named like a pinned
+/// written capsule (`pinned`: the written one is used as written).
+fn warm_capsules(design: &Design, pinned: &[StartCapsule]) -> Vec<StartCapsule> {
+    design
+        .capsules
+        .iter()
+        .filter(|c| {
+            !pinned
+                .iter()
+                .any(|p| p.name.as_deref() == Some(c.name.as_str()))
+        })
+        .map(|c| StartCapsule {
+            component: c.component,
+            from: c.from,
+            to: c.to,
+            radius: c.radius,
+            pinned: false,
+            name: Some(c.name.clone()),
         })
         .collect()
 }

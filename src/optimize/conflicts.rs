@@ -7,6 +7,7 @@ use serde::Serialize;
 
 use super::problem::{Problem, StartCapsule};
 use super::solver::Method;
+use crate::cancel::Cancel;
 use crate::geometry::TriMesh;
 use crate::objective::GridInterior;
 use crate::spec::model::Project;
@@ -41,6 +42,7 @@ pub fn explain(
     interior: &Arc<GridInterior>,
     starts: &[Vec<StartCapsule>],
     unmet: &[GoalRef],
+    cancel: &Cancel,
 ) -> Vec<Conflict> {
     let all: Vec<GoalRef> = project
         .poses
@@ -50,7 +52,8 @@ pub fn explain(
         .collect();
     let attempt = |goals: &[GoalRef]| -> (bool, f64) {
         let only = with_only(project, goals);
-        let problem = Problem::new(&only, meshes, interior.clone(), Method::Hybrid);
+        let problem = Problem::new(&only, meshes, interior.clone(), Method::Hybrid)
+            .with_cancel(cancel.clone());
         starts
             .iter()
             .map(|start| {

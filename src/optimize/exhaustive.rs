@@ -52,6 +52,9 @@ pub fn rank(
         let mut best: Option<(f64, Option<f64>)> = None;
         let mut meeting_goals = 0;
         for _ in 0..starts {
+            if problem.is_cancelled() {
+                return rankings;
+            }
             let mut start = pinned.clone();
             start.extend((0..free).map(|_| random_capsule(problem, interior, &mut random)));
             let outcome = problem.optimize(&start);

@@ -1,9 +1,9 @@
 //! The signed distance grids that keep capsules inside their components (eq. 15): their
-//! resolution, and a cache keyed by the mesh's content so an unchanged mesh is not sampled twice.
+//! resolution, and the content hash that names a mesh in the [`PrecomputeCache`].
+//!
+//! [`PrecomputeCache`]: super::PrecomputeCache
 
-use std::collections::HashMap;
 use std::hash::{Hash, Hasher};
-use std::sync::Arc;
 
 use crate::geometry::{DistanceGrid, TriMesh};
 
@@ -25,40 +25,6 @@ pub fn default_cell(mesh: &TriMesh, smallest_radius: f64) -> f64 {
         fine.max(coarse)
     } else {
         coarse.max(f64::MIN_POSITIVE)
-    }
-}
-
-/// Grids already built, keyed by a hash of the mesh's positions and triangles (their exact bits)
-/// and the node spacing. Reused across optimizations in one process (watch mode).
-#[derive(Debug, Default)]
-pub struct GridCache {
-    grids: HashMap<(u64, u64), Arc<DistanceGrid>>,
-}
-
-impl GridCache {
-    /// An empty cache.
-    pub fn new() -> GridCache {
-        GridCache::default()
-    }
-
-    /// The grid of `mesh` with spacing `cell`, built now unless an identical mesh was seen with
-    /// the same spacing.
-    pub fn grid(&mut self, mesh: &TriMesh, cell: f64) -> Arc<DistanceGrid> {
-        let key = (content_hash(mesh), cell.to_bits());
-        self.grids
-            .entry(key)
-            .or_insert_with(|| Arc::new(DistanceGrid::new(mesh, cell)))
-            .clone()
-    }
-
-    /// Number of grids held.
-    pub fn len(&self) -> usize {
-        self.grids.len()
-    }
-
-    /// Whether no grid is held.
-    pub fn is_empty(&self) -> bool {
-        self.grids.is_empty()
     }
 }
 

@@ -30,8 +30,16 @@ pub struct Candidate {
 /// `stop_at = Some(n)` it stops after the round with `n` capsules instead (seeds are split first
 /// if there are fewer than `n`).
 ///
-/// Returns one candidate per round, most capsules first.
-pub fn run(problem: &Problem, seeds: &[StartCapsule], stop_at: Option<usize>) -> Vec<Candidate> {
+/// `starting` hears each round's capsule count as the round starts.
+///
+/// Returns one candidate per round, most capsules first; when the problem is cancelled, the
+/// rounds finished before.
+pub fn run(
+    problem: &Problem,
+    seeds: &[StartCapsule],
+    stop_at: Option<usize>,
+    starting: &dyn Fn(usize),
+) -> Vec<Candidate> {
     let mut current = seeds.to_vec();
     if let Some(n) = stop_at {
         split_until(&mut current, n);
@@ -40,6 +48,7 @@ pub fn run(problem: &Problem, seeds: &[StartCapsule], stop_at: Option<usize>) ->
     // The survivors of the previous round where that round's optimization left them.
     let mut warm: Option<Vec<StartCapsule>> = None;
     loop {
+        starting(current.len());
         let clock = Instant::now();
         let mut outcome = problem.optimize(&current);
         if let Some(warm) = &warm {
@@ -54,12 +63,18 @@ pub fn run(problem: &Problem, seeds: &[StartCapsule], stop_at: Option<usize>) ->
                 let mut start: Vec<StartCapsule> =
                     current.iter().filter(|c| c.pinned).cloned().collect();
                 start.push(alone.clone());
+                if start == current {
+                    continue;
+                }
                 let tried = problem.optimize(&start);
                 if better(&tried, &outcome) {
                     outcome = tried;
                     current = start;
                 }
             }
+        }
+        if problem.is_cancelled() {
+            break;
         }
         let seconds = clock.elapsed().as_secs_f64();
         let growth: Vec<(usize, f64)> = current

@@ -2,6 +2,7 @@
 //! goals with the largest margin (paper section 4).
 
 mod bounds;
+mod cache;
 mod conflicts;
 mod exhaustive;
 mod grids;
@@ -11,9 +12,10 @@ mod seeds;
 mod solver;
 
 pub use bounds::design_bounds;
+pub use cache::{Built, PrecomputeCache};
 pub use conflicts::{explain as explain_conflicts, Conflict, GoalRef};
 pub use exhaustive::{rank, Ranking};
-pub use grids::{content_hash, default_cell, GridCache};
+pub use grids::{content_hash, default_cell};
 pub use heuristic::{choose, run as run_heuristic, Candidate};
 pub use problem::{Outcome, Problem, StartCapsule};
 pub use seeds::{skeleton_seeds, SeedSite};

@@ -8,6 +8,7 @@ use nalgebra::Point3;
 use super::bounds::design_bounds;
 use super::solver::{solve, Budget, Method, FEASIBLE};
 use crate::balance::{evaluate_pose, ComponentBody, GoalOutcome, PoseEvaluation};
+use crate::cancel::Cancel;
 use crate::design::{Design, PlacedCapsule};
 use crate::fabrication::{check_design, CapsuleIssue};
 use crate::geometry::TriMesh;
@@ -64,6 +65,7 @@ pub struct Problem<'a> {
     parameters: Parameters,
     method: Method,
     budget_per_unknown: usize,
+    cancel: Cancel,
 }
 
 impl<'a> Problem<'a> {
@@ -83,7 +85,19 @@ impl<'a> Problem<'a> {
             parameters: Parameters::for_project(project),
             method,
             budget_per_unknown: 100,
+            cancel: Cancel::new(),
         }
+    }
+
+    /// This problem, with every solve giving up soon after `cancel` is set.
+    pub fn with_cancel(mut self, cancel: Cancel) -> Problem<'a> {
+        self.cancel = cancel;
+        self
+    }
+
+    /// Whether the work on this problem was asked to stop: a solve reached since means nothing.
+    pub fn is_cancelled(&self) -> bool {
+        self.cancel.is_cancelled()
     }
 
     /// The project.
@@ -124,6 +138,7 @@ impl<'a> Problem<'a> {
         }
         let budget = Budget {
             evaluations: (self.budget_per_unknown * layout.len()).max(200),
+            cancel: self.cancel.clone(),
             ..Budget::default()
         };
         let solved = solve(&objective, &x0, &bounds, self.method, budget);

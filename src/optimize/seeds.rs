@@ -1,6 +1,8 @@
 //! Where the heuristic starts: a small capsule at the midpoint of every skeleton segment (section
 //! 4.5 b), plus the capsules written in the project file.
 
+use std::borrow::Borrow;
+
 use nalgebra::Point3;
 
 use super::problem::StartCapsule;
@@ -26,7 +28,7 @@ pub struct SeedSite {
 /// as it (and at least `2 · radius`), centred on the midpoint. `skeletons` is indexed like the
 /// components. Returns the capsules and every site, seeded or not, in component then segment order.
 pub fn skeleton_seeds(
-    skeletons: &[Skeleton],
+    skeletons: &[impl Borrow<Skeleton>],
     interior: &dyn InteriorDistance,
     radius: f64,
     wall: f64,
@@ -34,7 +36,7 @@ pub fn skeleton_seeds(
     let mut seeds = Vec::new();
     let mut sites = Vec::new();
     for (component, skeleton) in skeletons.iter().enumerate() {
-        for segment in &skeleton.segments {
+        for segment in &skeleton.borrow().segments {
             let midpoint = segment.midpoint();
             let depth = interior.distance(component, &midpoint).0;
             let seeded = depth >= radius + wall;

@@ -11,6 +11,8 @@
 
 use std::cell::RefCell;
 
+use crate::cancel::Cancel;
+
 use crate::objective::Objective;
 
 /// Which solver runs a local solve.
@@ -55,12 +57,15 @@ pub struct Solve {
 }
 
 /// Stops for a local solve.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct Budget {
     /// Most objective evaluations.
     pub evaluations: usize,
     /// Stop when the objective changes by less than this, relative.
     pub relative_tolerance: f64,
+    /// When set, the solve gives up at once: the solver sees a flat objective and returns within
+    /// a few trivial evaluations, and its result means nothing.
+    pub cancel: Cancel,
 }
 
 impl Default for Budget {
@@ -68,6 +73,7 @@ impl Default for Budget {
         Budget {
             evaluations: 400,
             relative_tolerance: 1e-6,
+            cancel: Cancel::new(),
         }
     }
 }
@@ -132,11 +138,12 @@ pub fn solve(
     budget: Budget,
 ) -> Solve {
     if method != Method::Hybrid {
-        return solve_by(objective, x0, bounds, method, budget);
+        return solve_by(objective, x0, bounds, method, &budget);
     }
-    let first = solve_by(objective, x0, bounds, Method::Slsqp, budget);
+    let first = solve_by(objective, x0, bounds, Method::Slsqp, &budget);
     let fixed = bounds.range.iter().all(|(lo, hi)| lo >= hi);
-    if fixed || (first.violation <= FEASIBLE && first.value <= 0.0) {
+    let met = first.violation <= FEASIBLE && first.value <= 0.0;
+    if fixed || met || budget.cancel.is_cancelled() {
         return first;
     }
     let from = if first.violation <= FEASIBLE {
@@ -144,7 +151,7 @@ pub fn solve(
     } else {
         x0
     };
-    let second = solve_by(objective, from, bounds, Method::Cobyla, budget);
+    let second = solve_by(objective, from, bounds, Method::Cobyla, &budget);
     let evaluations = first.evaluations + second.evaluations;
     let better = preferred(
         (second.value, second.violation),
@@ -157,15 +164,24 @@ pub fn solve(
     }
 }
 
+/// What a cancelled solve's solver sees everywhere: zero, with a zero gradient.
+fn flat(gradient: Option<&mut [f64]>) -> f64 {
+    if let Some(g) = gradient {
+        g.fill(0.0);
+    }
+    0.0
+}
+
 /// [`solve`] with one solver.
 fn solve_by(
     objective: &Objective,
     x0: &[f64],
     bounds: &Bounds,
     method: Method,
-    budget: Budget,
+    budget: &Budget,
 ) -> Solve {
     let n = objective.layout().len();
+    let cancelled = || budget.cancel.is_cancelled();
     let start: Vec<f64> = (0..n)
         .map(|i| {
             let (lo, hi) = bounds.range[i];
@@ -245,6 +261,9 @@ fn solve_by(
     };
     let m = norms.len();
     let constraint = |u: &[f64], k: usize, gradient: Option<&mut [f64]>| -> f64 {
+        if cancelled() {
+            return flat(gradient);
+        }
         constraints_at(u, gradients);
         let cache = cache.borrow();
         let (value, dx) = &cache.values[k];
@@ -275,6 +294,9 @@ fn solve_by(
         _ if free.is_empty() => (u0.clone(), true),
         Method::Slsqp | Method::Hybrid => {
             let f = |u: &[f64], gradient: Option<&mut [f64]>, _: &mut ()| -> f64 {
+                if cancelled() {
+                    return flat(gradient);
+                }
                 let x = to_x(u);
                 let value = match gradient {
                     Some(g) => {
@@ -320,7 +342,7 @@ fn solve_by(
             let mut previous: Option<(f64, f64)> = None;
             loop {
                 let used = tracker.borrow().evaluations;
-                if used >= budget.evaluations {
+                if used >= budget.evaluations || cancelled() {
                     break;
                 }
                 let outcome = slsqp::minimize(
@@ -353,6 +375,9 @@ fn solve_by(
         }
         Method::Cobyla => {
             let f = |u: &[f64], _: &mut ()| -> f64 {
+                if cancelled() {
+                    return 0.0;
+                }
                 let value = objective.value(&to_x(u));
                 record(u, value);
                 value
@@ -385,7 +410,9 @@ fn solve_by(
             }
         }
     };
-    record(&outcome_u, objective.value(&to_x(&outcome_u)));
+    if !cancelled() {
+        record(&outcome_u, objective.value(&to_x(&outcome_u)));
+    }
     let tracker = tracker.into_inner();
     let (u, value, violation) = tracker.best.unwrap_or((u0, f64::INFINITY, f64::INFINITY));
     Solve {

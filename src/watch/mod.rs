@@ -2,10 +2,11 @@
 //!
 //! [`run`] watches the folders holding the project file and its meshes (non-recursively, so an
 //! editor's save by rename or by delete and re-create keeps the watch), filters the debounced
-//! events by path ([`files`]), and calls a rebuild once per burst of changes: events that arrive
-//! while a rebuild runs are coalesced into one rebuild after it. The rebuild itself (compile,
-//! write, print) is the caller's: `ballast watch` passes one that shares `build`'s code path and
-//! keeps one grid cache for the session; [`changes`] says what changed between good builds.
+//! events by path ([`files`]), and calls a rebuild once per burst of changes. A change that
+//! arrives while a rebuild runs sets the rebuild's [`Cancel`] flag, so the rebuild gives up and
+//! the loop starts the next one with every change since. The rebuild itself (compile, write,
+//! print) is the caller's: `ballast watch` passes one that shares `build`'s code path and keeps
+//! one workspace for the session; [`changes`] says what changed between good builds.
 
 pub mod changes;
 pub mod files;
@@ -14,18 +15,21 @@ use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{channel, Receiver, TryRecvError};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use notify::{RecommendedWatcher, RecursiveMode};
 use notify_debouncer_full::{new_debouncer, DebounceEventResult, Debouncer, RecommendedCache};
 
+use crate::cancel::Cancel;
+
 pub use changes::{differences, Snapshot};
 pub use files::{is_change, referenced_files, touched, watch_key, watched_folders};
 
 /// How long the file system must be quiet before a burst of events becomes one rebuild: long
-/// enough to cover an editor's temp-file-and-rename save or a tool writing several files.
-pub const DEBOUNCE: Duration = Duration::from_millis(300);
+/// enough to cover an editor's temp-file-and-rename save or a tool writing several files (each
+/// takes a few milliseconds), short enough not to be felt.
+pub const DEBOUNCE: Duration = Duration::from_millis(100);
 
 /// The exit status when Ctrl-C is pressed a second time while a rebuild runs: stop at once.
 pub const EXIT_FORCED: i32 = 130;
@@ -37,43 +41,69 @@ enum Message {
 }
 
 /// Watches `files`, rebuilds once, then rebuilds after every burst of changes to the watched
-/// files, until Ctrl-C. `rebuild` gets the changed files (none for the first build) and returns
-/// the files the project now references (see [`referenced_files`]); the watched folders follow
-/// that set. Changes made during a build, the first one included, give one build after it.
-/// Returns when Ctrl-C was pressed; an error when watching cannot start.
+/// files, until Ctrl-C. `rebuild` gets the changed files (none for the first build) and a flag
+/// that is set when a watched file changes (or Ctrl-C is pressed) before it returns; it returns
+/// the files the project now references (see [`referenced_files`]), and the watched folders
+/// follow that set. Changes made during a build, the first one included, give one build after
+/// it. Returns when Ctrl-C was pressed; an error when watching cannot start.
 pub fn run(
     files: BTreeSet<PathBuf>,
-    mut rebuild: impl FnMut(&[PathBuf]) -> BTreeSet<PathBuf>,
+    mut rebuild: impl FnMut(&[PathBuf], &Cancel) -> BTreeSet<PathBuf>,
 ) -> Result<(), String> {
     let (sender, receiver) = channel();
     let stop_sender = sender.clone();
     let stopping = Arc::new(AtomicBool::new(false));
     let flag = stopping.clone();
+    let cancel = Cancel::new();
+    let cancel_on_stop = cancel.clone();
     if let Err(error) = ctrlc::set_handler(move || {
         if flag.swap(true, Ordering::SeqCst) {
             // A second Ctrl-C while a rebuild runs: do not wait for it.
             std::process::exit(EXIT_FORCED);
         }
+        cancel_on_stop.cancel();
         let _ = stop_sender.send(Message::Stop);
     }) {
         eprintln!("warning: cannot catch Ctrl-C ({error}); stop with a signal instead");
     }
+    // The debouncer's thread cancels the rebuild in flight as soon as a watched file changes,
+    // before the main loop hears of it.
+    let followed: Arc<Mutex<BTreeSet<PathBuf>>> = Arc::default();
+    let seen = followed.clone();
+    let cancel_on_change = cancel.clone();
     let mut debouncer = new_debouncer(DEBOUNCE, None, move |result: DebounceEventResult| {
+        if let Ok(events) = &result {
+            let files = seen.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+            let concerns_us = events
+                .iter()
+                .any(|event| is_change(&event.kind) && !touched(&event.paths, &files).is_empty());
+            if concerns_us {
+                cancel_on_change.cancel();
+            }
+        }
         let _ = sender.send(Message::Events(result));
     })
     .map_err(|error| format!("cannot watch files: {error}"))?;
 
-    let mut watched = Watched::default();
+    let mut watched = Watched {
+        shared: followed,
+        ..Watched::default()
+    };
     watched.follow(&mut debouncer, files);
     if watched.folders.is_empty() {
         return Err("cannot watch the project's folder".to_string());
     }
-    let files = rebuild(&[]);
+    let files = rebuild(&[], &cancel);
     watched.follow(&mut debouncer, files);
     loop {
+        if stopping.load(Ordering::SeqCst) {
+            return Ok(());
+        }
         let Ok(message) = receiver.recv() else {
             return Ok(());
         };
+        // Changes from here on cancel the coming rebuild; those before are part of it.
+        cancel.reset();
         let mut changed = BTreeSet::new();
         if !take(message, &watched.files, &mut changed) {
             return Ok(());
@@ -86,7 +116,7 @@ pub fn run(
             return Ok(());
         }
         let changed: Vec<PathBuf> = changed.into_iter().collect();
-        let files = rebuild(&changed);
+        let files = rebuild(&changed, &cancel);
         watched.follow(&mut debouncer, files);
         if stopping.load(Ordering::SeqCst) {
             return Ok(());
@@ -137,6 +167,8 @@ fn drain(
 struct Watched {
     files: BTreeSet<PathBuf>,
     folders: BTreeSet<PathBuf>,
+    /// The files, as the debouncer's thread sees them.
+    shared: Arc<Mutex<BTreeSet<PathBuf>>>,
 }
 
 impl Watched {
@@ -169,6 +201,10 @@ impl Watched {
         if files != self.files {
             println!("watching {}", list(&files));
         }
+        *self
+            .shared
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner()) = files.clone();
         self.files = files;
         self.folders = folders;
     }

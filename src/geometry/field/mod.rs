@@ -9,6 +9,7 @@ use nalgebra::{Point3, Vector3};
 
 use super::mesh::TriMesh;
 use super::tree::TriangleTree;
+use crate::cancel::Cancel;
 use fast_winding::WindingTree;
 use parallel::map_nodes;
 use tricubic::catmull_rom;
@@ -58,23 +59,31 @@ impl DistanceGrid {
     /// # Panics
     /// If `cell` is not positive and finite, or a triangle has an index out of range.
     pub fn new(mesh: &TriMesh, cell: f64) -> DistanceGrid {
+        DistanceGrid::new_unless(mesh, cell, &Cancel::new())
+            .unwrap_or_else(|| unreachable!("a flag nobody holds is never set"))
+    }
+
+    /// [`new`](Self::new), giving up (`None`) soon after `cancel` is set.
+    ///
+    /// # Panics
+    /// As [`new`](Self::new).
+    pub fn new_unless(mesh: &TriMesh, cell: f64, cancel: &Cancel) -> Option<DistanceGrid> {
         assert!(
             cell.is_finite() && cell > 0.0,
             "grid cell must be positive, got {cell}"
         );
         let bounds = mesh.bounding_box().filter(|_| !mesh.triangles.is_empty());
         let Some((lo, hi)) = bounds else {
-            return DistanceGrid {
+            return Some(DistanceGrid {
                 origin: Point3::origin(),
                 cell,
                 dims: [0; 3],
                 values: Vec::new(),
-            };
+            });
         };
         let margin = cell * MARGIN_CELLS as f64;
         let origin = lo - Vector3::repeat(margin);
-        let extent = hi - lo;
-        let dims = [0, 1, 2].map(|a| (extent[a] / cell).ceil() as usize + 2 * MARGIN_CELLS + 1);
+        let dims = node_dims(lo, hi, cell);
         let mut grid = DistanceGrid {
             origin,
             cell,
@@ -83,7 +92,15 @@ impl DistanceGrid {
         };
         let count = dims.iter().product();
         let tree = TriangleTree::new(mesh);
-        let distances = map_nodes(count, |i| tree.distance_to_point(&grid.node_at(i)));
+        let distances = map_nodes(count, |i| {
+            if cancel.is_cancelled() {
+                return f64::NAN;
+            }
+            tree.distance_to_point(&grid.node_at(i))
+        });
+        if cancel.is_cancelled() {
+            return None;
+        }
         let winding = WindingTree::new(&tree);
         let near = cell * 3f64.sqrt();
         let inside = sign::inside_nodes(dims, |i| grid.node_at(i), &distances, near, &winding);
@@ -92,7 +109,17 @@ impl DistanceGrid {
             .zip(&inside)
             .map(|(&d, &inside)| if inside { -d } else { d })
             .collect();
-        grid
+        (!cancel.is_cancelled()).then_some(grid)
+    }
+
+    /// Number of nodes [`new`](Self::new) samples for `mesh` at spacing `cell`.
+    pub fn node_count(mesh: &TriMesh, cell: f64) -> usize {
+        match mesh.bounding_box().filter(|_| !mesh.triangles.is_empty()) {
+            Some((lo, hi)) if cell.is_finite() && cell > 0.0 => {
+                node_dims(lo, hi, cell).iter().product()
+            }
+            _ => 0,
+        }
     }
 
     /// Node spacing, project units.
@@ -194,4 +221,9 @@ impl DistanceGrid {
         let [nx, ny, _] = self.dims;
         self.node([index % nx, (index / nx) % ny, index / (nx * ny)])
     }
+}
+/// Nodes along each axis for the box `lo`–`hi`: the box plus [`MARGIN_CELLS`] on every side.
+fn node_dims(lo: Point3<f64>, hi: Point3<f64>, cell: f64) -> [usize; 3] {
+    let extent = hi - lo;
+    [0, 1, 2].map(|a| (extent[a] / cell).ceil() as usize + 2 * MARGIN_CELLS + 1)
 }

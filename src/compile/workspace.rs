@@ -1,0 +1,92 @@
+//! What one process keeps from build to build, and how it steers the build in flight: the
+//! precompute cache, the cancel flag, and where progress goes.
+
+use crate::cancel::Cancel;
+use crate::diagnostic::Problem;
+use crate::optimize::PrecomputeCache;
+
+/// The state builds share in one process. `build` and `check` use a fresh one; watch mode keeps
+/// one for the whole session, so an unchanged mesh is never sampled twice.
+#[derive(Default)]
+pub struct Workspace {
+    /// Distance grids and skeletons already built.
+    pub cache: PrecomputeCache,
+    /// Set from another thread to stop the build in flight (watch mode: a newer save).
+    pub cancel: Cancel,
+    /// Told as each long stage starts; silent when `None`.
+    pub progress: Option<Box<dyn Fn(Stage) + Send>>,
+}
+
+impl Workspace {
+    /// An empty cache, a flag nobody sets, no progress.
+    pub fn new() -> Workspace {
+        Workspace::default()
+    }
+
+    /// Tells the progress sink that `stage` starts.
+    pub(crate) fn report(&self, stage: Stage) {
+        if let Some(progress) = &self.progress {
+            progress(stage);
+        }
+    }
+}
+
+/// A stage of a build that can take long, as it starts.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Stage {
+    /// Sampling the distance grid of a component: its name and node count.
+    Grid {
+        /// The component.
+        component: String,
+        /// Nodes to sample.
+        nodes: usize,
+    },
+    /// Thinning a component's grid to its skeleton.
+    Skeleton {
+        /// The component.
+        component: String,
+    },
+    /// One round of the capsule-count heuristic.
+    Round {
+        /// Capsules optimized in this round.
+        capsules: usize,
+    },
+    /// Random starts to rank the heuristic's result (`--exhaustive`).
+    Exhaustive {
+        /// Random starts per capsule count.
+        starts: usize,
+    },
+    /// Explaining the goals the chosen design misses.
+    Conflicts,
+}
+
+impl std::fmt::Display for Stage {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Stage::Grid { component, nodes } => {
+                write!(
+                    f,
+                    "sampling the distance grid of `{component}` ({nodes} nodes)"
+                )
+            }
+            Stage::Skeleton { component } => write!(f, "thinning the skeleton of `{component}`"),
+            Stage::Round { capsules } => write!(f, "optimizing {capsules} capsule(s)"),
+            Stage::Exhaustive { starts } => {
+                write!(
+                    f,
+                    "ranking against {starts} random starts per capsule count"
+                )
+            }
+            Stage::Conflicts => write!(f, "explaining the goals not met"),
+        }
+    }
+}
+
+/// Why a build produced nothing.
+#[derive(Debug)]
+pub enum Failure {
+    /// The project is invalid: every problem found, warnings included.
+    Invalid(Vec<Problem>),
+    /// The workspace's cancel flag was set before the build finished.
+    Cancelled,
+}
