@@ -1,0 +1,155 @@
+//! One workspace across builds, as watch mode keeps it: the cache skips precomputation for meshes
+//! it has seen, an earlier design warm-starts the optimizer only for the meshes it was made for,
+//! progress names the long stages, and a cancelled build gives nothing and caches nothing.
+
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+
+use ballast::compile::{
+    compile_with, Compilation, CompileOptions, Failure, OptimizeOptions, Stage, WarmStart,
+    Workspace,
+};
+
+fn t_shape() -> (PathBuf, String) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/t_shape.kdl");
+    let source = std::fs::read_to_string(&path).unwrap();
+    (path, source)
+}
+
+fn options(warm_start: Option<WarmStart>) -> CompileOptions {
+    CompileOptions {
+        out_dir: None,
+        optimize: Some(OptimizeOptions {
+            warm_start,
+            ..OptimizeOptions::default()
+        }),
+    }
+}
+
+/// A workspace whose progress is recorded in the returned list.
+fn recording() -> (Workspace, Arc<Mutex<Vec<Stage>>>) {
+    let stages: Arc<Mutex<Vec<Stage>>> = Arc::default();
+    let sink = stages.clone();
+    let workspace = Workspace {
+        progress: Some(Box::new(move |stage| sink.lock().unwrap().push(stage))),
+        ..Workspace::new()
+    };
+    (workspace, stages)
+}
+
+fn build(
+    source: &str,
+    path: &Path,
+    options: &CompileOptions,
+    workspace: &mut Workspace,
+) -> Compilation {
+    workspace.cache.start_build();
+    compile_with(source, path, options, workspace).unwrap_or_else(|f| panic!("{f:?}"))
+}
+
+fn taken(stages: &Arc<Mutex<Vec<Stage>>>) -> Vec<Stage> {
+    std::mem::take(&mut *stages.lock().unwrap())
+}
+
+#[test]
+fn a_goal_edit_reuses_the_precomputation_and_starts_from_the_last_design() {
+    let (path, source) = t_shape();
+    let (mut workspace, stages) = recording();
+    let first = build(&source, &path, &options(None), &mut workspace);
+    let cold = taken(&stages);
+    assert!(
+        matches!(&cold[..2], [Stage::Grid { component, nodes }, Stage::Skeleton { .. }] if component == "T" && *nodes > 0),
+        "{cold:?}"
+    );
+    let rounds: Vec<usize> = cold
+        .iter()
+        .filter_map(|stage| match stage {
+            Stage::Round { capsules } => Some(*capsules),
+            _ => None,
+        })
+        .collect();
+    assert!(
+        rounds.len() >= 2 && rounds.windows(2).all(|w| w[0] > w[1]),
+        "{rounds:?}"
+    );
+    assert_eq!(rounds.last(), Some(&0));
+    let optimization = first.optimization.as_ref().unwrap();
+    assert!(!optimization.warm_started && optimization.meets_goals);
+
+    // A larger margin asked of every pose: no sampling, no thinning, and the heuristic starts
+    // from the last design's capsules.
+    let stricter = source.replace("stand margin=2", "stand margin=4");
+    let warm = WarmStart::new(&first.meshes, first.design.clone());
+    let second = build(
+        &stricter,
+        &path,
+        &options(Some(warm.clone())),
+        &mut workspace,
+    );
+    let again = taken(&stages);
+    assert!(
+        again
+            .iter()
+            .all(|stage| matches!(stage, Stage::Round { .. })),
+        "{again:?}"
+    );
+    assert_eq!(
+        again.first(),
+        Some(&Stage::Round {
+            capsules: first.design.capsules.len()
+        })
+    );
+    let optimization = second.optimization.as_ref().unwrap();
+    assert!(optimization.warm_started && optimization.meets_goals);
+    assert!(optimization.seeds.is_empty());
+    assert_eq!(workspace.cache.built().grids, 0);
+
+    // The same warm start after the mesh moved does not fit: a cold start, and a new grid.
+    let folder = tempfile::tempdir().unwrap();
+    std::fs::create_dir(folder.path().join("meshes")).unwrap();
+    let obj = std::fs::read_to_string(path.with_file_name("meshes/t_shape.obj")).unwrap();
+    let moved: Vec<String> = obj
+        .lines()
+        .map(|line| match line.strip_prefix("v ") {
+            Some(rest) => {
+                let c: Vec<f64> = rest
+                    .split_whitespace()
+                    .map(|v| v.parse().unwrap())
+                    .collect();
+                format!("v {} {} {}", c[0] + 1.0, c[1], c[2])
+            }
+            None => line.to_string(),
+        })
+        .collect();
+    std::fs::write(folder.path().join("meshes/t_shape.obj"), moved.join("\n")).unwrap();
+    let elsewhere = folder.path().join("t_shape.kdl");
+    let third = build(&stricter, &elsewhere, &options(Some(warm)), &mut workspace);
+    assert!(!third.optimization.as_ref().unwrap().warm_started);
+    assert_eq!(workspace.cache.built().grids, 1);
+    assert!(matches!(taken(&stages).first(), Some(Stage::Grid { .. })));
+}
+
+#[test]
+fn a_cancelled_build_gives_nothing_and_caches_nothing() {
+    let (path, source) = t_shape();
+    let mut workspace = Workspace::new();
+    workspace.cancel.cancel();
+    let result = compile_with(&source, &path, &options(None), &mut workspace);
+    assert!(matches!(result, Err(Failure::Cancelled)), "{result:?}");
+    assert!(workspace.cache.is_empty());
+
+    // Reset, the same workspace builds.
+    workspace.cancel.reset();
+    let built = compile_with(&source, &path, &options(None), &mut workspace);
+    assert!(built.is_ok());
+    assert_eq!(workspace.cache.len(), 1);
+}
+
+#[test]
+fn a_build_that_is_not_optimized_reports_no_stage() {
+    let (path, source) = t_shape();
+    let (mut workspace, stages) = recording();
+    let checked = compile_with(&source, &path, &CompileOptions::default(), &mut workspace);
+    assert!(checked.is_ok());
+    assert!(taken(&stages).is_empty());
+}
