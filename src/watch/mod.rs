@@ -1,9 +1,10 @@
 //! Watch mode: rebuild a project whenever it or a file it references changes.
 //!
-//! [`run`] watches the folders holding the project file and its meshes (non-recursively, so an
-//! editor's save by rename or by delete and re-create keeps the watch), filters the debounced
-//! events by path ([`files`]), and calls a rebuild once per burst of changes: events that arrive
-//! while a rebuild runs are coalesced into one rebuild after it. The rebuild itself (compile,
+//! [`run`] watches the folders holding the project file, its meshes and the external buffers of
+//! its `.gltf` meshes (non-recursively, so an editor's save by rename or by delete and re-create
+//! keeps the watch), filters the debounced events by path ([`files`]), and calls a rebuild once
+//! per burst of changes: events that arrive while a rebuild runs are coalesced into one rebuild
+//! after it. The rebuild itself (compile,
 //! write, print) is the caller's: `ballast watch` passes one that shares `build`'s code path and
 //! keeps one grid cache for the session; [`changes`] says what changed between good builds.
 
