@@ -174,9 +174,14 @@ fn outputs(folder: &Path) -> Vec<(PathBuf, Vec<u8>)> {
 /// save this way so that a build never reads a half-written file (on a busy machine the debounce
 /// window can close between truncating a file and writing it).
 fn save_by_rename(path: &Path, text: &str) {
+    save_bytes_by_rename(path, text.as_bytes());
+}
+
+/// [`save_by_rename`] for any content.
+fn save_bytes_by_rename(path: &Path, bytes: &[u8]) {
     let name = path.file_name().unwrap().to_string_lossy();
     let temp = path.with_file_name(format!(".{name}.swp"));
-    fs::write(&temp, text).unwrap();
+    fs::write(&temp, bytes).unwrap();
     fs::rename(&temp, path).unwrap();
 }
 
@@ -431,6 +436,93 @@ fn touch_mesh(path: &Path, dx: f64) {
         })
         .collect();
     save_by_rename(path, &(moved.join("\n") + "\n"));
+}
+
+/// A project on the box of [`write_box`], with one hand-placed capsule.
+const BOX: &str = r#"
+component "box" mesh="meshes/box.gltf"
+capsule "keel" component="box" radius=4 {
+    from -8 0 10
+    to 8 0 10
+}
+pose "upright" { stand margin=1 }
+"#;
+
+/// Writes `box.gltf` into `folder`, its geometry in the external buffer `box.bin` (see
+/// [`box_bin`]), with a top face of half-width `top`.
+fn write_box(folder: &Path, top: f32) {
+    let gltf = r#"{
+  "asset": {"version": "2.0"},
+  "scene": 0,
+  "scenes": [{"nodes": [0]}],
+  "nodes": [{"mesh": 0}],
+  "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+  "buffers": [{"uri": "box.bin", "byteLength": 168}],
+  "bufferViews": [
+    {"buffer": 0, "byteOffset": 0, "byteLength": 96},
+    {"buffer": 0, "byteOffset": 96, "byteLength": 72}
+  ],
+  "accessors": [
+    {"bufferView": 0, "componentType": 5126, "count": 8, "type": "VEC3",
+     "min": [-20, -20, 0], "max": [20, 20, 40]},
+    {"bufferView": 1, "componentType": 5123, "count": 36, "type": "SCALAR"}
+  ]
+}"#;
+    fs::write(folder.join("box.gltf"), gltf).unwrap();
+    fs::write(folder.join("box.bin"), box_bin(top)).unwrap();
+}
+
+/// The buffer of the box of [`write_box`]: a square frustum 40 mm high on a 40 mm square base,
+/// whose top face has half-width `top` (20: a cube; less: tapered, same bounds), as 8 FLOAT
+/// positions then 36 u16 indices, counter-clockwise seen from outside.
+fn box_bin(top: f32) -> Vec<u8> {
+    let mut bytes = Vec::new();
+    // Vertex i has x from bit 0, y from bit 1, z from bit 2.
+    for i in 0..8 {
+        let (half, z) = if i & 4 == 0 { (20.0, 0.0) } else { (top, 40.0) };
+        let side = |bit: usize| if i & bit == 0 { -half } else { half };
+        for c in [side(1), side(2), z] {
+            bytes.extend_from_slice(&f32::to_le_bytes(c));
+        }
+    }
+    let triangles: [u16; 36] = [
+        0, 2, 3, 0, 3, 1, // z = 0
+        4, 5, 7, 4, 7, 6, // z = 40
+        0, 1, 5, 0, 5, 4, // y = -20
+        2, 6, 7, 2, 7, 3, // y = 20
+        0, 4, 6, 0, 6, 2, // x = -20
+        1, 3, 7, 1, 7, 5, // x = 20
+    ];
+    for index in triangles {
+        bytes.extend_from_slice(&index.to_le_bytes());
+    }
+    bytes
+}
+
+#[test]
+fn an_edit_to_an_external_gltf_buffer_rebuilds() {
+    let (folder, project) = scratch(BOX);
+    let meshes = folder.path().join("meshes");
+    write_box(&meshes, 20.0);
+    let watch = Watch::start(&project, &[]);
+    let first = watch.wait_builds(1);
+    assert!(
+        first.contains("model.kdl: 1 of 1 goal met, 1 capsule"),
+        "{first}"
+    );
+    watch.wait_for_line_containing("watching ", "box.bin");
+
+    // Only the buffer changes: the box tapers, its bounds stay, its centre of mass drops.
+    save_bytes_by_rename(&meshes.join("box.bin"), &box_bin(10.0));
+    let tapered = watch.wait_builds(2);
+    assert!(
+        tapered
+            .lines()
+            .any(|line| line.starts_with("changed: ") && line.contains("box.bin")),
+        "{tapered}"
+    );
+    assert!(tapered.contains(GOOD), "{tapered}");
+    assert!(tapered.contains("worst tilt margin: "), "{tapered}");
 }
 
 #[test]

@@ -1,7 +1,7 @@
 //! The bytes of a glTF file's buffers: the GLB binary chunk, `data:` URIs (base64) and external
-//! files relative to the glTF file.
+//! files relative to the glTF file; and, without reading them, which external files those are.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use base64::Engine;
 use gltf::Document;
@@ -42,33 +42,103 @@ pub(crate) fn resolve_buffers(
 }
 
 fn read_uri(uri: &str, base: &Path, index: usize) -> Result<Vec<u8>, LoadError> {
-    if let Some(data) = uri.strip_prefix("data:") {
-        let Some((_, payload)) = data.split_once(";base64,") else {
-            return Err(malformed(format!(
-                "buffer {index} has a data URI that is not base64"
-            )));
-        };
-        return base64::engine::general_purpose::STANDARD
-            .decode(payload)
-            .map_err(|e| malformed(format!("buffer {index} has a bad base64 data URI: {e}")));
-    }
-    if uri.contains(':') {
-        return Err(malformed(format!(
+    match BufferUri::parse(uri, base) {
+        BufferUri::Data(data) => {
+            let Some((_, payload)) = data.split_once(";base64,") else {
+                return Err(malformed(format!(
+                    "buffer {index} has a data URI that is not base64"
+                )));
+            };
+            base64::engine::general_purpose::STANDARD
+                .decode(payload)
+                .map_err(|e| malformed(format!("buffer {index} has a bad base64 data URI: {e}")))
+        }
+        BufferUri::OtherScheme => Err(malformed(format!(
             "buffer {index} has a URI `{uri}` that is neither a data URI nor a relative path"
-        )));
-    }
-    let decoded = String::from_utf8(percent_decode(uri)).map_err(|_| {
-        malformed(format!(
+        ))),
+        BufferUri::NotUtf8 => Err(malformed(format!(
             "buffer {index} has a URI that is not UTF-8 once decoded"
-        ))
-    })?;
-    let path = base.join(decoded);
-    std::fs::read(&path).map_err(|source| {
-        malformed(format!(
-            "cannot read buffer {index} from {}: {source}",
-            path.display()
-        ))
-    })
+        ))),
+        BufferUri::File(path) => std::fs::read(&path).map_err(|source| {
+            malformed(format!(
+                "cannot read buffer {index} from {}: {source}",
+                path.display()
+            ))
+        }),
+    }
+}
+
+/// The external files the buffers of the mesh file at `path` are read from, in buffer order:
+/// for a `.gltf` file (extension compared case-insensitively), every buffer URI that is a
+/// relative path, percent-decoded and resolved against the file's folder, as the loader
+/// resolves it. `data:` URIs and other schemes name no file. Only the JSON is parsed, and only
+/// as far as the buffers' URIs; the buffers are not read.
+///
+/// Empty for `.glb`, `.obj` and any other file, and when the file cannot be read or parsed (a
+/// build reports why).
+pub(crate) fn external_buffer_paths(path: &Path) -> Vec<PathBuf> {
+    /// The part of a glTF document read here.
+    #[derive(serde::Deserialize)]
+    struct Buffers {
+        #[serde(default)]
+        buffers: Vec<Buffer>,
+    }
+    #[derive(serde::Deserialize)]
+    struct Buffer {
+        uri: Option<String>,
+    }
+
+    let is_gltf = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("gltf"));
+    if !is_gltf {
+        return Vec::new();
+    }
+    let Ok(bytes) = std::fs::read(path) else {
+        return Vec::new();
+    };
+    let Ok(document) = serde_json::from_slice::<Buffers>(&bytes) else {
+        return Vec::new();
+    };
+    let base = path.parent().unwrap_or_else(|| Path::new("."));
+    document
+        .buffers
+        .iter()
+        .filter_map(
+            |buffer| match BufferUri::parse(buffer.uri.as_deref()?, base) {
+                BufferUri::File(path) => Some(path),
+                _ => None,
+            },
+        )
+        .collect()
+}
+
+/// What a buffer URI refers to.
+enum BufferUri<'a> {
+    /// A `data:` URI: the text after `data:`.
+    Data(&'a str),
+    /// A relative path, percent-decoded and joined to the glTF file's folder.
+    File(PathBuf),
+    /// A relative path that is not UTF-8 once percent-decoded.
+    NotUtf8,
+    /// A URI with another scheme (`https:`, `file:`, ...), which is never read.
+    OtherScheme,
+}
+
+impl<'a> BufferUri<'a> {
+    /// Classifies `uri`, resolving a relative path against `base`.
+    fn parse(uri: &'a str, base: &Path) -> Self {
+        if let Some(data) = uri.strip_prefix("data:") {
+            return BufferUri::Data(data);
+        }
+        if uri.contains(':') {
+            return BufferUri::OtherScheme;
+        }
+        match String::from_utf8(percent_decode(uri)) {
+            Ok(decoded) => BufferUri::File(base.join(decoded)),
+            Err(_) => BufferUri::NotUtf8,
+        }
+    }
 }
 
 /// Decodes `%XX` escapes; anything else, including a malformed escape, is kept as it is.
@@ -93,4 +163,42 @@ fn percent_decode(s: &str) -> Vec<u8> {
 
 fn malformed(message: String) -> LoadError {
     LoadError::Gltf { message }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn external_buffers_are_the_relative_uris_decoded() {
+        let folder = tempfile::tempdir().unwrap();
+        let gltf = folder.path().join("mesh.GLTF");
+        let json = r#"{"asset": {"version": "2.0"}, "buffers": [
+            {"uri": "a%20b.bin", "byteLength": 4},
+            {"uri": "data:application/octet-stream;base64,AAAAAA==", "byteLength": 4},
+            {"uri": "https://example.com/c.bin", "byteLength": 4},
+            {"uri": "../d.bin", "byteLength": 4},
+            {"byteLength": 4}
+        ]}"#;
+        std::fs::write(&gltf, json).unwrap();
+        assert_eq!(
+            external_buffer_paths(&gltf),
+            vec![
+                folder.path().join("a b.bin"),
+                folder.path().join("../d.bin")
+            ]
+        );
+    }
+
+    #[test]
+    fn no_external_buffers_without_a_readable_gltf() {
+        let folder = tempfile::tempdir().unwrap();
+        assert!(external_buffer_paths(&folder.path().join("missing.gltf")).is_empty());
+        let broken = folder.path().join("broken.gltf");
+        std::fs::write(&broken, "{ not json").unwrap();
+        assert!(external_buffer_paths(&broken).is_empty());
+        let glb = folder.path().join("mesh.glb");
+        std::fs::write(&glb, r#"{"buffers": [{"uri": "a.bin"}]}"#).unwrap();
+        assert!(external_buffer_paths(&glb).is_empty());
+    }
 }

@@ -1,7 +1,8 @@
 //! Geometry: triangle meshes, loading, validation, mass properties and distance queries.
 //!
 //! - [`TriMesh`]: positions and counter-clockwise (seen from outside) triangles in one frame.
-//! - [`load_mesh`]: `.obj`, `.gltf` and `.glb` files, whole or one named part.
+//! - [`load_mesh`]: `.obj`, `.gltf` and `.glb` files, whole or one named part; the external
+//!   buffer files a `.gltf` file reads, without loading them (`external_buffer_paths`).
 //! - [`check_mesh`]: holes, non-manifold and misoriented edges, degenerate triangles, inversion.
 //! - [`mass_properties`]: volume, centroid and second moment of the enclosed solid.
 //! - [`winding_number`]: inside/outside test that tolerates small holes.
@@ -28,6 +29,7 @@ pub use distance::{
     segment_triangle_distance,
 };
 pub use field::DistanceGrid;
+pub(crate) use gltf_buffers::external_buffer_paths;
 pub use load::{load_mesh, LoadError, MeshSelector};
 pub use mass::{mass_properties, MassProperties};
 pub use mesh::TriMesh;

@@ -7,16 +7,25 @@ use std::path::{Component, Path, PathBuf};
 use notify::event::{AccessKind, AccessMode};
 use notify::EventKind;
 
+use crate::geometry::external_buffer_paths;
 use crate::spec::model::Project;
 
-/// The files a build of the project at `project_path` reads: the project file itself and every
-/// component's mesh, each as a [`watch_key`]. Sorted and without duplicates.
+/// The files a build of the project at `project_path` reads: the project file itself, every
+/// component's mesh and, for a `.gltf` mesh, the external files its buffers are read from (only
+/// the mesh itself when it cannot be read), each as a [`watch_key`]. Sorted and without
+/// duplicates.
 pub fn referenced_files(project_path: &Path, project: Option<&Project>) -> BTreeSet<PathBuf> {
     let mut files = BTreeSet::new();
     files.insert(watch_key(project_path));
     if let Some(project) = project {
         for component in &project.components {
-            files.insert(watch_key(&component.mesh.value));
+            let mesh = &component.mesh.value;
+            files.insert(watch_key(mesh));
+            files.extend(
+                external_buffer_paths(mesh)
+                    .iter()
+                    .map(|path| watch_key(path)),
+            );
         }
     }
     files
@@ -105,6 +114,51 @@ mod tests {
             direct,
             folder.path().canonicalize().unwrap().join("a/x.obj")
         );
+    }
+
+    #[test]
+    fn a_gltf_mesh_brings_its_external_buffers_and_not_its_data_uris() {
+        let folder = tempfile::tempdir().unwrap();
+        let meshes = folder.path().join("meshes");
+        std::fs::create_dir(&meshes).unwrap();
+        let json = r#"{"asset": {"version": "2.0"}, "buffers": [
+            {"uri": "a.bin", "byteLength": 4},
+            {"uri": "data:application/octet-stream;base64,AAAAAA==", "byteLength": 4}
+        ]}"#;
+        std::fs::write(meshes.join("m.gltf"), json).unwrap();
+        let project_path = folder.path().join("model.kdl");
+        let source = "component \"M\" mesh=\"meshes/m.gltf\"\npose \"up\" { stand }\n";
+        std::fs::write(&project_path, source).unwrap();
+        let project = crate::spec::parse_project(source, &project_path)
+            .project
+            .unwrap();
+        let files: Vec<PathBuf> = referenced_files(&project_path, Some(&project))
+            .into_iter()
+            .collect();
+        let root = folder.path().canonicalize().unwrap();
+        assert_eq!(
+            files,
+            vec![
+                root.join("meshes/a.bin"),
+                root.join("meshes/m.gltf"),
+                root.join("model.kdl"),
+            ]
+        );
+    }
+
+    #[test]
+    fn a_missing_gltf_mesh_is_listed_alone() {
+        let folder = tempfile::tempdir().unwrap();
+        let project_path = folder.path().join("model.kdl");
+        let source = "component \"M\" mesh=\"m.gltf\"\npose \"up\" { stand }\n";
+        let project = crate::spec::parse_project(source, &project_path)
+            .project
+            .unwrap();
+        let root = folder.path().canonicalize().unwrap();
+        let files: Vec<PathBuf> = referenced_files(&project_path, Some(&project))
+            .into_iter()
+            .collect();
+        assert_eq!(files, vec![root.join("m.gltf"), root.join("model.kdl")]);
     }
 
     #[test]

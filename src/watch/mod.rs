@@ -1,12 +1,13 @@
 //! Watch mode: rebuild a project whenever it or a file it references changes.
 //!
-//! [`run`] watches the folders holding the project file and its meshes (non-recursively, so an
-//! editor's save by rename or by delete and re-create keeps the watch), filters the debounced
-//! events by path ([`files`]), and calls a rebuild once per burst of changes. A change that
-//! arrives while a rebuild runs sets the rebuild's [`Cancel`] flag, so the rebuild gives up and
-//! the loop starts the next one with every change since. The rebuild itself (compile, write,
-//! print) is the caller's: `ballast watch` passes one that shares `build`'s code path and keeps
-//! one workspace for the session; [`changes`] says what changed between good builds.
+//! [`run`] watches the folders holding the project file, its meshes and the external buffers of
+//! its `.gltf` meshes (non-recursively, so an editor's save by rename or by delete and re-create
+//! keeps the watch), filters the debounced events by path ([`files`]), and calls a rebuild once
+//! per burst of changes. A change that arrives while a rebuild runs sets the rebuild's
+//! [`Cancel`] flag, so the rebuild gives up and the loop starts the next one with every change
+//! since. The rebuild itself (compile, write, print) is the caller's: `ballast watch` passes one
+//! that shares `build`'s code path and keeps one workspace for the session; [`changes`] says what
+//! changed between good builds.
 
 pub mod changes;
 pub mod files;
