@@ -12,10 +12,9 @@ use std::fmt::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use super::build::write_outputs;
 use super::{compile_file, file_name, progress, NotCompiled, EXIT_INVALID, EXIT_MET};
 use crate::cancel::Cancel;
-use crate::compile::{Compilation, CompileOptions, WarmStart, Workspace};
+use crate::compile::{write_outputs, Compilation, CompileOptions, WarmStart, Workspace};
 use crate::optimize::Built;
 use crate::spec::parse_project;
 use crate::watch::{self, differences, list, referenced_files, shown, Snapshot};
@@ -139,7 +138,7 @@ impl Session<'_> {
         self.workspace.cache.prune();
         self.files = referenced_files(self.path, Some(&compilation.project));
         let write_start = Instant::now();
-        let written = match write_outputs(&compilation, self.path, &options) {
+        let written = match write_outputs(&compilation, self.path, options.out_dir.as_deref()) {
             Ok(written) => written,
             Err(message) => {
                 eprintln!("error: {message}");

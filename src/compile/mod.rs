@@ -12,6 +12,7 @@
 mod design;
 mod meshes;
 mod optimize;
+mod outputs;
 mod report;
 mod scene;
 mod solution;
@@ -25,6 +26,7 @@ pub use optimize::{
     length_decimals, optimize_design, prepare, CandidateReport, Optimization, OptimizeOptions,
     Preparation, SeedReport, Timings, WarmStart,
 };
+pub use outputs::write_outputs;
 pub use report::{Report, REPORT_FORMAT};
 pub use solution::{read_solution, solution_text};
 pub use workspace::{Failure, Stage, Workspace};
