@@ -16,9 +16,10 @@
 //! Meshes beyond the examples come from `../shared/meshes` beside the checkout; a missing one is
 //! skipped with a note.
 
+mod support;
+
 use std::collections::HashMap;
 use std::hint::black_box;
-use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -29,6 +30,7 @@ use ballast::geometry::{load_mesh, DistanceGrid, MeshSelector, Skeleton, TriMesh
 use ballast::objective::{GridInterior, Parameters};
 use ballast::optimize::{choose, default_cell, rank, run_heuristic, Candidate, Method, Problem};
 use ballast::spec::model::{Optimize, Project};
+use support::{baseline, manifest, ratio};
 
 /// Every example, in the order of `examples/README.md`.
 const EXAMPLES: [&str; 6] = [
@@ -48,10 +50,6 @@ const METHODS: [(Method, &str); 3] = [
 
 const CASES: [&str; 5] = ["solvers", "precompute", "counts", "rank", "spot"];
 
-fn manifest() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
 /// A comma-separated list from the environment, or `default`.
 fn list(var: &str, default: &[&str]) -> Vec<String> {
     match std::env::var(var) {
@@ -61,42 +59,6 @@ fn list(var: &str, default: &[&str]) -> Vec<String> {
             .filter(|s| !s.is_empty())
             .collect(),
         _ => default.iter().map(|s| s.to_string()).collect(),
-    }
-}
-
-/// The baseline: one pass over the vertices, summing every coordinate.
-fn sum_coordinates(mesh: &TriMesh) -> f64 {
-    mesh.positions.iter().map(|p| p.x + p.y + p.z).sum()
-}
-
-/// The baseline's time, seconds: the median of 201 timed passes after a few to warm up.
-fn baseline(mesh: &TriMesh) -> f64 {
-    for _ in 0..20 {
-        black_box(sum_coordinates(black_box(mesh)));
-    }
-    let mut times: Vec<f64> = (0..201)
-        .map(|_| {
-            let clock = Instant::now();
-            black_box(sum_coordinates(black_box(mesh)));
-            clock.elapsed().as_secs_f64()
-        })
-        .collect();
-    times.sort_by(f64::total_cmp);
-    times[times.len() / 2]
-}
-
-/// Seconds as a ratio to the baseline, about three significant digits (`k` thousands, `M`
-/// millions).
-fn ratio(seconds: f64, baseline: f64) -> String {
-    let r = seconds / baseline;
-    if r >= 1e6 {
-        format!("{:.2}M", r / 1e6)
-    } else if r >= 1e4 {
-        format!("{:.0}k", r / 1e3)
-    } else if r >= 1e3 {
-        format!("{:.1}k", r / 1e3)
-    } else {
-        format!("{r:.0}")
     }
 }
 

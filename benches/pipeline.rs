@@ -5,6 +5,8 @@
 //! Run with `cargo bench --bench pipeline`. Meshes come from `../shared/meshes` beside the
 //! checkout; a mesh that is missing is skipped with a note.
 
+mod support;
+
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -12,7 +14,7 @@ use std::time::Duration;
 use ballast::balance::{evaluate_pose, ComponentBody};
 use ballast::design::{Design, PlacedCapsule};
 use ballast::geometry::{
-    distance_to_point, load_mesh, mass_properties, DistanceGrid, MeshSelector, Skeleton, TriMesh,
+    distance_to_point, load_mesh, mass_properties, DistanceGrid, MeshSelector, Skeleton,
     TriangleTree,
 };
 use ballast::spec::model::{
@@ -20,6 +22,7 @@ use ballast::spec::model::{
 };
 use criterion::{criterion_group, criterion_main, Criterion};
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
+use support::sum_coordinates;
 
 /// The meshes measured: (label, path under `../shared/meshes`).
 const MESHES: [(&str, &str); 2] = [
@@ -144,11 +147,6 @@ fn poses(suspension: Point3<f64>) -> Vec<(&'static str, Pose)> {
         (name, pose)
     })
     .collect()
-}
-
-/// The baseline: one pass over the vertices, summing every coordinate.
-fn sum_coordinates(mesh: &TriMesh) -> f64 {
-    mesh.positions.iter().map(|p| p.x + p.y + p.z).sum()
 }
 
 fn pipeline(c: &mut Criterion) {

@@ -1,0 +1,278 @@
+//! Edit-to-output latency in watch mode, on the six-pose character (`examples/spot.kdl`).
+//!
+//! Two ways, each on a scratch copy of the example:
+//!
+//! - **In process**: the library calls a watch session makes (one [`Workspace`] across builds,
+//!   compile then write every output), for a goal-only edit (the warm start's early result, then
+//!   the full search with the cache) and for a mesh edit, against a fresh `build`.
+//! - **End to end**: the real binary (`ballast watch`) is started, a goal-only edit and a mesh
+//!   edit are saved, and the time from the save to the line saying the outputs were written is
+//!   read from its output. This adds the file-system notification and the debounce window.
+//!
+//! Every time is also given as a ratio to a baseline (one pass summing every vertex coordinate of
+//! `examples/meshes/hammer.obj`) measured in the same process. `docs/benchmarks.md` records the
+//! figures. Run with `cargo bench --bench watch`; `BALLAST_BENCH_REPEATS` sets the edits per case
+//! (default 5; the median is shown).
+
+mod support;
+
+use std::fs;
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::sync::mpsc::{channel, Receiver};
+use std::thread;
+use std::time::{Duration, Instant};
+
+use ballast::compile::{
+    compile_with, write_outputs, Compilation, CompileOptions, OptimizeOptions, WarmStart, Workspace,
+};
+use ballast::geometry::{load_mesh, MeshSelector};
+use support::{baseline, manifest, ratio};
+
+/// The margin every `stand` goal of Spot asks for, and the one an edit switches to.
+const MARGINS: [&str; 2] = ["stand margin=5", "stand margin=4"];
+
+/// A scratch copy of Spot: the project and its mesh.
+struct Scratch {
+    _folder: tempfile::TempDir,
+    project: PathBuf,
+    mesh: PathBuf,
+}
+
+impl Scratch {
+    fn new() -> Scratch {
+        let folder = tempfile::tempdir().expect("a scratch folder");
+        let meshes = folder.path().join("meshes");
+        fs::create_dir(&meshes).expect("meshes/");
+        let mesh = meshes.join("spot.obj");
+        fs::copy(manifest().join("examples/meshes/spot.obj"), &mesh).expect("spot.obj");
+        let project = folder.path().join("spot.kdl");
+        fs::copy(manifest().join("examples/spot.kdl"), &project).expect("spot.kdl");
+        Scratch {
+            _folder: folder,
+            project,
+            mesh,
+        }
+    }
+
+    /// Saves the project with every `stand` goal at the `k`-th of [`MARGINS`], as an editor
+    /// does (a temp file renamed over it).
+    fn edit_goals(&self, k: usize) {
+        let text = fs::read_to_string(&self.project).expect("spot.kdl");
+        let edited = text.replace(MARGINS[1 - k % 2], MARGINS[k % 2]);
+        save_by_rename(&self.project, edited.as_bytes());
+    }
+
+    /// Saves the mesh with every vertex moved by a new tiny amount along x: a new content, the
+    /// same goals met.
+    fn edit_mesh(&self, k: usize) {
+        let text = fs::read_to_string(&self.mesh).expect("spot.obj");
+        let dx = 1e-4 * (k as f64 + 1.0);
+        let moved: Vec<String> = text
+            .lines()
+            .map(|line| match line.strip_prefix("v ") {
+                Some(rest) => {
+                    let c: Vec<f64> = rest
+                        .split_whitespace()
+                        .map(|v| v.parse().expect("a coordinate"))
+                        .collect();
+                    format!("v {} {} {}", c[0] + dx, c[1], c[2])
+                }
+                None => line.to_string(),
+            })
+            .collect();
+        save_by_rename(&self.mesh, (moved.join("\n") + "\n").as_bytes());
+    }
+}
+
+fn save_by_rename(path: &Path, bytes: &[u8]) {
+    let temp = path.with_extension("swp");
+    fs::write(&temp, bytes).expect("a temp file");
+    fs::rename(&temp, path).expect("a rename");
+}
+
+fn options(warm_start: Option<WarmStart>) -> CompileOptions {
+    CompileOptions {
+        out_dir: None,
+        optimize: Some(OptimizeOptions {
+            warm_start,
+            ..OptimizeOptions::default()
+        }),
+    }
+}
+
+/// One build as watch mode runs it: compile in `workspace`, then write every output; seconds.
+fn build(
+    scratch: &Scratch,
+    options: &CompileOptions,
+    workspace: &mut Workspace,
+) -> (Compilation, f64) {
+    let clock = Instant::now();
+    let source = fs::read_to_string(&scratch.project).expect("spot.kdl");
+    workspace.cache.start_build();
+    let compilation =
+        compile_with(&source, &scratch.project, options, workspace).expect("spot compiles");
+    workspace.cache.prune();
+    write_outputs(&compilation, &scratch.project, None).expect("outputs are written");
+    (compilation, clock.elapsed().as_secs_f64())
+}
+
+fn median(mut times: Vec<f64>) -> f64 {
+    times.sort_by(f64::total_cmp);
+    times[times.len() / 2]
+}
+
+fn in_process(repeats: usize, base: f64, triangles: usize) {
+    let scratch = Scratch::new();
+    let mut fresh = Vec::new();
+    let mut warm = Vec::new();
+    let mut full = Vec::new();
+    let mut mesh = Vec::new();
+    let mut workspace = Workspace::new();
+    let (mut last, _) = build(&scratch, &options(None), &mut workspace);
+    for k in 0..repeats {
+        fresh.push(build(&scratch, &options(None), &mut Workspace::new()).1);
+
+        scratch.edit_goals(k);
+        let start = WarmStart::new(&last.meshes, last.design.clone());
+        let (early, seconds) = build(&scratch, &options(Some(start)), &mut workspace);
+        assert!(
+            early.optimization.as_ref().is_some_and(|o| o.warm_started),
+            "a goal-only edit starts warm"
+        );
+        warm.push(seconds);
+        let (settled, seconds) = build(&scratch, &options(None), &mut workspace);
+        full.push(seconds);
+        last = settled;
+
+        scratch.edit_mesh(k);
+        let start = WarmStart::new(&last.meshes, last.design.clone());
+        let (moved, seconds) = build(&scratch, &options(Some(start)), &mut workspace);
+        assert!(!moved.optimization.as_ref().is_some_and(|o| o.warm_started));
+        mesh.push(seconds);
+        last = moved;
+    }
+    println!("### In process (library calls of one watch session), Spot, {triangles} triangles\n");
+    println!("| build | median s | ratio |");
+    println!("| --- | ---: | ---: |");
+    for (label, times) in [
+        ("fresh `build`: a new workspace", fresh),
+        ("goal-only edit: early result from the last design", warm),
+        (
+            "goal-only edit: full search, grids and skeleton cached",
+            full,
+        ),
+        ("mesh edit: new grid and skeleton, full search", mesh),
+    ] {
+        let seconds = median(times);
+        println!("| {label} | {seconds:.3} | {} |", ratio(seconds, base));
+    }
+    println!();
+}
+
+/// The real binary watching a scratch copy; its output lines with the time each was read.
+struct Watcher {
+    child: std::process::Child,
+    lines: Receiver<(Instant, String)>,
+}
+
+impl Watcher {
+    fn start(project: &Path) -> Watcher {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_ballast"))
+            .arg("watch")
+            .arg(project)
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("ballast watch starts");
+        let stdout = child.stdout.take().expect("its output");
+        let (sender, lines) = channel();
+        thread::spawn(move || {
+            for line in BufReader::new(stdout).lines().map_while(Result::ok) {
+                if sender.send((Instant::now(), line)).is_err() {
+                    break;
+                }
+            }
+        });
+        Watcher { child, lines }
+    }
+
+    /// Reads lines until one starts with `start` and contains `text`; when it was read.
+    fn until(&self, start: &str, text: &str) -> Instant {
+        loop {
+            let (at, line) = self
+                .lines
+                .recv_timeout(Duration::from_secs(120))
+                .expect("ballast watch keeps building");
+            if line.starts_with(start) && line.contains(text) {
+                return at;
+            }
+        }
+    }
+}
+
+impl Drop for Watcher {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn end_to_end(repeats: usize, base: f64) {
+    let scratch = Scratch::new();
+    let watcher = Watcher::start(&scratch.project);
+    watcher.until("  wrote ", "");
+    let mut early = Vec::new();
+    let mut full = Vec::new();
+    let mut mesh = Vec::new();
+    for k in 0..repeats {
+        let saved = Instant::now();
+        scratch.edit_goals(k);
+        early.push((watcher.until("  wrote ", "now the full search") - saved).as_secs_f64());
+        full.push((watcher.until("  wrote ", "") - saved).as_secs_f64());
+
+        let saved = Instant::now();
+        scratch.edit_mesh(k);
+        mesh.push((watcher.until("  wrote ", "") - saved).as_secs_f64());
+    }
+    println!("### End to end (`ballast watch`, save to outputs written, debounce included)\n");
+    println!("| edit | median s | ratio |");
+    println!("| --- | ---: | ---: |");
+    for (label, times) in [
+        ("goal-only edit: early result from the last design", early),
+        ("goal-only edit: full search written", full),
+        ("mesh edit: written", mesh),
+    ] {
+        let seconds = median(times);
+        println!("| {label} | {seconds:.3} | {} |", ratio(seconds, base));
+    }
+    println!();
+}
+
+fn main() {
+    let repeats = std::env::var("BALLAST_BENCH_REPEATS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(5usize)
+        .max(1);
+    let hammer = load_mesh(
+        &manifest().join("examples/meshes/hammer.obj"),
+        &MeshSelector::Whole,
+    )
+    .expect("examples/meshes/hammer.obj");
+    let spot = load_mesh(
+        &manifest().join("examples/meshes/spot.obj"),
+        &MeshSelector::Whole,
+    )
+    .expect("examples/meshes/spot.obj");
+    let base = baseline(&hammer);
+    println!(
+        "baseline: {:.3e} s ({} vertices summed)\n",
+        base,
+        hammer.positions.len()
+    );
+    in_process(repeats, base, spot.triangles.len());
+    end_to_end(repeats, baseline(&hammer));
+}
