@@ -128,9 +128,7 @@ impl Session<'_> {
                 return Step::Stopped;
             }
             Err(NotCompiled::Cancelled) => {
-                println!(
-                    "cancelled by a newer change: the last good outputs are left as they were"
-                );
+                println!("cancelled: the last good outputs are left as they were");
                 return Step::Stopped;
             }
         };

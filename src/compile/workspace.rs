@@ -70,7 +70,8 @@ impl std::fmt::Display for Stage {
                 )
             }
             Stage::Skeleton { component } => write!(f, "thinning the skeleton of `{component}`"),
-            Stage::Round { capsules } => write!(f, "optimizing {capsules} capsule(s)"),
+            Stage::Round { capsules: 1 } => write!(f, "optimizing 1 capsule"),
+            Stage::Round { capsules } => write!(f, "optimizing {capsules} capsules"),
             Stage::Exhaustive { starts } => {
                 write!(
                     f,
