@@ -110,10 +110,10 @@ fn build(
 ) -> (Compilation, f64) {
     let clock = Instant::now();
     let source = fs::read_to_string(&scratch.project).expect("spot.kdl");
-    workspace.cache.start_build();
+    workspace.start_build();
     let compilation =
         compile_with(&source, &scratch.project, options, workspace).expect("spot compiles");
-    workspace.cache.prune();
+    workspace.prune();
     write_outputs(&compilation, &scratch.project, None).expect("outputs are written");
     (compilation, clock.elapsed().as_secs_f64())
 }

@@ -295,6 +295,7 @@ fn a_mesh_edit_rebuilds_the_grids_and_a_goal_edit_reuses_them_and_starts_warm() 
         2,
         "{goal}"
     );
+    assert_eq!(goal.matches("  meshes: reused").count(), 2, "{goal}");
     let settled = outputs_with_solution(folder.path());
 
     // Once quiet, the outputs are exactly what `build` writes.
@@ -314,6 +315,7 @@ fn a_mesh_edit_rebuilds_the_grids_and_a_goal_edit_reuses_them_and_starts_warm() 
     assert!(mesh.contains("t_shape.obj"), "{mesh}");
     // A new mesh: nothing to start warm from, and the old mesh's grid is dropped.
     assert!(!mesh.contains("from the last design"), "{mesh}");
+    assert!(mesh.contains("  meshes: 1 of 1 loaded and checked"), "{mesh}");
     assert!(
         mesh.contains("grids and skeletons: 1 grid and 1 skeleton built (1 mesh in the cache)"),
         "{mesh}"

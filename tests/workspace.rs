@@ -43,7 +43,7 @@ fn build(
     options: &CompileOptions,
     workspace: &mut Workspace,
 ) -> Compilation {
-    workspace.cache.start_build();
+    workspace.start_build();
     compile_with(source, path, options, workspace).unwrap_or_else(|f| panic!("{f:?}"))
 }
 
@@ -103,6 +103,7 @@ fn a_goal_edit_reuses_the_precomputation_and_starts_from_the_last_design() {
     assert!(optimization.warm_started && optimization.meets_goals);
     assert!(optimization.seeds.is_empty());
     assert_eq!(workspace.cache.built().grids, 0);
+    assert_eq!(workspace.meshes.loaded(), 0);
 
     // The same warm start after the mesh moved does not fit: a cold start, and a new grid.
     let folder = tempfile::tempdir().unwrap();

@@ -116,7 +116,7 @@ impl Session<'_> {
         if let Some(optimize) = &mut options.optimize {
             optimize.warm_start = warm;
         }
-        self.workspace.cache.start_build();
+        self.workspace.start_build();
         let start = Instant::now();
         let compiled = compile_file(self.path, &options, &mut self.workspace);
         let compile_seconds = start.elapsed().as_secs_f64();
@@ -133,7 +133,7 @@ impl Session<'_> {
             }
         };
         // Only what this build used stays cached.
-        self.workspace.cache.prune();
+        self.workspace.prune();
         self.files = referenced_files(self.path, Some(&compilation.project));
         let write_start = Instant::now();
         let written = match write_outputs(&compilation, self.path, options.out_dir.as_deref()) {
@@ -156,6 +156,7 @@ impl Session<'_> {
                 last: self.last.as_ref().map(|last| &last.snapshot),
                 built: self.workspace.cache.built(),
                 held: self.workspace.cache.len(),
+                meshes_loaded: self.workspace.meshes.loaded(),
                 compile_seconds,
                 write_seconds,
                 written: &written,
@@ -187,6 +188,7 @@ struct SummaryInput<'a> {
     last: Option<&'a Snapshot>,
     built: Built,
     held: usize,
+    meshes_loaded: usize,
     compile_seconds: f64,
     write_seconds: f64,
     written: &'a [PathBuf],
@@ -229,6 +231,12 @@ fn summary(input: &SummaryInput) -> String {
             }
         }
     }
+    let components = input.compilation.meshes.len();
+    let meshes = match input.meshes_loaded {
+        0 => "reused".to_string(),
+        loaded => format!("{loaded} of {components} loaded and checked"),
+    };
+    let _ = writeln!(out, "  meshes: {meshes}");
     let optimization = input.compilation.optimization.as_ref();
     let precompute = match (optimization, input.built) {
         (None, _) => "not needed (the design is not optimized)".to_string(),

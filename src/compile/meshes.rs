@@ -4,22 +4,27 @@
 use std::path::Path;
 
 use super::design::round;
+use super::mesh_cache::MeshCache;
 use crate::diagnostic::Problem;
-use crate::geometry::{check_mesh, load_mesh, LoadError, MeshCheck, TriMesh};
+use crate::geometry::{LoadError, MeshCheck, TriMesh};
 use crate::spec::model::{Component, Project};
 
 /// How many offending edges or triangles a diagnostic lists before it only counts the rest.
 const LISTED: usize = 3;
 
-/// Loads and checks the mesh of every component, in order. Returns the meshes when all of them
-/// are usable, and the problems found (every component is tried, so all are reported at once).
-pub fn load_components(project: &Project) -> (Option<Vec<TriMesh>>, Vec<Problem>) {
+/// Loads and checks the mesh of every component, in order, through `cache`. Returns the meshes
+/// when all of them are usable, and the problems found (every component is tried, so all are
+/// reported at once).
+pub fn load_components(
+    project: &Project,
+    cache: &mut MeshCache,
+) -> (Option<Vec<TriMesh>>, Vec<Problem>) {
     let mut meshes = Vec::with_capacity(project.components.len());
     let mut problems = Vec::new();
     for component in &project.components {
-        match load_mesh(&component.mesh.value, &component.selector) {
-            Ok(mesh) => {
-                let found = mesh_problems(component, &mesh);
+        match cache.load(&component.mesh.value, &component.selector) {
+            Ok((mesh, check)) => {
+                let found = mesh_problems(component, &mesh, &check);
                 if found.is_empty() {
                     meshes.push(mesh);
                 }
@@ -71,8 +76,7 @@ fn load_problem(component: &Component, error: &LoadError) -> Problem {
 }
 
 /// The problems that make `mesh` unusable as the solid of `component`.
-fn mesh_problems(component: &Component, mesh: &TriMesh) -> Vec<Problem> {
-    let check = check_mesh(mesh);
+fn mesh_problems(component: &Component, mesh: &TriMesh, check: &MeshCheck) -> Vec<Problem> {
     let name = &component.name.value;
     let span = component.mesh.span;
     let mut problems = Vec::new();
@@ -110,7 +114,7 @@ fn mesh_problems(component: &Component, mesh: &TriMesh) -> Vec<Problem> {
         &check.misoriented_edges,
         "make the triangle winding consistent (recalculate normals in a mesh editor)",
     );
-    problems.extend(solid_problems(component, mesh, &check));
+    problems.extend(solid_problems(component, mesh, check));
     problems
 }
 

@@ -10,6 +10,7 @@
 //! build wrote ([`solution`]).
 
 mod design;
+mod mesh_cache;
 mod meshes;
 mod optimize;
 mod outputs;
@@ -21,6 +22,7 @@ mod workspace;
 use std::path::{Path, PathBuf};
 
 pub use design::hand_placed_design;
+pub use mesh_cache::MeshCache;
 pub use meshes::load_components;
 pub use optimize::{
     length_decimals, optimize_design, prepare, CandidateReport, Optimization, OptimizeOptions,
@@ -116,7 +118,7 @@ pub fn compile_with(
     let Some(project) = parsed.project else {
         return Err(Failure::Invalid(problems));
     };
-    let (meshes, mesh_problems) = load_components(&project);
+    let (meshes, mesh_problems) = load_components(&project, &mut workspace.meshes);
     problems.extend(mesh_problems);
     let (written, design_problems) = hand_placed_design(&project);
     problems.extend(design_problems);

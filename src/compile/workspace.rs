@@ -1,14 +1,17 @@
 //! What one process keeps from build to build, and how it steers the build in flight: the
 //! precompute cache, the cancel flag, and where progress goes.
 
+use super::mesh_cache::MeshCache;
 use crate::cancel::Cancel;
 use crate::diagnostic::Problem;
 use crate::optimize::PrecomputeCache;
 
 /// The state builds share in one process. `build` and `check` use a fresh one; watch mode keeps
-/// one for the whole session, so an unchanged mesh is never sampled twice.
+/// one for the whole session, so an unchanged mesh is never parsed, checked or sampled twice.
 #[derive(Default)]
 pub struct Workspace {
+    /// Meshes already loaded and checked.
+    pub meshes: MeshCache,
     /// Distance grids and skeletons already built.
     pub cache: PrecomputeCache,
     /// Set from another thread to stop the build in flight (watch mode: a newer save).
@@ -21,6 +24,19 @@ impl Workspace {
     /// An empty cache, a flag nobody sets, no progress.
     pub fn new() -> Workspace {
         Workspace::default()
+    }
+
+    /// Marks the start of a build for both caches (see [`prune`](Self::prune)).
+    pub fn start_build(&mut self) {
+        self.meshes.start_build();
+        self.cache.start_build();
+    }
+
+    /// Drops from both caches what the build since [`start_build`](Self::start_build) did not
+    /// use: call it after a good build, so a long session holds one version of each mesh.
+    pub fn prune(&mut self) {
+        self.meshes.prune();
+        self.cache.prune();
     }
 
     /// Tells the progress sink that `stage` starts.

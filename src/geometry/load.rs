@@ -13,7 +13,7 @@ use super::{load_gltf, load_obj};
 /// A name selector is matched against the names the file's format has: OBJ object and group
 /// names (`o`/`g` lines), glTF node names and then glTF mesh names. The variant records which
 /// format the name was written for; either variant works on either format.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub enum MeshSelector {
     /// Everything: all objects of an OBJ file, or every mesh instance of the glTF default scene.
     Whole,

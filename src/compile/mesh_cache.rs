@@ -1,0 +1,160 @@
+//! Meshes kept between builds in one process (watch mode): each component's loaded mesh and its
+//! solidity check, keyed by the file's path, the part selected and a hash of the bytes of every
+//! file the mesh is read from (the file itself, and a `.gltf` file's external buffers). A build
+//! still reads those bytes, to hash them, but parses, welds and checks a mesh only when they
+//! changed.
+
+use std::collections::HashMap;
+use std::hash::{DefaultHasher, Hasher};
+use std::path::{Path, PathBuf};
+
+use crate::geometry::{check_mesh, external_buffer_paths, load_mesh, LoadError, MeshCheck};
+use crate::geometry::{MeshSelector, TriMesh};
+
+/// Loaded meshes and their checks. Entries not asked for since [`start_build`] can be dropped
+/// with [`prune`].
+///
+/// [`start_build`]: MeshCache::start_build
+/// [`prune`]: MeshCache::prune
+#[derive(Debug, Default)]
+pub struct MeshCache {
+    entries: HashMap<(PathBuf, MeshSelector, u64), Entry>,
+    build: u64,
+    loaded: usize,
+}
+
+#[derive(Debug)]
+struct Entry {
+    mesh: TriMesh,
+    check: MeshCheck,
+    /// The build that last asked for it.
+    used: u64,
+}
+
+impl MeshCache {
+    /// An empty cache.
+    pub fn new() -> MeshCache {
+        MeshCache::default()
+    }
+
+    /// Marks the start of a build: [`loaded`](Self::loaded) counts from zero again, and
+    /// [`prune`](Self::prune) keeps only what is asked for from now on.
+    pub fn start_build(&mut self) {
+        self.build += 1;
+        self.loaded = 0;
+    }
+
+    /// Drops every entry not asked for since the last [`start_build`](Self::start_build).
+    pub fn prune(&mut self) {
+        let build = self.build;
+        self.entries.retain(|_, entry| entry.used == build);
+    }
+
+    /// Meshes parsed (not found in the cache) since the last [`start_build`](Self::start_build).
+    pub fn loaded(&self) -> usize {
+        self.loaded
+    }
+
+    /// Number of meshes held.
+    pub fn len(&self) -> usize {
+        self.entries.len()
+    }
+
+    /// Whether nothing is held.
+    pub fn is_empty(&self) -> bool {
+        self.entries.is_empty()
+    }
+
+    /// The mesh at `path` (the part `selector` picks) and its check: from the cache when the
+    /// files it is read from hold the same bytes as when it was cached, else loaded now. A mesh
+    /// that fails to load is not cached.
+    pub fn load(
+        &mut self,
+        path: &Path,
+        selector: &MeshSelector,
+    ) -> Result<(TriMesh, MeshCheck), LoadError> {
+        let Some(hash) = content_hash(path) else {
+            // Unreadable: the loader says why.
+            self.loaded += 1;
+            let mesh = load_mesh(path, selector)?;
+            let check = check_mesh(&mesh);
+            return Ok((mesh, check));
+        };
+        let key = (path.to_path_buf(), selector.clone(), hash);
+        let build = self.build;
+        if let Some(entry) = self.entries.get_mut(&key) {
+            entry.used = build;
+            return Ok((entry.mesh.clone(), entry.check.clone()));
+        }
+        self.loaded += 1;
+        let mesh = load_mesh(path, selector)?;
+        let check = check_mesh(&mesh);
+        self.entries.insert(
+            key,
+            Entry {
+                mesh: mesh.clone(),
+                check: check.clone(),
+                used: build,
+            },
+        );
+        Ok((mesh, check))
+    }
+}
+
+/// A hash of the bytes of `path` and of each external buffer file it names, in order; `None`
+/// when one of them cannot be read.
+fn content_hash(path: &Path) -> Option<u64> {
+    let mut hasher = DefaultHasher::new();
+    for file in std::iter::once(path.to_path_buf()).chain(external_buffer_paths(path)) {
+        let bytes = std::fs::read(&file).ok()?;
+        hasher.write_usize(bytes.len());
+        hasher.write(&bytes);
+    }
+    Some(hasher.finish())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const TETRAHEDRON: &str =
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+
+    #[test]
+    fn an_unchanged_file_is_not_parsed_again_and_a_changed_one_is() {
+        let folder = tempfile::tempdir().unwrap();
+        let path = folder.path().join("t.obj");
+        std::fs::write(&path, TETRAHEDRON).unwrap();
+        let mut cache = MeshCache::new();
+        cache.start_build();
+        let (first, check) = cache.load(&path, &MeshSelector::Whole).unwrap();
+        assert!(check.is_closed());
+        assert_eq!(cache.loaded(), 1);
+
+        cache.start_build();
+        let (again, _) = cache.load(&path, &MeshSelector::Whole).unwrap();
+        assert_eq!(again, first);
+        assert_eq!(cache.loaded(), 0);
+
+        std::fs::write(&path, TETRAHEDRON.replace("v 0 0 1", "v 0 0 2")).unwrap();
+        cache.start_build();
+        let (moved, _) = cache.load(&path, &MeshSelector::Whole).unwrap();
+        assert_ne!(moved, first);
+        assert_eq!(cache.loaded(), 1);
+        assert_eq!(cache.len(), 2);
+        cache.prune();
+        assert_eq!(cache.len(), 1);
+    }
+
+    #[test]
+    fn a_missing_file_is_the_loader_s_error_and_is_not_cached() {
+        let folder = tempfile::tempdir().unwrap();
+        let mut cache = MeshCache::new();
+        let missing = cache.load(&folder.path().join("none.obj"), &MeshSelector::Whole);
+        assert!(
+            matches!(missing, Err(LoadError::NotFound { .. })),
+            "{missing:?}"
+        );
+        assert!(cache.is_empty());
+    }
+}
