@@ -1,4 +1,6 @@
-//! Edit-to-output latency in watch mode, on the six-pose character (`examples/spot.kdl`).
+//! Edit-to-output latency in watch mode, on the six-pose character (`examples/spot.kdl`), and in
+//! process also on the hammer example with the 240k-triangle hammer of `../shared/meshes` (skipped
+//! with a note when that folder is missing).
 //!
 //! Two ways, each on a scratch copy of the example:
 //!
@@ -30,44 +32,72 @@ use ballast::compile::{
 use ballast::geometry::{load_mesh, MeshSelector};
 use support::{baseline, manifest, ratio};
 
-/// The margin every `stand` goal of Spot asks for, and the one an edit switches to.
-const MARGINS: [&str; 2] = ["stand margin=5", "stand margin=4"];
+/// An example to edit: its project, the mesh it reads, and a goal-only edit.
+struct Case {
+    /// The project file under `examples/`, without `.kdl`.
+    example: &'static str,
+    /// The mesh copied in as the project's mesh: a path under `examples/meshes`, or absolute.
+    mesh: PathBuf,
+    /// Text of the project's goals, and the text an edit switches it to (and back).
+    goals: [&'static str; 2],
+}
 
-/// A scratch copy of Spot: the project and its mesh.
+impl Case {
+    fn spot() -> Case {
+        Case {
+            example: "spot",
+            mesh: manifest().join("examples/meshes/spot.obj"),
+            goals: ["stand margin=5", "stand margin=4"],
+        }
+    }
+
+    fn hammer_240k() -> Case {
+        Case {
+            example: "hammer",
+            mesh: manifest().join("../shared/meshes/large/hammer_240k.obj"),
+            goals: ["tolerance=2", "tolerance=3"],
+        }
+    }
+}
+
+/// A scratch copy of an example: the project and its mesh.
 struct Scratch {
     _folder: tempfile::TempDir,
     project: PathBuf,
     mesh: PathBuf,
+    goals: [&'static str; 2],
 }
 
 impl Scratch {
-    fn new() -> Scratch {
+    fn new(case: &Case) -> Scratch {
         let folder = tempfile::tempdir().expect("a scratch folder");
         let meshes = folder.path().join("meshes");
         fs::create_dir(&meshes).expect("meshes/");
-        let mesh = meshes.join("spot.obj");
-        fs::copy(manifest().join("examples/meshes/spot.obj"), &mesh).expect("spot.obj");
-        let project = folder.path().join("spot.kdl");
-        fs::copy(manifest().join("examples/spot.kdl"), &project).expect("spot.kdl");
+        let mesh = meshes.join(format!("{}.obj", case.example));
+        fs::copy(&case.mesh, &mesh).expect("the mesh");
+        let project = folder.path().join(format!("{}.kdl", case.example));
+        let source = manifest().join(format!("examples/{}.kdl", case.example));
+        fs::copy(source, &project).expect("the project");
         Scratch {
             _folder: folder,
             project,
             mesh,
+            goals: case.goals,
         }
     }
 
-    /// Saves the project with every `stand` goal at the `k`-th of [`MARGINS`], as an editor
-    /// does (a temp file renamed over it).
+    /// Saves the project with its goals as the `k`-th text of the case's two (k even: the
+    /// second), as an editor does (a temp file renamed over it).
     fn edit_goals(&self, k: usize) {
-        let text = fs::read_to_string(&self.project).expect("spot.kdl");
-        let edited = text.replace(MARGINS[1 - k % 2], MARGINS[k % 2]);
+        let text = fs::read_to_string(&self.project).expect("the project");
+        let edited = text.replace(self.goals[k % 2], self.goals[1 - k % 2]);
         save_by_rename(&self.project, edited.as_bytes());
     }
 
     /// Saves the mesh with every vertex moved by a new tiny amount along x: a new content, the
     /// same goals met.
     fn edit_mesh(&self, k: usize) {
-        let text = fs::read_to_string(&self.mesh).expect("spot.obj");
+        let text = fs::read_to_string(&self.mesh).expect("the mesh");
         let dx = 1e-4 * (k as f64 + 1.0);
         let moved: Vec<String> = text
             .lines()
@@ -109,10 +139,10 @@ fn build(
     workspace: &mut Workspace,
 ) -> (Compilation, f64) {
     let clock = Instant::now();
-    let source = fs::read_to_string(&scratch.project).expect("spot.kdl");
+    let source = fs::read_to_string(&scratch.project).expect("the project");
     workspace.start_build();
     let compilation =
-        compile_with(&source, &scratch.project, options, workspace).expect("spot compiles");
+        compile_with(&source, &scratch.project, options, workspace).expect("it compiles");
     workspace.prune();
     write_outputs(&compilation, &scratch.project, None).expect("outputs are written");
     (compilation, clock.elapsed().as_secs_f64())
@@ -123,8 +153,15 @@ fn median(mut times: Vec<f64>) -> f64 {
     times[times.len() / 2]
 }
 
-fn in_process(repeats: usize, base: f64, triangles: usize) {
-    let scratch = Scratch::new();
+fn in_process(case: &Case, repeats: usize, base: f64) {
+    let triangles = match load_mesh(&case.mesh, &MeshSelector::Whole) {
+        Ok(mesh) => mesh.triangles.len(),
+        Err(error) => {
+            println!("note: skipping {}: {error}\n", case.mesh.display());
+            return;
+        }
+    };
+    let scratch = Scratch::new(case);
     let mut fresh = Vec::new();
     let mut warm = Vec::new();
     let mut full = Vec::new();
@@ -153,7 +190,10 @@ fn in_process(repeats: usize, base: f64, triangles: usize) {
         mesh.push(seconds);
         last = moved;
     }
-    println!("### In process (library calls of one watch session), Spot, {triangles} triangles\n");
+    println!(
+        "### In process (library calls of one watch session), `{}`, {triangles} triangles\n",
+        case.example
+    );
     println!("| build | median s | ratio |");
     println!("| --- | ---: | ---: |");
     for (label, times) in [
@@ -220,8 +260,8 @@ impl Drop for Watcher {
     }
 }
 
-fn end_to_end(repeats: usize, base: f64) {
-    let scratch = Scratch::new();
+fn end_to_end(case: &Case, repeats: usize, base: f64) {
+    let scratch = Scratch::new(case);
     let watcher = Watcher::start(&scratch.project);
     watcher.until("  wrote ", "");
     let mut early = Vec::new();
@@ -237,7 +277,10 @@ fn end_to_end(repeats: usize, base: f64) {
         scratch.edit_mesh(k);
         mesh.push((watcher.until("  wrote ", "") - saved).as_secs_f64());
     }
-    println!("### End to end (`ballast watch`, save to outputs written, debounce included)\n");
+    println!(
+        "### End to end (`ballast watch`, save to outputs written, debounce included), `{}`\n",
+        case.example
+    );
     println!("| edit | median s | ratio |");
     println!("| --- | ---: | ---: |");
     for (label, times) in [
@@ -262,17 +305,13 @@ fn main() {
         &MeshSelector::Whole,
     )
     .expect("examples/meshes/hammer.obj");
-    let spot = load_mesh(
-        &manifest().join("examples/meshes/spot.obj"),
-        &MeshSelector::Whole,
-    )
-    .expect("examples/meshes/spot.obj");
     let base = baseline(&hammer);
     println!(
         "baseline: {:.3e} s ({} vertices summed)\n",
         base,
         hammer.positions.len()
     );
-    in_process(repeats, base, spot.triangles.len());
-    end_to_end(repeats, baseline(&hammer));
+    in_process(&Case::spot(), repeats, base);
+    end_to_end(&Case::spot(), repeats, baseline(&hammer));
+    in_process(&Case::hammer_240k(), repeats, baseline(&hammer));
 }

@@ -315,7 +315,10 @@ fn a_mesh_edit_rebuilds_the_grids_and_a_goal_edit_reuses_them_and_starts_warm() 
     assert!(mesh.contains("t_shape.obj"), "{mesh}");
     // A new mesh: nothing to start warm from, and the old mesh's grid is dropped.
     assert!(!mesh.contains("from the last design"), "{mesh}");
-    assert!(mesh.contains("  meshes: 1 of 1 loaded and checked"), "{mesh}");
+    assert!(
+        mesh.contains("  meshes: 1 of 1 loaded and checked"),
+        "{mesh}"
+    );
     assert!(
         mesh.contains("grids and skeletons: 1 grid and 1 skeleton built (1 mesh in the cache)"),
         "{mesh}"
