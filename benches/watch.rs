@@ -16,6 +16,8 @@
 //! figures. Run with `cargo bench --bench watch`; `BALLAST_BENCH_REPEATS` sets the edits per case
 //! (default 5; the median is shown).
 
+#[path = "../tests/edit_support/mod.rs"]
+mod edit_support;
 mod support;
 
 use std::fs;
@@ -99,20 +101,7 @@ impl Scratch {
     fn edit_mesh(&self, k: usize) {
         let text = fs::read_to_string(&self.mesh).expect("the mesh");
         let dx = 1e-4 * (k as f64 + 1.0);
-        let moved: Vec<String> = text
-            .lines()
-            .map(|line| match line.strip_prefix("v ") {
-                Some(rest) => {
-                    let c: Vec<f64> = rest
-                        .split_whitespace()
-                        .map(|v| v.parse().expect("a coordinate"))
-                        .collect();
-                    format!("v {} {} {}", c[0] + dx, c[1], c[2])
-                }
-                None => line.to_string(),
-            })
-            .collect();
-        save_by_rename(&self.mesh, (moved.join("\n") + "\n").as_bytes());
+        save_by_rename(&self.mesh, edit_support::shifted_obj(&text, dx).as_bytes());
     }
 }
 

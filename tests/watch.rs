@@ -4,6 +4,8 @@
 //! so a loaded machine only makes the tests slower. The few negative checks (no rebuild happened)
 //! wait a fixed time well beyond the debounce window.
 
+mod edit_support;
+
 use std::fs;
 use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
@@ -427,20 +429,7 @@ impl Watch {
 /// Moves every vertex of the OBJ file at `path` by `dx` along x: the same shape, a new content.
 fn touch_mesh(path: &Path, dx: f64) {
     let text = fs::read_to_string(path).unwrap();
-    let moved: Vec<String> = text
-        .lines()
-        .map(|line| match line.strip_prefix("v ") {
-            Some(rest) => {
-                let c: Vec<f64> = rest
-                    .split_whitespace()
-                    .map(|v| v.parse().unwrap())
-                    .collect();
-                format!("v {} {} {}", c[0] + dx, c[1], c[2])
-            }
-            None => line.to_string(),
-        })
-        .collect();
-    save_by_rename(path, &(moved.join("\n") + "\n"));
+    save_by_rename(path, &edit_support::shifted_obj(&text, dx));
 }
 
 /// A project on the box of [`write_box`], with one hand-placed capsule.

@@ -2,6 +2,8 @@
 //! it has seen, an earlier design warm-starts the optimizer only for the meshes it was made for,
 //! progress names the long stages, and a cancelled build gives nothing and caches nothing.
 
+mod edit_support;
+
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
@@ -109,20 +111,11 @@ fn a_goal_edit_reuses_the_precomputation_and_starts_from_the_last_design() {
     let folder = tempfile::tempdir().unwrap();
     std::fs::create_dir(folder.path().join("meshes")).unwrap();
     let obj = std::fs::read_to_string(path.with_file_name("meshes/t_shape.obj")).unwrap();
-    let moved: Vec<String> = obj
-        .lines()
-        .map(|line| match line.strip_prefix("v ") {
-            Some(rest) => {
-                let c: Vec<f64> = rest
-                    .split_whitespace()
-                    .map(|v| v.parse().unwrap())
-                    .collect();
-                format!("v {} {} {}", c[0] + 1.0, c[1], c[2])
-            }
-            None => line.to_string(),
-        })
-        .collect();
-    std::fs::write(folder.path().join("meshes/t_shape.obj"), moved.join("\n")).unwrap();
+    std::fs::write(
+        folder.path().join("meshes/t_shape.obj"),
+        edit_support::shifted_obj(&obj, 1.0),
+    )
+    .unwrap();
     let elsewhere = folder.path().join("t_shape.kdl");
     let third = build(&stricter, &elsewhere, &options(Some(warm)), &mut workspace);
     assert!(!third.optimization.as_ref().unwrap().warm_started);
