@@ -11,7 +11,9 @@
 //! | crate version, length-prefixed | u32 + text |
 //! | key: content hash, cell bits, vertex count, triangle count | 4 × u64 |
 //! | grid: origin (3 × f64 bits), cell (f64 bits), dims (3 × u64), every value's bits | … |
-//! | skeleton flag (0 or 1); when 1: fallback (0 or 1), segment count (u64), each segment's `from`, `to` (3 × f64 bits each) and radius | … |
+//! | skeleton: 0 (none) or 1 (stored) | u8 |
+//! | if stored: fallback, 0 or 1 | u8 |
+//! | if stored: segment count, then each segment's `from`, `to`, radius | u64 + 7 × u64 each |
 //! | FNV-1a 64 of every byte before it | u64 |
 //!
 //! Reading checks all of it; anything unexpected is a miss, and the file is removed. The cache
@@ -54,7 +56,8 @@ impl DiskCache {
     /// The default bound on the files of one format folder: 512 MB.
     pub const DEFAULT_LIMIT: u64 = 512 * 1024 * 1024;
 
-    /// The cache in folder `root` (created on the first store), bounded to [`DEFAULT_LIMIT`](Self::DEFAULT_LIMIT).
+    /// The cache in folder `root` (created on the first store), bounded to
+    /// [`DEFAULT_LIMIT`](Self::DEFAULT_LIMIT).
     pub fn at(root: impl Into<PathBuf>) -> DiskCache {
         DiskCache {
             root: root.into(),
