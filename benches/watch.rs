@@ -209,6 +209,7 @@ struct Watcher {
 impl Watcher {
     fn start(project: &Path) -> Watcher {
         let mut child = Command::new(env!("CARGO_BIN_EXE_ballast"))
+            .env("BALLAST_CACHE_DIR", "off")
             .arg("watch")
             .arg(project)
             .stdin(Stdio::null())

@@ -4,10 +4,12 @@ use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+/// Runs the binary without the disk cache, so no test writes into the user's cache folder.
 fn ballast(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_ballast"))
         .args(args)
         .env("NO_COLOR", "1")
+        .env("BALLAST_CACHE_DIR", "off")
         .output()
         .expect("the ballast binary runs")
 }
@@ -317,4 +319,109 @@ pose "again on its right side" {
     );
     assert!(folder.path().join("model.solution.kdl").exists());
     assert!(folder.path().join("build/model.glb").exists());
+}
+
+/// `examples/t_shape.kdl` and its mesh copied to a fresh folder.
+fn t_shape_copy() -> (tempfile::TempDir, PathBuf) {
+    let folder = tempfile::tempdir().unwrap();
+    fs::create_dir(folder.path().join("meshes")).unwrap();
+    fs::copy(
+        examples().join("meshes/t_shape.obj"),
+        folder.path().join("meshes/t_shape.obj"),
+    )
+    .unwrap();
+    let project = folder.path().join("t_shape.kdl");
+    fs::copy(examples().join("t_shape.kdl"), &project).unwrap();
+    (folder, project)
+}
+
+/// `ballast build` with the disk cache in `cache`.
+fn build_cached(project: &Path, cache: &Path, extra: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_ballast"))
+        .arg("build")
+        .arg(project)
+        .args(extra)
+        .env("NO_COLOR", "1")
+        .env("BALLAST_CACHE_DIR", cache)
+        .output()
+        .expect("the ballast binary runs")
+}
+
+/// The report, glTF file and solution file a build of the T shape wrote.
+fn t_shape_outputs(folder: &Path) -> [Vec<u8>; 3] {
+    [
+        "build/t_shape.report.json",
+        "build/t_shape.glb",
+        "t_shape.solution.kdl",
+    ]
+    .map(|name| fs::read(folder.join(name)).unwrap())
+}
+
+/// The files of the disk cache in `cache`, every format folder included.
+fn cache_files(cache: &Path) -> Vec<PathBuf> {
+    let Ok(folders) = fs::read_dir(cache) else {
+        return Vec::new();
+    };
+    let mut files = Vec::new();
+    for folder in folders {
+        for file in fs::read_dir(folder.unwrap().path()).unwrap() {
+            files.push(file.unwrap().path());
+        }
+    }
+    files
+}
+
+#[test]
+fn a_second_build_reads_the_grid_from_the_disk_cache_and_writes_the_same_bytes() {
+    let (folder, project) = t_shape_copy();
+    let cache = tempfile::tempdir().unwrap();
+
+    let first = build_cached(&project, cache.path(), &[]);
+    assert_eq!(first.status.code(), Some(0), "stderr: {}", stderr(&first));
+    assert!(!stdout(&first).contains("from the disk cache"));
+    let files = cache_files(cache.path());
+    assert_eq!(files.len(), 1, "{files:?}");
+    assert!(files[0].extension().is_some_and(|e| e == "bin"));
+    let sampled = t_shape_outputs(folder.path());
+
+    let second = build_cached(&project, cache.path(), &[]);
+    assert_eq!(second.status.code(), Some(0), "stderr: {}", stderr(&second));
+    assert!(
+        stdout(&second).contains(" s (1 mesh from the disk cache), heuristic "),
+        "{}",
+        stdout(&second)
+    );
+    assert_eq!(t_shape_outputs(folder.path()), sampled);
+
+    // Without the cache: nothing read or written, and the same bytes again.
+    let unused = tempfile::tempdir().unwrap();
+    let uncached = build_cached(&project, unused.path(), &["--no-cache"]);
+    assert_eq!(
+        uncached.status.code(),
+        Some(0),
+        "stderr: {}",
+        stderr(&uncached)
+    );
+    assert!(!stdout(&uncached).contains("from the disk cache"));
+    assert!(cache_files(unused.path()).is_empty());
+    assert_eq!(t_shape_outputs(folder.path()), sampled);
+}
+
+#[test]
+fn a_damaged_cache_file_is_ignored_and_the_build_writes_the_same_bytes() {
+    let (folder, project) = t_shape_copy();
+    let cache = tempfile::tempdir().unwrap();
+    let first = build_cached(&project, cache.path(), &[]);
+    assert_eq!(first.status.code(), Some(0), "stderr: {}", stderr(&first));
+    let sampled = t_shape_outputs(folder.path());
+    let files = cache_files(cache.path());
+    assert_eq!(files.len(), 1, "{files:?}");
+    fs::write(&files[0], b"not a cache file at all").unwrap();
+
+    let second = build_cached(&project, cache.path(), &[]);
+    assert_eq!(second.status.code(), Some(0), "stderr: {}", stderr(&second));
+    assert!(!stdout(&second).contains("from the disk cache"));
+    assert_eq!(t_shape_outputs(folder.path()), sampled);
+    // Sampled again and stored again, whole.
+    assert!(fs::metadata(&files[0]).unwrap().len() > 1000);
 }

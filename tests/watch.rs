@@ -6,6 +6,7 @@
 
 mod edit_support;
 
+use std::ffi::OsStr;
 use std::fs;
 use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
@@ -36,8 +37,15 @@ struct Watch {
 }
 
 impl Watch {
+    /// Watches `project` without the disk cache, so no test writes into the user's cache folder.
     fn start(project: &Path, args: &[&str]) -> Watch {
+        Watch::start_cached(project, args, "off")
+    }
+
+    /// Watches `project` with the disk cache in `cache`.
+    fn start_cached(project: &Path, args: &[&str], cache: impl AsRef<OsStr>) -> Watch {
         let mut child = Command::new(env!("CARGO_BIN_EXE_ballast"))
+            .env("BALLAST_CACHE_DIR", cache)
             .arg("watch")
             .arg(project)
             .args(args)
@@ -303,6 +311,7 @@ fn a_mesh_edit_rebuilds_the_grids_and_a_goal_edit_reuses_them_and_starts_warm() 
     // Once quiet, the outputs are exactly what `build` writes.
     drop(watch);
     let built = Command::new(env!("CARGO_BIN_EXE_ballast"))
+        .env("BALLAST_CACHE_DIR", "off")
         .arg("build")
         .arg(&project)
         .output()
@@ -523,6 +532,7 @@ fn an_edit_to_an_external_gltf_buffer_rebuilds() {
 fn a_project_in_a_missing_folder_cannot_be_watched() {
     let folder = tempfile::tempdir().unwrap();
     let output = Command::new(env!("CARGO_BIN_EXE_ballast"))
+        .env("BALLAST_CACHE_DIR", "off")
         .arg("watch")
         .arg(folder.path().join("no/such/model.kdl"))
         .env("NO_COLOR", "1")
@@ -532,4 +542,26 @@ fn a_project_in_a_missing_folder_cannot_be_watched() {
     assert_eq!(output.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(stderr.contains("cannot watch"), "{stderr}");
+}
+
+#[test]
+fn a_new_session_reads_the_grid_a_build_stored_in_the_disk_cache() {
+    let (_folder, project) = scratch(
+        "optimize capsules=1\ncomponent \"T\" mesh=\"meshes/t_shape.obj\"\npose \"upright\" { stand margin=1 }\n",
+    );
+    let cache = tempfile::tempdir().unwrap();
+    let built = Command::new(env!("CARGO_BIN_EXE_ballast"))
+        .env("BALLAST_CACHE_DIR", cache.path())
+        .arg("build")
+        .arg(&project)
+        .output()
+        .unwrap();
+    assert!(built.status.success(), "{built:?}");
+
+    let watch = Watch::start_cached(&project, &[], cache.path());
+    let first = watch.wait_builds(1);
+    assert!(
+        first.contains("grids and skeletons: 1 read from the disk cache (1 mesh in the cache)"),
+        "{first}"
+    );
 }

@@ -78,6 +78,10 @@ pub struct OptimizeArgs {
     /// `slsqp` (exact gradients) or `cobyla` (derivative-free).
     #[arg(long, value_enum, default_value_t = Solver::Hybrid)]
     pub solver: Solver,
+    /// Neither read nor write the disk cache of distance grids and skeletons (by default in the
+    /// user's cache folder, or `BALLAST_CACHE_DIR`; `off` there disables it too).
+    #[arg(long)]
+    pub no_cache: bool,
 }
 
 /// The local solvers `build --solver` offers.

@@ -5,10 +5,12 @@ use std::path::Path;
 
 use super::{compile_file, file_name, goals_status, progress, table, EXIT_INVALID};
 use crate::compile::{write_outputs, CompileOptions, Workspace};
+use crate::optimize::PrecomputeCache;
 
-/// Builds the project at `path` as `options` say.
-pub fn run(path: &Path, options: &CompileOptions) -> i32 {
+/// Builds the project at `path` as `options` say, with grids and skeletons from `cache`.
+pub fn run(path: &Path, options: &CompileOptions, cache: PrecomputeCache) -> i32 {
     let mut workspace = Workspace {
+        cache,
         progress: progress::on_terminal(),
         ..Workspace::new()
     };

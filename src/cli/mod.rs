@@ -20,7 +20,7 @@ pub use args::{Cli, Command, OptimizeArgs, Solver};
 use crate::compile::{
     compile_with, Compilation, CompileOptions, Failure, OptimizeOptions, Workspace,
 };
-use crate::optimize::Method;
+use crate::optimize::{DiskCache, Method, PrecomputeCache};
 
 /// Every goal of every pose is met.
 pub const EXIT_MET: i32 = 0;
@@ -60,12 +60,20 @@ pub fn run() -> i32 {
             project,
             out_dir,
             optimize,
-        } => build::run(&project, &optimize_options(out_dir, &optimize)),
+        } => build::run(
+            &project,
+            &optimize_options(out_dir, &optimize),
+            precompute_cache(&optimize),
+        ),
         Command::Watch {
             project,
             out_dir,
             optimize,
-        } => watch::run(&project, &optimize_options(out_dir, &optimize)),
+        } => watch::run(
+            &project,
+            &optimize_options(out_dir, &optimize),
+            precompute_cache(&optimize),
+        ),
     }
 }
 
@@ -83,6 +91,15 @@ fn optimize_options(out_dir: Option<std::path::PathBuf>, args: &OptimizeArgs) ->
             exhaustive: args.exhaustive,
             warm_start: None,
         }),
+    }
+}
+
+/// The precompute cache of a command that optimizes: over the disk cache at its default location
+/// unless `--no-cache` is given or there is none.
+fn precompute_cache(args: &OptimizeArgs) -> PrecomputeCache {
+    match DiskCache::default_location().filter(|_| !args.no_cache) {
+        Some(root) => PrecomputeCache::with_disk(DiskCache::at(root)),
+        None => PrecomputeCache::new(),
     }
 }
 

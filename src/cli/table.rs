@@ -269,8 +269,21 @@ pub fn optimization(optimization: &Optimization, compilation: &Compilation) -> S
     let timings = &optimization.timings;
     let _ = writeln!(
         out,
-        "  time: precompute {:.2} s, heuristic {:.2} s{}{}",
+        "  time: precompute {:.2} s{}, heuristic {:.2} s{}{}",
         timings.precompute,
+        if optimization.from_disk == 0 {
+            String::new()
+        } else {
+            format!(
+                " ({} mesh{} from the disk cache)",
+                optimization.from_disk,
+                if optimization.from_disk == 1 {
+                    ""
+                } else {
+                    "es"
+                }
+            )
+        },
         timings.heuristic,
         if optimization.exhaustive.is_empty() {
             String::new()

@@ -15,16 +15,18 @@ use std::time::Instant;
 use super::{compile_file, file_name, progress, NotCompiled, EXIT_INVALID, EXIT_MET};
 use crate::cancel::Cancel;
 use crate::compile::{write_outputs, Compilation, CompileOptions, WarmStart, Workspace};
-use crate::optimize::Built;
+use crate::optimize::{Built, PrecomputeCache};
 use crate::spec::parse_project;
 use crate::watch::{self, differences, list, referenced_files, shown, Snapshot};
 
-/// Watches the project at `path` until Ctrl-C (status 0); status 2 when watching cannot start.
-pub fn run(path: &Path, options: &CompileOptions) -> i32 {
+/// Watches the project at `path` until Ctrl-C (status 0), with grids and skeletons from `cache`;
+/// status 2 when watching cannot start.
+pub fn run(path: &Path, options: &CompileOptions, cache: PrecomputeCache) -> i32 {
     let mut session = Session {
         path,
         options,
         workspace: Workspace {
+            cache,
             progress: progress::on_terminal(),
             ..Workspace::new()
         },
@@ -238,30 +240,32 @@ fn summary(input: &SummaryInput) -> String {
     };
     let _ = writeln!(out, "  meshes: {meshes}");
     let optimization = input.compilation.optimization.as_ref();
-    let precompute = match (optimization, input.built) {
-        (None, _) => "not needed (the design is not optimized)".to_string(),
-        (
-            Some(_),
-            Built {
-                grids: 0,
-                skeletons: 0,
-            },
-        ) => {
-            format!(
-                "reused ({} mesh{} in the cache)",
-                input.held,
-                plural_es(input.held)
-            )
+    let built = input.built;
+    let precompute = if optimization.is_none() {
+        "not needed (the design is not optimized)".to_string()
+    } else {
+        let mut parts = Vec::new();
+        if built.grids > 0 || built.skeletons > 0 {
+            parts.push(format!(
+                "{} grid{} and {} skeleton{} built",
+                built.grids,
+                plural(built.grids),
+                built.skeletons,
+                plural(built.skeletons),
+            ));
         }
-        (Some(_), built) => format!(
-            "{} grid{} and {} skeleton{} built ({} mesh{} in the cache)",
-            built.grids,
-            plural(built.grids),
-            built.skeletons,
-            plural(built.skeletons),
+        if built.loaded > 0 {
+            parts.push(format!("{} read from the disk cache", built.loaded));
+        }
+        if parts.is_empty() {
+            parts.push("reused".to_string());
+        }
+        format!(
+            "{} ({} mesh{} in the cache)",
+            parts.join(", "),
             input.held,
             plural_es(input.held)
-        ),
+        )
     };
     let _ = writeln!(out, "  grids and skeletons: {precompute}");
     let stages = match optimization {

@@ -85,6 +85,10 @@ pub struct Optimization {
     /// Wall-clock seconds per stage. Not deterministic, so never written to a file.
     #[serde(skip)]
     pub timings: Timings,
+    /// Meshes whose grid (and skeleton, when stored) the precomputation read from the disk
+    /// cache. Depends on the cache, so never written to a file.
+    #[serde(skip)]
+    pub from_disk: usize,
 }
 
 /// Wall-clock seconds of each optimizer stage.
@@ -186,7 +190,7 @@ pub fn prepare(
         .collect();
     let mut grids = Vec::with_capacity(meshes.len());
     for (index, (mesh, &cell)) in meshes.iter().zip(&cells).enumerate() {
-        if !workspace.cache.holds_grid(mesh, cell) {
+        if !workspace.cache.recall(mesh, cell) {
             workspace.report(Stage::Grid {
                 component: project.component_name(index).to_string(),
                 nodes: DistanceGrid::node_count(mesh, cell),
@@ -272,12 +276,14 @@ fn optimize_from(
     warm: Option<&Design>,
 ) -> Option<(Design, Optimization)> {
     let clock = Instant::now();
+    let loaded_before = workspace.cache.built().loaded;
     let Preparation {
         interior,
         seeds,
         sites,
     } = prepare(project, settings, meshes, workspace, warm)?;
     let precompute = clock.elapsed().as_secs_f64();
+    let from_disk = workspace.cache.built().loaded - loaded_before;
 
     let clock = Instant::now();
     let problem = Problem::new(project, meshes, interior.clone(), options.method)
@@ -366,6 +372,7 @@ fn optimize_from(
             exhaustive: exhaustive_seconds,
             conflicts: conflicts_seconds,
         },
+        from_disk,
     };
     Some((design, optimization))
 }

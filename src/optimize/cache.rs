@@ -1,10 +1,12 @@
 //! The optimizer's precomputation kept between builds in one process (watch mode): each
 //! component's distance grid and skeleton, keyed by the exact content of its mesh and the grid's
 //! node spacing, so a build where only poses, goals or options changed samples nothing again.
+//! With a [`DiskCache`] under it, what one process computed is found by the next.
 
 use std::collections::HashMap;
 use std::sync::Arc;
 
+use super::disk_cache::DiskCache;
 use super::grids::content_hash;
 use crate::cancel::Cancel;
 use crate::geometry::{DistanceGrid, Skeleton, TriMesh};
@@ -12,13 +14,18 @@ use crate::geometry::{DistanceGrid, Skeleton, TriMesh};
 /// Grids and skeletons already built. Entries not asked for since [`start_build`] can be dropped
 /// with [`prune`], so a session that edits a mesh many times does not hold every version.
 ///
+/// With a disk layer ([`with_disk`]), an entry not held is looked for on disk before it is
+/// computed, and what is computed is stored there.
+///
 /// [`start_build`]: PrecomputeCache::start_build
 /// [`prune`]: PrecomputeCache::prune
+/// [`with_disk`]: PrecomputeCache::with_disk
 #[derive(Debug, Default)]
 pub struct PrecomputeCache {
     entries: HashMap<(u64, u64), Entry>,
     build: u64,
     built: Built,
+    disk: Option<DiskCache>,
 }
 
 /// What one build had to compute because the cache did not hold it.
@@ -28,6 +35,8 @@ pub struct Built {
     pub grids: usize,
     /// Skeletons thinned.
     pub skeletons: usize,
+    /// Entries (a grid, with its skeleton when one was stored) read from the disk cache.
+    pub loaded: usize,
 }
 
 #[derive(Debug)]
@@ -39,9 +48,23 @@ struct Entry {
 }
 
 impl PrecomputeCache {
-    /// An empty cache.
+    /// An empty cache, in memory only.
     pub fn new() -> PrecomputeCache {
         PrecomputeCache::default()
+    }
+
+    /// An empty cache over `disk`: entries not held are read from it when there, and what is
+    /// computed is stored in it (unless the build was cancelled). Errors of the disk are ignored.
+    pub fn with_disk(disk: DiskCache) -> PrecomputeCache {
+        PrecomputeCache {
+            disk: Some(disk),
+            ..PrecomputeCache::default()
+        }
+    }
+
+    /// The disk layer, if any.
+    pub fn disk(&self) -> Option<&DiskCache> {
+        self.disk.as_ref()
     }
 
     /// Marks the start of a build: [`built`](Self::built) counts from zero again, and
@@ -79,8 +102,35 @@ impl PrecomputeCache {
         }
         let skeleton = Arc::new(Skeleton::from_grid(mesh, &entry.grid));
         entry.skeleton = Some(skeleton.clone());
+        let grid = entry.grid.clone();
         self.built.skeletons += 1;
+        if let Some(disk) = self.disk.as_ref().filter(|_| !cancel.is_cancelled()) {
+            let _ = disk.store(mesh, cell, &grid, Some(&skeleton));
+        }
         Some(skeleton)
+    }
+
+    /// Whether the grid of `mesh` at spacing `cell` is held, after reading it (and its skeleton,
+    /// when stored) from the disk cache if it is not held but is there. Computes nothing.
+    pub fn recall(&mut self, mesh: &TriMesh, cell: f64) -> bool {
+        let key = (content_hash(mesh), cell.to_bits());
+        if self.entries.contains_key(&key) {
+            return true;
+        }
+        let Some((grid, skeleton)) = self.disk.as_ref().and_then(|disk| disk.load(mesh, cell))
+        else {
+            return false;
+        };
+        self.built.loaded += 1;
+        self.entries.insert(
+            key,
+            Entry {
+                grid: Arc::new(grid),
+                skeleton: skeleton.map(Arc::new),
+                used: self.build,
+            },
+        );
+        true
     }
 
     /// Whether the grid of `mesh` at spacing `cell` is held.
@@ -120,9 +170,12 @@ impl PrecomputeCache {
     fn entry(&mut self, mesh: &TriMesh, cell: f64, cancel: &Cancel) -> Option<&mut Entry> {
         let key = (content_hash(mesh), cell.to_bits());
         let build = self.build;
-        if !self.entries.contains_key(&key) {
+        if !self.recall(mesh, cell) {
             let grid = DistanceGrid::new_unless(mesh, cell, cancel)?;
             self.built.grids += 1;
+            if let Some(disk) = self.disk.as_ref().filter(|_| !cancel.is_cancelled()) {
+                let _ = disk.store(mesh, cell, &grid, None);
+            }
             self.entries.insert(
                 key,
                 Entry {
@@ -184,7 +237,8 @@ mod tests {
             cache.built(),
             Built {
                 grids: 1,
-                skeletons: 1
+                skeletons: 1,
+                loaded: 0
             }
         );
 
@@ -211,5 +265,61 @@ mod tests {
         assert!(cache.grid(&cube(1.0), 0.25, &cancel).is_none());
         assert!(cache.is_empty());
         assert_eq!(cache.built(), Built::default());
+    }
+
+    #[test]
+    fn a_new_cache_over_the_same_disk_reads_what_an_earlier_one_computed() {
+        let never = Cancel::new();
+        let folder = tempfile::tempdir().unwrap();
+        let mut first = PrecomputeCache::with_disk(DiskCache::at(folder.path()));
+        first.start_build();
+        let grid = first.grid(&cube(1.0), 0.25, &never).unwrap();
+        let skeleton = first.skeleton(&cube(1.0), 0.25, &never).unwrap();
+        assert_eq!(
+            first.built(),
+            Built {
+                grids: 1,
+                skeletons: 1,
+                loaded: 0
+            }
+        );
+
+        let mut second = PrecomputeCache::with_disk(DiskCache::at(folder.path()));
+        second.start_build();
+        assert!(!second.holds_grid(&cube(1.0), 0.25));
+        assert!(second.recall(&cube(1.0), 0.25));
+        assert!(second.holds_skeleton(&cube(1.0), 0.25));
+        let read = second.grid(&cube(1.0), 0.25, &never).unwrap();
+        assert_eq!(
+            *second.skeleton(&cube(1.0), 0.25, &never).unwrap(),
+            *skeleton
+        );
+        let bits = |grid: &DistanceGrid| -> Vec<u64> {
+            grid.values().iter().map(|v| v.to_bits()).collect()
+        };
+        assert_eq!(bits(&read), bits(&grid));
+        assert_eq!(
+            second.built(),
+            Built {
+                grids: 0,
+                skeletons: 0,
+                loaded: 1
+            }
+        );
+
+        // Without a disk layer nothing is read.
+        let mut memory = PrecomputeCache::new();
+        assert!(!memory.recall(&cube(1.0), 0.25));
+    }
+
+    #[test]
+    fn a_cancelled_build_stores_nothing_on_disk() {
+        let cancel = Cancel::new();
+        cancel.cancel();
+        let folder = tempfile::tempdir().unwrap();
+        let mut cache = PrecomputeCache::with_disk(DiskCache::at(folder.path()));
+        cache.start_build();
+        assert!(cache.grid(&cube(1.0), 0.25, &cancel).is_none());
+        assert_eq!(std::fs::read_dir(folder.path()).unwrap().count(), 0);
     }
 }

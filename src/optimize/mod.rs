@@ -4,6 +4,7 @@
 mod bounds;
 mod cache;
 mod conflicts;
+mod disk_cache;
 mod exhaustive;
 mod grids;
 mod heuristic;
@@ -14,6 +15,7 @@ mod solver;
 pub use bounds::design_bounds;
 pub use cache::{Built, PrecomputeCache};
 pub use conflicts::{explain as explain_conflicts, Conflict, GoalRef};
+pub use disk_cache::DiskCache;
 pub use exhaustive::{rank, Ranking};
 pub use grids::{content_hash, default_cell};
 pub use heuristic::{choose, run as run_heuristic, Candidate};

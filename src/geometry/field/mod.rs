@@ -112,6 +112,38 @@ impl DistanceGrid {
         (!cancel.is_cancelled()).then_some(grid)
     }
 
+    /// A grid rebuilt from the parts [`new`](Self::new) produced (read back from a cache), or
+    /// `None` when they do not make a grid: `cell` not positive and finite, `origin` not finite,
+    /// `values` not one per node (x fastest), or a non-empty grid with fewer than four nodes along
+    /// some axis (the interpolant needs a 4×4×4 neighbourhood).
+    pub fn from_parts(
+        origin: Point3<f64>,
+        cell: f64,
+        dims: [usize; 3],
+        values: Vec<f64>,
+    ) -> Option<DistanceGrid> {
+        let count = dims
+            .iter()
+            .try_fold(1usize, |count, &n| count.checked_mul(n))?;
+        let usable = cell.is_finite()
+            && cell > 0.0
+            && origin.iter().all(|c| c.is_finite())
+            && values.len() == count
+            && (count == 0 || dims.iter().all(|&n| n >= 4));
+        usable.then_some(DistanceGrid {
+            origin,
+            cell,
+            dims,
+            values,
+        })
+    }
+
+    /// Every node's stored signed distance, x fastest: node `(i, j, k)` at
+    /// `i + nx · (j + ny · k)`.
+    pub fn values(&self) -> &[f64] {
+        &self.values
+    }
+
     /// Number of nodes [`new`](Self::new) samples for `mesh` at spacing `cell`.
     pub fn node_count(mesh: &TriMesh, cell: f64) -> usize {
         match mesh.bounding_box().filter(|_| !mesh.triangles.is_empty()) {
