@@ -194,45 +194,15 @@ impl PrecomputeCache {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nalgebra::Point3;
-
-    fn cube(side: f64) -> TriMesh {
-        let p = |x: f64, y: f64, z: f64| Point3::new(x * side, y * side, z * side);
-        TriMesh {
-            positions: vec![
-                p(0.0, 0.0, 0.0),
-                p(1.0, 0.0, 0.0),
-                p(1.0, 1.0, 0.0),
-                p(0.0, 1.0, 0.0),
-                p(0.0, 0.0, 1.0),
-                p(1.0, 0.0, 1.0),
-                p(1.0, 1.0, 1.0),
-                p(0.0, 1.0, 1.0),
-            ],
-            triangles: vec![
-                [0, 2, 1],
-                [0, 3, 2],
-                [4, 5, 6],
-                [4, 6, 7],
-                [0, 1, 5],
-                [0, 5, 4],
-                [1, 2, 6],
-                [1, 6, 5],
-                [2, 3, 7],
-                [2, 7, 6],
-                [3, 0, 4],
-                [3, 4, 7],
-            ],
-        }
-    }
+    use crate::optimize::test_meshes::cube;
 
     #[test]
     fn a_mesh_seen_before_is_not_sampled_again_and_unused_entries_are_pruned() {
         let never = Cancel::new();
         let mut cache = PrecomputeCache::new();
         cache.start_build();
-        let first = cache.grid(&cube(1.0), 0.25, &never).unwrap();
-        cache.skeleton(&cube(1.0), 0.25, &never).unwrap();
+        let first = cache.grid(&cube(1.0, 0.0), 0.25, &never).unwrap();
+        cache.skeleton(&cube(1.0, 0.0), 0.25, &never).unwrap();
         assert_eq!(
             cache.built(),
             Built {
@@ -243,13 +213,13 @@ mod tests {
         );
 
         cache.start_build();
-        let again = cache.grid(&cube(1.0), 0.25, &never).unwrap();
-        cache.skeleton(&cube(1.0), 0.25, &never).unwrap();
+        let again = cache.grid(&cube(1.0, 0.0), 0.25, &never).unwrap();
+        cache.skeleton(&cube(1.0, 0.0), 0.25, &never).unwrap();
         assert!(Arc::ptr_eq(&first, &again));
         assert_eq!(cache.built(), Built::default());
 
         cache.start_build();
-        cache.grid(&cube(2.0), 0.25, &never).unwrap();
+        cache.grid(&cube(2.0, 0.0), 0.25, &never).unwrap();
         assert_eq!(cache.built().grids, 1);
         assert_eq!(cache.len(), 2);
         cache.prune();
@@ -262,7 +232,7 @@ mod tests {
         cancel.cancel();
         let mut cache = PrecomputeCache::new();
         cache.start_build();
-        assert!(cache.grid(&cube(1.0), 0.25, &cancel).is_none());
+        assert!(cache.grid(&cube(1.0, 0.0), 0.25, &cancel).is_none());
         assert!(cache.is_empty());
         assert_eq!(cache.built(), Built::default());
     }
@@ -273,8 +243,8 @@ mod tests {
         let folder = tempfile::tempdir().unwrap();
         let mut first = PrecomputeCache::with_disk(DiskCache::at(folder.path()));
         first.start_build();
-        let grid = first.grid(&cube(1.0), 0.25, &never).unwrap();
-        let skeleton = first.skeleton(&cube(1.0), 0.25, &never).unwrap();
+        let grid = first.grid(&cube(1.0, 0.0), 0.25, &never).unwrap();
+        let skeleton = first.skeleton(&cube(1.0, 0.0), 0.25, &never).unwrap();
         assert_eq!(
             first.built(),
             Built {
@@ -286,12 +256,12 @@ mod tests {
 
         let mut second = PrecomputeCache::with_disk(DiskCache::at(folder.path()));
         second.start_build();
-        assert!(!second.holds_grid(&cube(1.0), 0.25));
-        assert!(second.recall(&cube(1.0), 0.25));
-        assert!(second.holds_skeleton(&cube(1.0), 0.25));
-        let read = second.grid(&cube(1.0), 0.25, &never).unwrap();
+        assert!(!second.holds_grid(&cube(1.0, 0.0), 0.25));
+        assert!(second.recall(&cube(1.0, 0.0), 0.25));
+        assert!(second.holds_skeleton(&cube(1.0, 0.0), 0.25));
+        let read = second.grid(&cube(1.0, 0.0), 0.25, &never).unwrap();
         assert_eq!(
-            *second.skeleton(&cube(1.0), 0.25, &never).unwrap(),
+            *second.skeleton(&cube(1.0, 0.0), 0.25, &never).unwrap(),
             *skeleton
         );
         let bits = |grid: &DistanceGrid| -> Vec<u64> {
@@ -309,7 +279,7 @@ mod tests {
 
         // Without a disk layer nothing is read.
         let mut memory = PrecomputeCache::new();
-        assert!(!memory.recall(&cube(1.0), 0.25));
+        assert!(!memory.recall(&cube(1.0, 0.0), 0.25));
     }
 
     #[test]
@@ -319,7 +289,7 @@ mod tests {
         let folder = tempfile::tempdir().unwrap();
         let mut cache = PrecomputeCache::with_disk(DiskCache::at(folder.path()));
         cache.start_build();
-        assert!(cache.grid(&cube(1.0), 0.25, &cancel).is_none());
+        assert!(cache.grid(&cube(1.0, 0.0), 0.25, &cancel).is_none());
         assert_eq!(std::fs::read_dir(folder.path()).unwrap().count(), 0);
     }
 }

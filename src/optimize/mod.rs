@@ -11,6 +11,8 @@ mod heuristic;
 mod problem;
 mod seeds;
 mod solver;
+#[cfg(test)]
+mod test_meshes;
 
 pub use bounds::design_bounds;
 pub use cache::{Built, PrecomputeCache};
