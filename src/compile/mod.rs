@@ -7,7 +7,11 @@
 //!
 //! The design is the project's written capsules, unless the project has an `optimize` node: then
 //! `build` runs the optimizer ([`OptimizeOptions`]) and `check` reads the solution file the last
-//! build wrote ([`solution`]).
+//! build wrote ([`read_solution`]).
+//!
+//! A [`Workspace`] carries what builds in one process share: the mesh and precompute caches that
+//! let watch mode skip work for unchanged meshes, the flag that cancels a build in flight, and
+//! where progress goes.
 
 mod design;
 mod mesh_cache;
