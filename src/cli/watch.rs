@@ -68,9 +68,12 @@ struct Last {
 }
 
 /// How one step of a rebuild ended.
+#[derive(Debug, PartialEq, Eq)]
 enum Step {
+    /// Built from the last design and written: the full search is still to run.
+    WarmStarted,
     /// Built and written.
-    Written(Box<Compilation>),
+    Done,
     /// Nothing written: invalid, cancelled or not writable (already said).
     Stopped,
 }
@@ -89,29 +92,15 @@ impl Session<'_> {
             println!("changed: {}; rebuilding {name}", list(&changed));
         }
         let warm = self.last.as_ref().map(|last| last.design.clone());
-        let Step::Written(first) = self.step(warm) else {
-            return self.files.clone();
-        };
-        let warm_started = first
-            .optimization
-            .as_ref()
-            .is_some_and(|optimization| optimization.warm_started);
-        let done = if warm_started {
-            match self.step(None) {
-                Step::Written(full) => full,
-                Step::Stopped => return self.files.clone(),
-            }
-        } else {
-            first
-        };
-        self.last = Some(Last {
-            snapshot: Snapshot::new(&done),
-            design: WarmStart::new(&done.meshes, done.design.clone()),
-        });
+        if self.step(warm) == Step::WarmStarted {
+            // The early result is written; the full search, as `build` runs it, follows.
+            self.step(None);
+        }
         self.files.clone()
     }
 
-    /// Compiles (from `warm`, when given), writes and prints a summary.
+    /// Compiles (from `warm`, when given), writes, prints a summary against the last good build
+    /// and becomes the last good build.
     fn step(&mut self, warm: Option<WarmStart>) -> Step {
         let name = file_name(self.path);
         let mut options = self.options.clone();
@@ -149,12 +138,17 @@ impl Session<'_> {
             }
         };
         let write_seconds = write_start.elapsed().as_secs_f64();
+        let warm_started = compilation
+            .optimization
+            .as_ref()
+            .is_some_and(|optimization| optimization.warm_started);
+        let snapshot = Snapshot::new(&compilation);
         print!(
             "{}",
             summary(&SummaryInput {
                 name: &name,
                 compilation: &compilation,
-                snapshot: &Snapshot::new(&compilation),
+                snapshot: &snapshot,
                 last: self.last.as_ref().map(|last| &last.snapshot),
                 built: self.workspace.cache.built(),
                 held: self.workspace.cache.len(),
@@ -162,13 +156,18 @@ impl Session<'_> {
                 compile_seconds,
                 write_seconds,
                 written: &written,
-                warm_started: compilation
-                    .optimization
-                    .as_ref()
-                    .is_some_and(|optimization| optimization.warm_started),
+                warm_started,
             })
         );
-        Step::Written(Box::new(compilation))
+        self.last = Some(Last {
+            snapshot,
+            design: WarmStart::new(&compilation.meshes, compilation.design),
+        });
+        if warm_started {
+            Step::WarmStarted
+        } else {
+            Step::Done
+        }
     }
 
     /// Follows the files the project names if it can be parsed (before the first build, after
