@@ -233,6 +233,22 @@ fn a_broken_save_keeps_the_outputs_and_fixing_it_rebuilds() {
 }
 
 #[test]
+fn saving_the_same_bytes_again_does_not_rebuild() {
+    let (folder, project) = scratch(HAND_PLACED);
+    let watch = Watch::start(&project, &[]);
+    watch.wait_builds(1);
+    save_by_rename(&project, HAND_PLACED);
+    let mesh = folder.path().join("meshes/t_shape.obj");
+    save_by_rename(&mesh, &fs::read_to_string(&mesh).unwrap());
+    watch.assert_quiet(1);
+    // A real edit after them still rebuilds.
+    save_by_rename(&project, &HAND_PLACED.replace("margin=1", "margin=2"));
+    let edited = watch.wait_builds(2);
+    assert!(edited.contains("changed: "), "{edited}");
+    assert!(edited.contains(GOOD), "{edited}");
+}
+
+#[test]
 fn a_rename_save_rebuilds_once_and_the_watched_set_follows_the_project() {
     let (folder, project) = scratch(HAND_PLACED);
     let watch = Watch::start(&project, &[]);

@@ -10,6 +10,7 @@
 //! changed between good builds.
 
 pub mod changes;
+pub mod contents;
 pub mod files;
 
 use std::collections::BTreeSet;
@@ -25,6 +26,7 @@ use notify_debouncer_full::{new_debouncer, DebounceEventResult, Debouncer, Recom
 use crate::cancel::Cancel;
 
 pub use changes::{differences, Snapshot};
+pub use contents::Contents;
 pub use files::{is_change, referenced_files, touched, watch_key, watched_folders};
 
 /// How long the file system must be quiet before a burst of events becomes one rebuild: long
@@ -42,11 +44,13 @@ enum Message {
 }
 
 /// Watches `files`, rebuilds once, then rebuilds after every burst of changes to the watched
-/// files, until Ctrl-C. `rebuild` gets the changed files (none for the first build) and a flag
-/// that is set when a watched file changes (or Ctrl-C is pressed) before it returns; it returns
-/// the files the project now references (see [`referenced_files`]), and the watched folders
-/// follow that set. Changes made during a build, the first one included, give one build after
-/// it. Returns when Ctrl-C was pressed; an error when watching cannot start.
+/// files, until Ctrl-C. A change is a file whose bytes are not those it held when the last
+/// build reading it started ([`Contents`]): events that change no byte are ignored. `rebuild`
+/// gets the changed files (none for the first build) and a flag that is set when a watched file
+/// changes (or Ctrl-C is pressed) before it returns; it returns the files the project now
+/// references (see [`referenced_files`]), and the watched folders follow that set. Changes made
+/// during a build, the first one included, give one build after it, and so does a cancelled
+/// build. Returns when Ctrl-C was pressed; an error when watching cannot start.
 pub fn run(
     files: BTreeSet<PathBuf>,
     mut rebuild: impl FnMut(&[PathBuf], &Cancel) -> BTreeSet<PathBuf>,
@@ -67,18 +71,21 @@ pub fn run(
     }) {
         eprintln!("warning: cannot catch Ctrl-C ({error}); stop with a signal instead");
     }
-    // The debouncer's thread cancels the rebuild in flight as soon as a watched file changes,
-    // before the main loop hears of it.
+    // The debouncer's thread cancels the rebuild in flight as soon as a watched file's bytes
+    // change, before the main loop hears of it.
     let followed: Arc<Mutex<BTreeSet<PathBuf>>> = Arc::default();
+    let contents: Arc<Mutex<Contents>> = Arc::default();
     let seen = followed.clone();
+    let recorded = contents.clone();
     let cancel_on_change = cancel.clone();
     let mut debouncer = new_debouncer(DEBOUNCE, None, move |result: DebounceEventResult| {
         if let Ok(events) = &result {
-            let files = seen.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
-            let concerns_us = events
-                .iter()
-                .any(|event| is_change(&event.kind) && !touched(&event.paths, &files).is_empty());
-            if concerns_us {
+            let files = lock(&seen);
+            let mut touched_files = BTreeSet::new();
+            for event in events.iter().filter(|event| is_change(&event.kind)) {
+                touched_files.extend(touched(&event.paths, &files));
+            }
+            if !lock(&recorded).differing(&touched_files).is_empty() {
                 cancel_on_change.cancel();
             }
         }
@@ -94,7 +101,10 @@ pub fn run(
     if watched.folders.is_empty() {
         return Err("cannot watch the project's folder".to_string());
     }
+    lock(&contents).record(&watched.files);
     let files = rebuild(&[], &cancel);
+    // A cancelled build is owed one more, whether or not the bytes still differ.
+    let mut owed = cancel.is_cancelled();
     watched.follow(&mut debouncer, files);
     loop {
         if stopping.load(Ordering::SeqCst) {
@@ -116,13 +126,31 @@ pub fn run(
         if !drain(&receiver, &watched.files, &mut changed) {
             return Ok(());
         }
-        let changed: Vec<PathBuf> = changed.into_iter().collect();
-        let files = rebuild(&changed, &cancel);
+        let differing = {
+            let mut contents = lock(&contents);
+            let differing = contents.differing(&changed);
+            contents.record(&differing);
+            differing
+        };
+        let files = match (differing.is_empty(), owed) {
+            (true, false) => continue,
+            // Owed after a cancel, with nothing new: name what was touched.
+            (true, true) => rebuild(&changed.into_iter().collect::<Vec<_>>(), &cancel),
+            (false, _) => rebuild(&differing, &cancel),
+        };
+        owed = cancel.is_cancelled();
         watched.follow(&mut debouncer, files);
         if stopping.load(Ordering::SeqCst) {
             return Ok(());
         }
     }
+}
+
+/// The value behind `mutex`, even if a thread panicked holding it (the data stays usable).
+fn lock<T>(mutex: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    mutex
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner())
 }
 
 /// Adds the watched files a message names to `changed`; `false` for Ctrl-C.
@@ -202,10 +230,7 @@ impl Watched {
         if files != self.files {
             println!("watching {}", list(&files));
         }
-        *self
-            .shared
-            .lock()
-            .unwrap_or_else(|poisoned| poisoned.into_inner()) = files.clone();
+        *lock(&self.shared) = files.clone();
         self.files = files;
         self.folders = folders;
     }
