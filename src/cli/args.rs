@@ -49,8 +49,10 @@ pub enum Command {
     /// until Ctrl-C.
     ///
     /// Prints what changed since the last good build and how long it took. An invalid project
-    /// prints its diagnostics and leaves the last good outputs as they were. Distance grids are
-    /// kept between builds, so a change that leaves the meshes alone does not rebuild them.
+    /// prints its diagnostics and leaves the last good outputs as they were. A newer save cancels
+    /// the build in progress. Meshes, distance grids and skeletons are kept between builds; after
+    /// a change that leaves the meshes alone, the optimizer first starts from the last design
+    /// (written at once), then runs the full search, so the outputs end as `build` writes them.
     /// Exit status 0 on Ctrl-C; 2 when watching cannot start.
     Watch {
         /// The project file (.kdl).
