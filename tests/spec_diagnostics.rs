@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use ballast::diagnostic::render_plain;
+use ballast::diagnostic::{render_plain, Problem};
 use ballast::spec::{parse_project, parse_solution};
 
 const ERR: &str = "tests/data/spec/err";
@@ -236,16 +236,38 @@ fn source(case: &str) -> String {
 fn check(case: &str, expected_codes: &[&str]) -> Option<String> {
     let source = source(case);
     let parsed = parse_project(&source, Path::new("project.kdl"));
+    let returned = parsed.project.is_some().then_some("a project");
+    mismatches(
+        ERR,
+        case,
+        &source,
+        &parsed.problems,
+        expected_codes,
+        returned,
+    )
+}
+
+/// What is wrong with the `problems` found in case `case` of `folder` (its text `source`): a
+/// result `returned` despite errors, codes other than `expected_codes`, a rendering other than
+/// the snapshot `<case>.txt` (written instead with `BALLAST_BLESS` set). `None` when all agree.
+fn mismatches(
+    folder: &str,
+    case: &str,
+    source: &str,
+    problems: &[Problem],
+    expected_codes: &[&str],
+    returned: Option<&str>,
+) -> Option<String> {
     let mut failures = Vec::new();
-    if parsed.project.is_some() {
-        failures.push("a project was returned despite errors".to_owned());
+    if let Some(what) = returned {
+        failures.push(format!("{what} was returned despite errors"));
     }
-    let codes: Vec<&str> = parsed.problems.iter().map(|problem| problem.code).collect();
+    let codes: Vec<&str> = problems.iter().map(|problem| problem.code).collect();
     if codes != expected_codes {
         failures.push(format!("codes {codes:?}, expected {expected_codes:?}"));
     }
-    let rendered = render_plain(&parsed.problems, &format!("{case}.kdl"), &source);
-    let snapshot = PathBuf::from(ERR).join(format!("{case}.txt"));
+    let rendered = render_plain(problems, &format!("{case}.kdl"), source);
+    let snapshot = PathBuf::from(folder).join(format!("{case}.txt"));
     if std::env::var_os("BALLAST_BLESS").is_some() {
         std::fs::write(&snapshot, &rendered).unwrap();
     } else {
@@ -261,6 +283,19 @@ fn check(case: &str, expected_codes: &[&str]) -> Option<String> {
     (!failures.is_empty()).then(|| format!("{case}: {}", failures.join("\n")))
 }
 
+/// Asserts that every file in `folder` is a case of `cases` (the table named `table`).
+fn assert_every_file_is_a_case(folder: &str, cases: &[(&str, &[&str])], table: &str) {
+    for entry in std::fs::read_dir(folder).unwrap() {
+        let path = entry.unwrap().path();
+        let stem = path.file_stem().unwrap().to_string_lossy().into_owned();
+        assert!(
+            cases.iter().any(|(case, _)| *case == stem),
+            "{} has no entry in {table}",
+            path.display()
+        );
+    }
+}
+
 #[test]
 fn every_case_matches_its_codes_and_snapshot() {
     let failures: Vec<String> = CASES
@@ -272,15 +307,7 @@ fn every_case_matches_its_codes_and_snapshot() {
 
 #[test]
 fn every_file_is_a_case() {
-    for entry in std::fs::read_dir(ERR).unwrap() {
-        let path = entry.unwrap().path();
-        let stem = path.file_stem().unwrap().to_string_lossy().into_owned();
-        assert!(
-            CASES.iter().any(|(case, _)| *case == stem),
-            "{} has no entry in CASES",
-            path.display()
-        );
-    }
+    assert_every_file_is_a_case(ERR, CASES, "CASES");
 }
 
 #[test]
@@ -573,29 +600,15 @@ fn check_solution(case: &str, expected_codes: &[&str]) -> Option<String> {
     let path = Path::new(SOLUTION_ERR).join(format!("{case}.kdl"));
     let source = String::from_utf8_lossy(&std::fs::read(&path).unwrap()).into_owned();
     let parsed = parse_solution(&source, &path, &project);
-    let mut failures = Vec::new();
-    if parsed.capsules.is_some() || parsed.infill.is_some() {
-        failures.push("a solution was returned despite errors".to_owned());
-    }
-    let codes: Vec<&str> = parsed.problems.iter().map(|problem| problem.code).collect();
-    if codes != expected_codes {
-        failures.push(format!("codes {codes:?}, expected {expected_codes:?}"));
-    }
-    let rendered = render_plain(&parsed.problems, &format!("{case}.kdl"), &source);
-    let snapshot = PathBuf::from(SOLUTION_ERR).join(format!("{case}.txt"));
-    if std::env::var_os("BALLAST_BLESS").is_some() {
-        std::fs::write(&snapshot, &rendered).unwrap();
-    } else {
-        match std::fs::read_to_string(&snapshot) {
-            Ok(expected) if expected == rendered => {}
-            Ok(_) => failures.push(format!(
-                "rendering differs from {}:\n{rendered}",
-                snapshot.display()
-            )),
-            Err(_) => failures.push(format!("{} is missing", snapshot.display())),
-        }
-    }
-    (!failures.is_empty()).then(|| format!("{case}: {}", failures.join("\n")))
+    let returned = (parsed.capsules.is_some() || parsed.infill.is_some()).then_some("a solution");
+    mismatches(
+        SOLUTION_ERR,
+        case,
+        &source,
+        &parsed.problems,
+        expected_codes,
+        returned,
+    )
 }
 
 #[test]
@@ -609,13 +622,5 @@ fn every_solution_case_matches_its_codes_and_snapshot() {
 
 #[test]
 fn every_solution_file_is_a_case() {
-    for entry in std::fs::read_dir(SOLUTION_ERR).unwrap() {
-        let path = entry.unwrap().path();
-        let stem = path.file_stem().unwrap().to_string_lossy().into_owned();
-        assert!(
-            SOLUTION_CASES.iter().any(|(case, _)| *case == stem),
-            "{} has no entry in SOLUTION_CASES",
-            path.display()
-        );
-    }
+    assert_every_file_is_a_case(SOLUTION_ERR, SOLUTION_CASES, "SOLUTION_CASES");
 }
