@@ -12,7 +12,8 @@ use crate::geometry::{DistanceGrid, Skeleton, TriMesh};
 use crate::objective::{GridInterior, Parameters};
 use crate::optimize::{
     choose, content_hash, default_cell, explain_conflicts, rank, run_heuristic, skeleton_seeds,
-    Candidate, Conflict, GoalRef, Method, Outcome, Problem, Ranking, SeedSite, StartCapsule,
+    Candidate, Conflict, GoalRef, GridKey, Method, Outcome, Problem, Ranking, SeedSite,
+    StartCapsule,
 };
 use crate::spec::model::{Optimize, Project};
 
@@ -180,36 +181,33 @@ pub fn prepare(
     warm: Option<&Design>,
 ) -> Option<Preparation> {
     let parameters = Parameters::for_project(project);
-    let cells: Vec<f64> = meshes
+    // One key per mesh: making it reads every coordinate.
+    let keys: Vec<GridKey> = meshes
         .iter()
         .map(|mesh| {
-            settings
+            let cell = settings
                 .grid_cell
-                .unwrap_or_else(|| default_cell(mesh, parameters.min_radius))
+                .unwrap_or_else(|| default_cell(mesh, parameters.min_radius));
+            GridKey::new(mesh, cell)
         })
         .collect();
     let mut grids = Vec::with_capacity(meshes.len());
-    for (index, (mesh, &cell)) in meshes.iter().zip(&cells).enumerate() {
-        if !workspace.cache.recall(mesh, cell) {
+    for (index, (mesh, &key)) in meshes.iter().zip(&keys).enumerate() {
+        if !workspace.cache.recall(mesh, key) {
             workspace.report(Stage::Grid {
                 component: project.component_name(index).to_string(),
-                nodes: DistanceGrid::node_count(mesh, cell),
+                nodes: DistanceGrid::node_count(mesh, key.cell()),
             });
         }
-        grids.push(workspace.cache.grid(mesh, cell, &workspace.cancel)?);
+        grids.push(workspace.cache.grid(mesh, key, &workspace.cancel)?);
     }
     let interior = Arc::new(GridInterior { grids });
     let mut seeds = written_capsules(project);
     if let Some(design) = warm {
         seeds.retain(|c| c.pinned);
         seeds.extend(warm_capsules(design, &seeds));
-        return Some(Preparation {
-            interior,
-            seeds,
-            sites: Vec::new(),
-        });
     }
-    if seeds.iter().any(|c| !c.pinned) {
+    if warm.is_some() || seeds.iter().any(|c| !c.pinned) {
         return Some(Preparation {
             interior,
             seeds,
@@ -217,13 +215,13 @@ pub fn prepare(
         });
     }
     let mut skeletons: Vec<Arc<Skeleton>> = Vec::with_capacity(meshes.len());
-    for (index, (mesh, &cell)) in meshes.iter().zip(&cells).enumerate() {
-        if !workspace.cache.holds_skeleton(mesh, cell) {
+    for (index, (mesh, &key)) in meshes.iter().zip(&keys).enumerate() {
+        if !workspace.cache.holds_skeleton(key) {
             workspace.report(Stage::Skeleton {
                 component: project.component_name(index).to_string(),
             });
         }
-        skeletons.push(workspace.cache.skeleton(mesh, cell, &workspace.cancel)?);
+        skeletons.push(workspace.cache.skeleton(mesh, key, &workspace.cancel)?);
     }
     let (starts, sites) = skeleton_seeds(
         &skeletons,

@@ -22,10 +22,35 @@ use crate::geometry::{DistanceGrid, Skeleton, TriMesh};
 /// [`with_disk`]: PrecomputeCache::with_disk
 #[derive(Debug, Default)]
 pub struct PrecomputeCache {
-    entries: HashMap<(u64, u64), Entry>,
+    entries: HashMap<GridKey, Entry>,
     build: u64,
     built: Built,
     disk: Option<DiskCache>,
+}
+
+/// What an entry is found by: the [`content_hash`] of a mesh and a grid spacing. The hash reads
+/// every coordinate, so a build makes one key per mesh and passes it to every call.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct GridKey {
+    /// The mesh's [`content_hash`].
+    pub mesh: u64,
+    /// The node spacing's bits.
+    pub cell: u64,
+}
+
+impl GridKey {
+    /// The key of `mesh` at node spacing `cell`.
+    pub fn new(mesh: &TriMesh, cell: f64) -> GridKey {
+        GridKey {
+            mesh: content_hash(mesh),
+            cell: cell.to_bits(),
+        }
+    }
+
+    /// The node spacing.
+    pub fn cell(&self) -> f64 {
+        f64::from_bits(self.cell)
+    }
 }
 
 /// What one build had to compute because the cache did not hold it.
@@ -74,26 +99,26 @@ impl PrecomputeCache {
         self.built = Built::default();
     }
 
-    /// The grid of `mesh` with node spacing `cell`, sampled now unless an identical mesh was seen
+    /// The grid of `mesh` (whose key is `key`), sampled now unless an identical mesh was seen
     /// with the same spacing; `None` when `cancel` was set while sampling (nothing is kept).
     pub fn grid(
         &mut self,
         mesh: &TriMesh,
-        cell: f64,
+        key: GridKey,
         cancel: &Cancel,
     ) -> Option<Arc<DistanceGrid>> {
-        Some(self.entry(mesh, cell, cancel)?.grid.clone())
+        Some(self.entry(mesh, key, cancel)?.grid.clone())
     }
 
-    /// The skeleton of `mesh` thinned on its grid with node spacing `cell`, each built now unless
+    /// The skeleton of `mesh` (whose key is `key`) thinned on its grid, each built now unless
     /// held; `None` when `cancel` was set.
     pub fn skeleton(
         &mut self,
         mesh: &TriMesh,
-        cell: f64,
+        key: GridKey,
         cancel: &Cancel,
     ) -> Option<Arc<Skeleton>> {
-        let entry = self.entry(mesh, cell, cancel)?;
+        let entry = self.entry(mesh, key, cancel)?;
         if let Some(skeleton) = &entry.skeleton {
             return Some(skeleton.clone());
         }
@@ -105,20 +130,23 @@ impl PrecomputeCache {
         let grid = entry.grid.clone();
         self.built.skeletons += 1;
         if let Some(disk) = self.disk.as_ref().filter(|_| !cancel.is_cancelled()) {
-            let _ = disk.store(mesh, cell, &grid, Some(&skeleton));
+            let _ = disk.store(mesh, key.cell(), &grid, Some(&skeleton));
         }
         Some(skeleton)
     }
 
-    /// Whether the grid of `mesh` at spacing `cell` is held, after reading it (and its skeleton,
-    /// when stored) from the disk cache if it is not held but is there. Computes nothing.
-    pub fn recall(&mut self, mesh: &TriMesh, cell: f64) -> bool {
-        let key = (content_hash(mesh), cell.to_bits());
+    /// Whether the grid of `mesh` (whose key is `key`) is held, after reading it (and its
+    /// skeleton, when stored) from the disk cache if it is not held but is there. Computes
+    /// nothing.
+    pub fn recall(&mut self, mesh: &TriMesh, key: GridKey) -> bool {
         if self.entries.contains_key(&key) {
             return true;
         }
-        let Some((grid, skeleton)) = self.disk.as_ref().and_then(|disk| disk.load(mesh, cell))
-        else {
+        let loaded = self
+            .disk
+            .as_ref()
+            .and_then(|disk| disk.load(mesh, key.cell()));
+        let Some((grid, skeleton)) = loaded else {
             return false;
         };
         self.built.loaded += 1;
@@ -133,16 +161,15 @@ impl PrecomputeCache {
         true
     }
 
-    /// Whether the grid of `mesh` at spacing `cell` is held.
-    pub fn holds_grid(&self, mesh: &TriMesh, cell: f64) -> bool {
-        self.entries
-            .contains_key(&(content_hash(mesh), cell.to_bits()))
+    /// Whether the grid of the mesh whose key is `key` is held.
+    pub fn holds_grid(&self, key: GridKey) -> bool {
+        self.entries.contains_key(&key)
     }
 
-    /// Whether the skeleton of `mesh` on its grid at spacing `cell` is held.
-    pub fn holds_skeleton(&self, mesh: &TriMesh, cell: f64) -> bool {
+    /// Whether the skeleton of the mesh whose key is `key` is held.
+    pub fn holds_skeleton(&self, key: GridKey) -> bool {
         self.entries
-            .get(&(content_hash(mesh), cell.to_bits()))
+            .get(&key)
             .is_some_and(|entry| entry.skeleton.is_some())
     }
 
@@ -167,14 +194,13 @@ impl PrecomputeCache {
         self.entries.is_empty()
     }
 
-    fn entry(&mut self, mesh: &TriMesh, cell: f64, cancel: &Cancel) -> Option<&mut Entry> {
-        let key = (content_hash(mesh), cell.to_bits());
+    fn entry(&mut self, mesh: &TriMesh, key: GridKey, cancel: &Cancel) -> Option<&mut Entry> {
         let build = self.build;
-        if !self.recall(mesh, cell) {
-            let grid = DistanceGrid::new_unless(mesh, cell, cancel)?;
+        if !self.recall(mesh, key) {
+            let grid = DistanceGrid::new_unless(mesh, key.cell(), cancel)?;
             self.built.grids += 1;
             if let Some(disk) = self.disk.as_ref().filter(|_| !cancel.is_cancelled()) {
-                let _ = disk.store(mesh, cell, &grid, None);
+                let _ = disk.store(mesh, key.cell(), &grid, None);
             }
             self.entries.insert(
                 key,
@@ -196,13 +222,18 @@ mod tests {
     use super::*;
     use crate::optimize::test_meshes::cube;
 
+    /// The key of the cube of edge `side` at spacing 0.25.
+    fn key(side: f64) -> GridKey {
+        GridKey::new(&cube(side, 0.0), 0.25)
+    }
+
     #[test]
     fn a_mesh_seen_before_is_not_sampled_again_and_unused_entries_are_pruned() {
         let never = Cancel::new();
         let mut cache = PrecomputeCache::new();
         cache.start_build();
-        let first = cache.grid(&cube(1.0, 0.0), 0.25, &never).unwrap();
-        cache.skeleton(&cube(1.0, 0.0), 0.25, &never).unwrap();
+        let first = cache.grid(&cube(1.0, 0.0), key(1.0), &never).unwrap();
+        cache.skeleton(&cube(1.0, 0.0), key(1.0), &never).unwrap();
         assert_eq!(
             cache.built(),
             Built {
@@ -213,13 +244,13 @@ mod tests {
         );
 
         cache.start_build();
-        let again = cache.grid(&cube(1.0, 0.0), 0.25, &never).unwrap();
-        cache.skeleton(&cube(1.0, 0.0), 0.25, &never).unwrap();
+        let again = cache.grid(&cube(1.0, 0.0), key(1.0), &never).unwrap();
+        cache.skeleton(&cube(1.0, 0.0), key(1.0), &never).unwrap();
         assert!(Arc::ptr_eq(&first, &again));
         assert_eq!(cache.built(), Built::default());
 
         cache.start_build();
-        cache.grid(&cube(2.0, 0.0), 0.25, &never).unwrap();
+        cache.grid(&cube(2.0, 0.0), key(2.0), &never).unwrap();
         assert_eq!(cache.built().grids, 1);
         assert_eq!(cache.len(), 2);
         cache.prune();
@@ -232,7 +263,7 @@ mod tests {
         cancel.cancel();
         let mut cache = PrecomputeCache::new();
         cache.start_build();
-        assert!(cache.grid(&cube(1.0, 0.0), 0.25, &cancel).is_none());
+        assert!(cache.grid(&cube(1.0, 0.0), key(1.0), &cancel).is_none());
         assert!(cache.is_empty());
         assert_eq!(cache.built(), Built::default());
     }
@@ -243,8 +274,8 @@ mod tests {
         let folder = tempfile::tempdir().unwrap();
         let mut first = PrecomputeCache::with_disk(DiskCache::at(folder.path()));
         first.start_build();
-        let grid = first.grid(&cube(1.0, 0.0), 0.25, &never).unwrap();
-        let skeleton = first.skeleton(&cube(1.0, 0.0), 0.25, &never).unwrap();
+        let grid = first.grid(&cube(1.0, 0.0), key(1.0), &never).unwrap();
+        let skeleton = first.skeleton(&cube(1.0, 0.0), key(1.0), &never).unwrap();
         assert_eq!(
             first.built(),
             Built {
@@ -256,12 +287,12 @@ mod tests {
 
         let mut second = PrecomputeCache::with_disk(DiskCache::at(folder.path()));
         second.start_build();
-        assert!(!second.holds_grid(&cube(1.0, 0.0), 0.25));
-        assert!(second.recall(&cube(1.0, 0.0), 0.25));
-        assert!(second.holds_skeleton(&cube(1.0, 0.0), 0.25));
-        let read = second.grid(&cube(1.0, 0.0), 0.25, &never).unwrap();
+        assert!(!second.holds_grid(key(1.0)));
+        assert!(second.recall(&cube(1.0, 0.0), key(1.0)));
+        assert!(second.holds_skeleton(key(1.0)));
+        let read = second.grid(&cube(1.0, 0.0), key(1.0), &never).unwrap();
         assert_eq!(
-            *second.skeleton(&cube(1.0, 0.0), 0.25, &never).unwrap(),
+            *second.skeleton(&cube(1.0, 0.0), key(1.0), &never).unwrap(),
             *skeleton
         );
         let bits = |grid: &DistanceGrid| -> Vec<u64> {
@@ -279,7 +310,7 @@ mod tests {
 
         // Without a disk layer nothing is read.
         let mut memory = PrecomputeCache::new();
-        assert!(!memory.recall(&cube(1.0, 0.0), 0.25));
+        assert!(!memory.recall(&cube(1.0, 0.0), key(1.0)));
     }
 
     #[test]
@@ -289,7 +320,7 @@ mod tests {
         let folder = tempfile::tempdir().unwrap();
         let mut cache = PrecomputeCache::with_disk(DiskCache::at(folder.path()));
         cache.start_build();
-        assert!(cache.grid(&cube(1.0, 0.0), 0.25, &cancel).is_none());
+        assert!(cache.grid(&cube(1.0, 0.0), key(1.0), &cancel).is_none());
         assert_eq!(std::fs::read_dir(folder.path()).unwrap().count(), 0);
     }
 }

@@ -91,9 +91,10 @@ impl DiskCache {
     /// `None` when the cache does not hold them. A file that cannot be read back exactly (another
     /// version, damaged, truncated) is a miss and is removed. A hit marks the file as used now.
     pub fn load(&self, mesh: &TriMesh, cell: f64) -> Option<(DistanceGrid, Option<Skeleton>)> {
-        let path = self.path(mesh, cell);
+        let key = Key::of(mesh, cell);
+        let path = self.path(&key);
         let bytes = fs::read(&path).ok()?;
-        match decode(&bytes, &Key::of(mesh, cell)) {
+        match decode(&bytes, &key) {
             Some(found) => {
                 // Only for eviction: a file that cannot be touched is still a hit.
                 let _ = File::options()
@@ -120,8 +121,8 @@ impl DiskCache {
         grid: &DistanceGrid,
         skeleton: Option<&Skeleton>,
     ) -> io::Result<()> {
-        let bytes = encode(&Key::of(mesh, cell), grid, skeleton);
-        write_atomic(&self.path(mesh, cell), &bytes)?;
+        let key = Key::of(mesh, cell);
+        write_atomic(&self.path(&key), &encode(&key, grid, skeleton))?;
         self.evict();
         Ok(())
     }
@@ -131,13 +132,10 @@ impl DiskCache {
         self.root.join(format!("v{}", DiskCache::FORMAT))
     }
 
-    /// The file of `mesh` at spacing `cell`.
-    fn path(&self, mesh: &TriMesh, cell: f64) -> PathBuf {
-        self.folder().join(format!(
-            "{:016x}-{:016x}.bin",
-            content_hash(mesh),
-            cell.to_bits()
-        ))
+    /// The file of the mesh and spacing `key` is about.
+    fn path(&self, key: &Key) -> PathBuf {
+        self.folder()
+            .join(format!("{:016x}-{:016x}.bin", key.hash, key.cell))
     }
 
     /// Removes the folders of other formats, temporary files left by interrupted writes, and the
@@ -418,7 +416,7 @@ mod tests {
         let grid = DistanceGrid::new(&mesh, CELL);
         let skeleton = Skeleton::from_grid(&mesh, &grid);
         cache.store(&mesh, CELL, &grid, Some(&skeleton)).unwrap();
-        let path = cache.path(&mesh, CELL);
+        let path = cache.path(&Key::of(&mesh, CELL));
         assert!(path.is_file());
         (folder, cache, path)
     }
@@ -592,7 +590,7 @@ mod tests {
         let grids: Vec<DistanceGrid> = meshes.iter().map(|m| DistanceGrid::new(m, CELL)).collect();
         let unbounded = DiskCache::at(folder.path());
         unbounded.store(&meshes[0], CELL, &grids[0], None).unwrap();
-        let size = fs::metadata(unbounded.path(&meshes[0], CELL))
+        let size = fs::metadata(unbounded.path(&Key::of(&meshes[0], CELL)))
             .unwrap()
             .len();
         // Room for two files.
@@ -601,7 +599,7 @@ mod tests {
         let age = |mesh: &TriMesh, seconds: u64| {
             File::options()
                 .write(true)
-                .open(cache.path(mesh, CELL))
+                .open(cache.path(&Key::of(mesh, CELL)))
                 .unwrap()
                 .set_modified(SystemTime::now() - Duration::from_secs(seconds))
                 .unwrap();
@@ -611,9 +609,9 @@ mod tests {
         // Reading the older one makes it the most recently used.
         assert!(cache.load(&meshes[0], CELL).is_some());
         cache.store(&meshes[2], CELL, &grids[2], None).unwrap();
-        assert!(cache.path(&meshes[0], CELL).exists());
-        assert!(!cache.path(&meshes[1], CELL).exists());
-        assert!(cache.path(&meshes[2], CELL).exists());
+        assert!(cache.path(&Key::of(&meshes[0], CELL)).exists());
+        assert!(!cache.path(&Key::of(&meshes[1], CELL)).exists());
+        assert!(cache.path(&Key::of(&meshes[2], CELL)).exists());
     }
 
     /// An environment of `pairs`.

@@ -111,14 +111,7 @@ fn random_capsule(
         }
     };
     let half = radius.max((hi - lo).norm() / 12.0 * random.unit());
-    StartCapsule {
-        component,
-        from: centre - direction * half,
-        to: centre + direction * half,
-        radius,
-        pinned: false,
-        name: None,
-    }
+    StartCapsule::centred(component, centre, direction * half, radius)
 }
 
 /// SplitMix64 (Steele, Lea and Flood 2014): a small, fast generator whose output depends only on

@@ -15,7 +15,7 @@ mod solver;
 mod test_meshes;
 
 pub use bounds::design_bounds;
-pub use cache::{Built, PrecomputeCache};
+pub use cache::{Built, GridKey, PrecomputeCache};
 pub use conflicts::{explain as explain_conflicts, Conflict, GoalRef};
 pub use disk_cache::DiskCache;
 pub use exhaustive::{rank, Ranking};

@@ -3,7 +3,7 @@
 
 use std::sync::Arc;
 
-use nalgebra::Point3;
+use nalgebra::{Point3, Vector3};
 
 use super::bounds::design_bounds;
 use super::solver::{solve, Budget, Method, FEASIBLE};
@@ -31,6 +31,26 @@ pub struct StartCapsule {
     pub pinned: bool,
     /// Its name in the project file, for a capsule written there.
     pub name: Option<String>,
+}
+
+impl StartCapsule {
+    /// An unnamed, unpinned capsule of `component` centred on `centre`, its ends at
+    /// `centre ± half_axis`.
+    pub fn centred(
+        component: usize,
+        centre: Point3<f64>,
+        half_axis: Vector3<f64>,
+        radius: f64,
+    ) -> StartCapsule {
+        StartCapsule {
+            component,
+            from: centre - half_axis,
+            to: centre + half_axis,
+            radius,
+            pinned: false,
+            name: None,
+        }
+    }
 }
 
 /// A design the optimizer reached, judged exactly.

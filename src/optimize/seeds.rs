@@ -57,14 +57,12 @@ pub fn skeleton_seeds(
                 nalgebra::Vector3::z()
             };
             let half = (0.25 * length).max(radius);
-            seeds.push(StartCapsule {
+            seeds.push(StartCapsule::centred(
                 component,
-                from: midpoint - direction * half,
-                to: midpoint + direction * half,
+                midpoint,
+                direction * half,
                 radius,
-                pinned: false,
-                name: None,
-            });
+            ));
         }
     }
     (seeds, sites)
