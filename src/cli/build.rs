@@ -25,7 +25,11 @@ pub fn run(path: &Path, options: &CompileOptions, cache: PrecomputeCache) -> i32
         }
     };
     if let Some(optimization) = &compilation.optimization {
-        print!("{}", table::optimization(optimization, &compilation));
+        let from_disk = workspace.cache.built().loaded;
+        print!(
+            "{}",
+            table::optimization(optimization, &compilation, from_disk)
+        );
     }
     print!("{}", table::summary(&compilation, &file_name(path)));
     for target in &written {

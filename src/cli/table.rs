@@ -189,9 +189,14 @@ fn plural(count: usize) -> &'static str {
     }
 }
 
-/// What the optimizer did: every capsule count tried (the chosen one marked), the stage times,
-/// the random-start ranking when asked for, and the conflicting goals when some goal is missed.
-pub fn optimization(optimization: &Optimization, compilation: &Compilation) -> String {
+/// What the optimizer did: every capsule count tried (the chosen one marked), the stage times
+/// (with the meshes whose precomputation was read `from_disk`), the random-start ranking when
+/// asked for, and the conflicting goals when some goal is missed.
+pub fn optimization(
+    optimization: &Optimization,
+    compilation: &Compilation,
+    from_disk: usize,
+) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,
@@ -271,17 +276,12 @@ pub fn optimization(optimization: &Optimization, compilation: &Compilation) -> S
         out,
         "  time: precompute {:.2} s{}, heuristic {:.2} s{}{}",
         timings.precompute,
-        if optimization.from_disk == 0 {
+        if from_disk == 0 {
             String::new()
         } else {
             format!(
-                " ({} mesh{} from the disk cache)",
-                optimization.from_disk,
-                if optimization.from_disk == 1 {
-                    ""
-                } else {
-                    "es"
-                }
+                " ({from_disk} mesh{} from the disk cache)",
+                if from_disk == 1 { "" } else { "es" }
             )
         },
         timings.heuristic,

@@ -86,10 +86,6 @@ pub struct Optimization {
     /// Wall-clock seconds per stage. Not deterministic, so never written to a file.
     #[serde(skip)]
     pub timings: Timings,
-    /// Meshes whose grid (and skeleton, when stored) the precomputation read from the disk
-    /// cache. Depends on the cache, so never written to a file.
-    #[serde(skip)]
-    pub from_disk: usize,
 }
 
 /// Wall-clock seconds of each optimizer stage.
@@ -274,14 +270,12 @@ fn optimize_from(
     warm: Option<&Design>,
 ) -> Option<(Design, Optimization)> {
     let clock = Instant::now();
-    let loaded_before = workspace.cache.built().loaded;
     let Preparation {
         interior,
         seeds,
         sites,
     } = prepare(project, settings, meshes, workspace, warm)?;
     let precompute = clock.elapsed().as_secs_f64();
-    let from_disk = workspace.cache.built().loaded - loaded_before;
 
     let clock = Instant::now();
     let problem = Problem::new(project, meshes, interior.clone(), options.method)
@@ -370,7 +364,6 @@ fn optimize_from(
             exhaustive: exhaustive_seconds,
             conflicts: conflicts_seconds,
         },
-        from_disk,
     };
     Some((design, optimization))
 }
