@@ -2,7 +2,10 @@
 
 use nalgebra::Point3;
 
-use super::{ball, goals, mass, support, ComponentBody, PoseEvaluation};
+use super::support::GroundPlane;
+use super::tilt::{RollingBall, TiltedModel};
+use super::{ball, goals, mass, support, BallMove, BallPlacement, ComponentBody, PoseEvaluation};
+use super::{mass::MassTotals, Support};
 use crate::design::Design;
 use crate::spec::model::{Pose, Project};
 
@@ -32,11 +35,20 @@ pub fn evaluate_pose(
         .collect();
     let totals = mass::mass_totals(project, bodies, design, pose, &balls);
     let vertices = posed_vertices(bodies, pose);
-    let support = support::support(
+    let mut support = support::support(
         &vertices,
         project.up,
         support::contact_tolerance(project, pose),
         &totals.centre_of_mass,
+    );
+    with_rolling_balls(
+        &mut support,
+        project,
+        bodies.len(),
+        design,
+        pose,
+        &balls,
+        &totals,
     );
     let measured = goals::Measured {
         pose,
@@ -60,6 +72,68 @@ pub fn evaluate_pose(
         support,
         goals,
     }
+}
+
+/// Replaces the fixed-ball tilt margin of `support` by the margin with every ball rolling (see
+/// [`super::tilt`]) when the support is a polygon and the model has a positive mass above it.
+/// `balls` are the design's balls as placed at rest; those whose component has no body (one of
+/// `body_count`) are not in the mass and do not roll.
+fn with_rolling_balls(
+    support: &mut Support,
+    project: &Project,
+    body_count: usize,
+    design: &Design,
+    pose: &Pose,
+    balls: &[BallPlacement],
+    totals: &MassTotals,
+) {
+    let plane = GroundPlane::new(project.up);
+    let polygon: Vec<_> = support
+        .polygon
+        .iter()
+        .map(|p| plane.project(&Point3::from(*p)))
+        .collect();
+    let mut fixed_moment = totals.centre_of_mass.coords * totals.mass;
+    let mut fixed_mass = totals.mass;
+    let mut rolling = Vec::new();
+    let mut names = Vec::new();
+    for (capsule, ball) in design.capsules.iter().zip(balls) {
+        if capsule.component >= body_count {
+            continue;
+        }
+        fixed_moment -= Point3::from(ball.centre_world).coords * ball.mass;
+        fixed_mass -= ball.mass;
+        let frame = pose.component_frame(capsule.component);
+        rolling.push(RollingBall {
+            from: frame * capsule.from,
+            to: frame * capsule.to,
+            drop: (capsule.radius - capsule.ball_radius).max(0.0),
+            mass: ball.mass,
+        });
+        names.push(&capsule.name);
+    }
+    let model = TiltedModel {
+        plane: &plane,
+        ground: support.ground_height,
+        polygon: &polygon,
+        fixed_mass,
+        fixed_moment,
+        balls: &rolling,
+    };
+    let Some(tilt) = model.worst_tilt() else {
+        return;
+    };
+    support.tilt_margin = tilt.margin;
+    support.tilt_direction = Some(tilt.direction.into());
+    support.ball_moves = tilt
+        .moves
+        .into_iter()
+        .map(|m| BallMove {
+            capsule: names[m.ball].clone(),
+            tilt: m.tilt,
+            to: m.to,
+        })
+        .collect();
 }
 
 /// Every vertex of every component, in world, component by component.

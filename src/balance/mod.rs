@@ -8,7 +8,8 @@
 //!   the capsule's spherical cap, or on the axis midpoint when the axis is too close to horizontal
 //!   to say;
 //! - the support polygon on the ground and the toppling angle about each of its edges (the angles
-//!   eq. 1 takes a smooth maximum of);
+//!   eq. 1 takes a smooth maximum of, balls held still), and the tilt margin with the balls
+//!   rolling as the ground tilts, over every direction;
 //! - for each goal of the pose, the measured value beside the required one (eq. 1-5).
 //!
 //! These are the exact, non-smooth quantities a report states and a verifier re-checks; they are
@@ -33,6 +34,7 @@ mod goals;
 mod hull;
 mod mass;
 pub(crate) mod support;
+pub(crate) mod tilt;
 
 pub use evaluate::evaluate_pose;
 
@@ -158,9 +160,36 @@ pub struct Support {
     /// is how far beyond that end the centre lies along the segment (negative when between the
     /// ends). So a point or a line never stands with a positive margin.
     pub edges: Vec<SupportEdge>,
-    /// The smallest toppling angle over all edges, degrees: the tilt of the ground the pose
-    /// survives in every direction. Negative: it topples. −90 when there is no support at all.
+    /// The smallest toppling angle over all edges with every ball held where it rests, degrees.
+    /// Negative: it topples. −90 when there is no support at all.
+    pub fixed_ball_margin: f64,
+    /// The tilt of the ground the pose survives in every direction, degrees, with every ball
+    /// rolling to the end the tilted gravity sends it to as the tilt grows (docs/physics.md): the
+    /// smallest tilt, over all directions, that topples the model.
+    /// Negative when it topples on level ground: minus the smallest tilt that would make it stand.
+    /// For a support of one or two points, where nothing stands with a positive margin, the
+    /// fixed-ball margin. −90 when there is no support at all.
     pub tilt_margin: f64,
+    /// The horizontal unit vector, world, towards which the ground descends at the worst tilt:
+    /// the way the model topples (or, when it topples on level ground, the way the ground would
+    /// have to descend to make it stand). `None` without a support, or for a point support under
+    /// the centre of mass. Left out of the JSON when `None`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tilt_direction: Option<[f64; 3]>,
+    /// The balls that roll to their other end as the ground tilts towards `tilt_direction`,
+    /// before the model's state changes, in the order they roll.
+    pub ball_moves: Vec<BallMove>,
+}
+
+/// A ball rolling to its capsule's other end while the ground tilts.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BallMove {
+    /// The capsule's name.
+    pub capsule: String,
+    /// The tilt of the ground at which it rolls, degrees.
+    pub tilt: f64,
+    /// The end it rolls to.
+    pub to: BallRest,
 }
 
 /// One edge of the support polygon and how far the model is from toppling over it.
