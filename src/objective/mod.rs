@@ -41,7 +41,7 @@ use self::constraints::Limits;
 use self::mass::{capsules, Densities, SmoothTotals};
 use crate::balance::ComponentBody;
 use crate::geometry::TriMesh;
-use crate::spec::model::Project;
+use crate::spec::model::{Goal, Project};
 
 /// Degrees added to the ball's minimum elevation in eq. 22.
 const ELEVATION_SLACK_DEGREES: f64 = 0.25;
@@ -74,13 +74,19 @@ impl Objective {
             .map(|pose| PoseSetup::new(project, bodies, pose, parameters.angle_smoothing))
             .collect();
         let cubic = project.units.cubic_in_cm3();
-        let sine = (project.ball.min_angle + ELEVATION_SLACK_DEGREES)
-            .to_radians()
-            .sin();
         let limits = Limits {
             min_radius: parameters.min_radius,
             max_radius: bodies.iter().map(|b| half_narrowest_side(b.mesh)).collect(),
-            min_elevation_sine_squared: sine * sine,
+            min_elevation_sine_squared: project
+                .poses
+                .iter()
+                .map(|pose| {
+                    let sine = (min_elevation(project, pose) + ELEVATION_SLACK_DEGREES)
+                        .to_radians()
+                        .sin();
+                    sine * sine
+                })
+                .collect(),
             wall: project.wall,
             samples: parameters.samples(),
         };
@@ -160,8 +166,10 @@ impl Objective {
     ///
     /// 1. per capsule: `|q − p|² − r² ≥ 0` (eq. 16, squared project units), `r − r_min ≥ 0`,
     ///    `r_max − r ≥ 0` (project units), then per pose `z² − sin² φ_min ≥ 0` (eq. 22, `z` the
-    ///    cosine between axis and gravity, `φ_min` = [`Ball::min_angle`](crate::spec::model::Ball::min_angle)
-    ///    plus a slack of 0.25°, so a solution on this constraint's boundary still has a determined ball);
+    ///    cosine between axis and gravity, `φ_min` = [`Ball::min_angle`](crate::spec::model::Ball::min_angle),
+    ///    or the largest `stand` or `imbalance` margin of the pose when more, plus a slack of
+    ///    0.25°, so a solution on this constraint's boundary still has a determined ball that does
+    ///    not roll within the required tilt);
     /// 2. per pair of capsules in one component, at the closest points of their axes:
     ///    `|x_i − x_j|² − (r_i + r_j + wall)² ≥ 0` (eq. 14);
     /// 3. when the infill is a variable: `w − lo ≥ 0`, `hi − w ≥ 0`;
@@ -291,6 +299,20 @@ impl Objective {
         x.resize(self.layout.len(), 0.0);
         x
     }
+}
+
+/// The smallest elevation of a capsule axis in `pose`, degrees, before the slack of eq. 22: the
+/// ball's `min-angle`, or the largest margin a `stand` or `imbalance` goal of the pose asks for
+/// when that is more. No ball then rolls while the ground tilts by less than the required margin,
+/// so a design whose balls-held margin meets it meets it with the balls rolling too.
+fn min_elevation(project: &Project, pose: &crate::spec::model::Pose) -> f64 {
+    pose.goals
+        .iter()
+        .filter_map(|goal| match goal.value {
+            Goal::Stand { margin, .. } | Goal::Imbalance { margin, .. } => Some(margin),
+            Goal::Suspend { .. } | Goal::Immerse { .. } => None,
+        })
+        .fold(project.ball.min_angle, f64::max)
 }
 
 /// Half the shortest side of `mesh`'s bounding box; 0 without vertices.
