@@ -67,6 +67,28 @@ fn optimized_and_current(name: &str) -> Compilation {
     compilation
 }
 
+/// Asserts that in every pose with a `stand` or `imbalance` goal, no ball rolls while the ground
+/// tilts by less than the goal's margin: the goal is met with the balls rolling, not only held.
+fn no_ball_rolls_within_the_required_margin(compilation: &Compilation) {
+    for pose in &compilation.poses {
+        for goal in &pose.goals {
+            let margin = match goal.outcome {
+                GoalOutcome::Stand { margin, .. } | GoalOutcome::Imbalance { margin, .. } => margin,
+                _ => continue,
+            };
+            for moved in &pose.support.ball_moves {
+                assert!(
+                    moved.tilt >= margin,
+                    "{}: ball {} rolls at {:.2}°, within the margin of {margin}°",
+                    pose.pose,
+                    moved.capsule,
+                    moved.tilt
+                );
+            }
+        }
+    }
+}
+
 #[test]
 fn sheared_cylinder_stands_on_both_ends_and_no_capsule_cannot() {
     let compilation = optimized_and_current("sheared_cylinder");
@@ -126,6 +148,7 @@ fn articulated_arm_stands_in_one_pose_and_topples_in_its_mirror() {
     assert!(compilation.all_goals_met(), "{verdicts:?}");
     assert!(verdicts[0].2.unwrap() > 0.0, "{verdicts:?}");
     assert!(verdicts[1].2.unwrap() < 0.0, "{verdicts:?}");
+    no_ball_rolls_within_the_required_margin(&compilation);
 }
 
 #[test]
@@ -149,6 +172,12 @@ fn spot_meets_all_six_goals_that_the_solid_misses_three_of() {
     assert_eq!(compilation.poses.len(), 6);
     assert!(compilation.all_goals_met(), "{:?}", verdicts(&compilation));
     assert!(compilation.design.capsules.len() <= 2);
+    no_ball_rolls_within_the_required_margin(&compilation);
+    // Grazing, the ball rolls to the other end before the cow topples: the margin is the
+    // rolling one, below what the balls-held edges say.
+    let grazing = &compilation.poses[2];
+    assert_eq!(grazing.pose, "grazing");
+    assert!(grazing.support.tilt_margin < grazing.support.fixed_ball_margin - 1.0);
 }
 
 #[test]
