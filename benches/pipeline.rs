@@ -93,6 +93,30 @@ fn design(centroid: Point3<f64>) -> Design {
     }
 }
 
+/// `count` short capsules around `centroid`, each tilted a different way, so their balls roll at
+/// different tilts.
+fn capsules_around(centroid: Point3<f64>, count: usize) -> Design {
+    let capsules = (0..count)
+        .map(|i| {
+            let turn = i as f64 * 2.4;
+            let axis = Vector3::new(turn.cos(), turn.sin(), 0.05 + 0.02 * i as f64) * 0.3;
+            let centre = centroid + Vector3::new(0.0, 0.0, 0.1 * i as f64 - 0.8);
+            PlacedCapsule {
+                name: format!("c{i}"),
+                component: 0,
+                from: centre - axis,
+                to: centre + axis,
+                radius: 0.15,
+                ball_radius: 0.13,
+            }
+        })
+        .collect();
+    Design {
+        capsules,
+        infill: 0.8,
+    }
+}
+
 /// Four poses (upright, on its side, upside down, tilted), each with one goal of every kind.
 fn poses(suspension: Point3<f64>) -> Vec<(&'static str, Pose)> {
     let span = miette::SourceSpan::from((0, 0));
@@ -199,6 +223,18 @@ fn pipeline(c: &mut Criterion) {
         for (name, pose) in &poses {
             group.bench_function(format!("evaluate_pose/{name}"), |b| {
                 b.iter(|| evaluate_pose(&project, black_box(&bodies), &design, pose))
+            });
+        }
+        // The tilt margin with rolling balls: one stand pose, by capsule count.
+        let upright = &poses[0].1;
+        let stand_only = Pose {
+            goals: upright.goals[..1].to_vec(),
+            ..upright.clone()
+        };
+        for count in [0, 1, 4, 16] {
+            let many = capsules_around(mass.centroid, count);
+            group.bench_function(format!("evaluate_pose/stand/{count}_capsules"), |b| {
+                b.iter(|| evaluate_pose(&project, black_box(&bodies), &many, &stand_only))
             });
         }
         // Distance queries: one point near the centroid, brute force against the tree.

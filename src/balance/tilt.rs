@@ -20,7 +20,7 @@
 //! `atan2(−distance, h)`; a rolling ball can only lower a standing model's margin where it moves
 //! before the model topples.
 //!
-//! The minimum over directions is found by evaluating every degree of azimuth and every edge
+//! The minimum over directions is found by evaluating every two degrees of azimuth and every edge
 //! normal and capsule axis direction, then refining the lowest candidates by golden-section search
 //! within one sample spacing, to about 10⁻⁶ degrees.
 
@@ -84,12 +84,12 @@ pub(crate) struct Tilt {
 }
 
 /// Samples of the azimuth over the full circle.
-const AZIMUTH_SAMPLES: usize = 360;
+const AZIMUTH_SAMPLES: usize = 180;
 /// Sampled directions refined by golden-section search.
 const REFINED: usize = 4;
-/// Golden-section iterations: each shrinks the bracket by 0.618, so 50 take one sample spacing
-/// (1°) below 10⁻¹⁰ degrees.
-const GOLDEN_ITERATIONS: usize = 50;
+/// Golden-section iterations: each shrinks the bracket by 0.618, so 45 take the bracket of two
+/// sample spacings (4°) below 10⁻⁸ degrees.
+const GOLDEN_ITERATIONS: usize = 45;
 /// Fixed-point rounds for a centre of mass that moves with gravity (balls against their caps).
 const CAP_ROUNDS: usize = 4;
 
@@ -101,12 +101,40 @@ impl TiltedModel<'_> {
         if total.is_nan() || total <= 0.0 || total.is_infinite() || self.polygon.len() < 3 {
             return None;
         }
-        let rest = self.centre(&self.rest_ends(), &-self.plane.up);
-        let height = self.plane.height(&rest) - self.ground;
+        let n = self.polygon.len();
+        let search = Search {
+            model: self,
+            lines: (0..n)
+                .map(|i| edge_line(self.polygon[i], self.polygon[(i + 1) % n]))
+                .collect(),
+            cap_rounds: if self.balls.iter().any(|b| b.drop != 0.0) {
+                CAP_ROUNDS
+            } else {
+                1
+            },
+        };
+        search.worst_tilt()
+    }
+}
+
+/// A [`TiltedModel`] with its polygon's edge lines precomputed.
+struct Search<'a> {
+    model: &'a TiltedModel<'a>,
+    /// Per edge: a point and the outward unit normal.
+    lines: Vec<(Vector2<f64>, Vector2<f64>)>,
+    /// Fixed-point rounds in `change_within`: one when no ball sits against a cap.
+    cap_rounds: usize,
+}
+
+impl Search<'_> {
+    /// See [`TiltedModel::worst_tilt`].
+    fn worst_tilt(&self) -> Option<Tilt> {
+        let rest = self.centre(&self.rest_ends(), &-self.model.plane.up);
+        let height = self.model.plane.height(&rest) - self.model.ground;
         if height.is_nan() || height <= 0.0 {
             return None;
         }
-        let standing = self.inside(&rest, &-self.plane.up);
+        let standing = self.inside(&rest, &-self.model.plane.up);
         let mut candidates: Vec<(f64, f64)> = self
             .azimuths()
             .into_iter()
@@ -135,20 +163,21 @@ impl TiltedModel<'_> {
         })
     }
 
-    /// The azimuths to sample: every degree, each edge's outward normal, and each capsule axis's
+    /// The azimuths to sample: every two degrees, each edge's outward normal, and each capsule axis's
     /// horizontal direction both ways.
     fn azimuths(&self) -> Vec<f64> {
         let mut out: Vec<f64> = (0..AZIMUTH_SAMPLES)
             .map(|k| std::f64::consts::TAU * k as f64 / AZIMUTH_SAMPLES as f64)
             .collect();
-        let n = self.polygon.len();
-        for i in 0..n {
-            let edge = self.polygon[(i + 1) % n] - self.polygon[i];
-            out.push(f64::atan2(-edge.x, edge.y));
+        for (_, normal) in &self.lines {
+            out.push(normal.y.atan2(normal.x));
         }
-        for ball in self.balls {
+        for ball in self.model.balls {
             let axis = ball.to - ball.from;
-            let (x, y) = (axis.dot(&self.plane.e1), axis.dot(&self.plane.e2));
+            let (x, y) = (
+                axis.dot(&self.model.plane.e1),
+                axis.dot(&self.model.plane.e2),
+            );
             if x != 0.0 || y != 0.0 {
                 out.push(y.atan2(x));
                 out.push((-y).atan2(-x));
@@ -189,18 +218,18 @@ impl TiltedModel<'_> {
 
     /// The horizontal unit vector of azimuth `phi`, world.
     fn direction(&self, phi: f64) -> Vector3<f64> {
-        self.plane.e1 * phi.cos() + self.plane.e2 * phi.sin()
+        self.model.plane.e1 * phi.cos() + self.model.plane.e2 * phi.sin()
     }
 
     /// The first tilt (radians, at most π/2) towards azimuth `phi` at which the model's verdict
     /// is no longer `standing`, with the balls that rolled before it.
     fn first_change(&self, phi: f64, standing: bool) -> (f64, Vec<Move>) {
         let d = self.direction(phi);
-        let up = self.plane.up;
+        let up = self.model.plane.up;
         let mut ends = self.rest_ends();
         // Where each ball changes end in this direction: a·g(θ) = −cos θ A + sin θ B = 0.
         let mut events: Vec<(f64, usize)> = Vec::new();
-        for (i, ball) in self.balls.iter().enumerate() {
+        for (i, ball) in self.model.balls.iter().enumerate() {
             let axis = ball.to - ball.from;
             let (along_up, along_d) = (axis.dot(&up), axis.dot(&d));
             if along_up == 0.0 {
@@ -249,14 +278,14 @@ impl TiltedModel<'_> {
         end: f64,
         standing: bool,
     ) -> Option<f64> {
-        let gravity = |theta: f64| -self.plane.up * theta.cos() + d * theta.sin();
+        let gravity = |theta: f64| -self.model.plane.up * theta.cos() + d * theta.sin();
         if self.inside(&self.centre(ends, &gravity(start)), &gravity(start)) != standing {
             return Some(start);
         }
         // The centre moves with gravity only through the balls resting against their caps: a
         // few fixed-point rounds of the closed form for a fixed centre.
         let mut theta = start;
-        for _ in 0..CAP_ROUNDS {
+        for _ in 0..self.cap_rounds {
             let centre = self.centre(ends, &gravity(theta));
             theta = self.crossing(&centre, d, standing)?.max(start);
         }
@@ -267,17 +296,15 @@ impl TiltedModel<'_> {
     /// along gravity crosses the polygon's boundary out of (when `standing`) or into it; `None`
     /// when it never does below 90°.
     fn crossing(&self, centre: &Point3<f64>, d: &Vector3<f64>, standing: bool) -> Option<f64> {
-        let height = self.plane.height(centre) - self.ground;
-        let foot = self.plane.project(centre);
-        let along = Vector2::new(d.dot(&self.plane.e1), d.dot(&self.plane.e2));
+        let height = self.model.plane.height(centre) - self.model.ground;
+        let foot = self.model.plane.project(centre);
+        let along = Vector2::new(d.dot(&self.model.plane.e1), d.dot(&self.model.plane.e2));
         // The foot at distance t along d is inside while (foot + t·along − o)·n < 0 for every
         // edge: clip t to an interval.
         let (mut t_lo, mut t_hi) = (0.0_f64, f64::INFINITY);
-        let n = self.polygon.len();
-        for i in 0..n {
-            let (o, normal) = edge_line(self.polygon[i], self.polygon[(i + 1) % n]);
-            let offset = (foot - o).dot(&normal);
-            let rate = along.dot(&normal);
+        for (o, normal) in &self.lines {
+            let offset = (foot - o).dot(normal);
+            let rate = along.dot(normal);
             if rate > 0.0 {
                 t_hi = t_hi.min(-offset / rate);
             } else if rate < 0.0 {
@@ -299,34 +326,33 @@ impl TiltedModel<'_> {
     /// Whether the line through `centre` along `gravity` meets the ground strictly inside the
     /// polygon.
     fn inside(&self, centre: &Point3<f64>, gravity: &Vector3<f64>) -> bool {
-        let down = -gravity.dot(&self.plane.up);
+        let down = -gravity.dot(&self.model.plane.up);
         if down <= 0.0 {
             return false;
         }
-        let height = self.plane.height(centre) - self.ground;
+        let height = self.model.plane.height(centre) - self.model.ground;
         let foot_point = centre + gravity * (height / down);
-        let foot = self.plane.project(&foot_point);
-        let n = self.polygon.len();
-        (0..n).all(|i| {
-            let (o, normal) = edge_line(self.polygon[i], self.polygon[(i + 1) % n]);
-            (foot - o).dot(&normal) < 0.0
-        })
+        let foot = self.model.plane.project(&foot_point);
+        self.lines
+            .iter()
+            .all(|(o, normal)| (foot - o).dot(normal) < 0.0)
     }
 
     /// Each ball's end at rest, `true` for `to`: the end its axis descends to under `−up`; a
     /// horizontal axis counts as `from` (the tilt decides it, see `first_change`).
     fn rest_ends(&self) -> Vec<bool> {
-        self.balls
+        self.model
+            .balls
             .iter()
-            .map(|ball| (ball.to - ball.from).dot(&self.plane.up) < 0.0)
+            .map(|ball| (ball.to - ball.from).dot(&self.model.plane.up) < 0.0)
             .collect()
     }
 
     /// The centre of mass with the balls at `ends` under `gravity` (unit).
     fn centre(&self, ends: &[bool], gravity: &Vector3<f64>) -> Point3<f64> {
-        let mut mass = self.fixed_mass;
-        let mut moment = self.fixed_moment;
-        for (ball, &at_to) in self.balls.iter().zip(ends) {
+        let mut mass = self.model.fixed_mass;
+        let mut moment = self.model.fixed_moment;
+        for (ball, &at_to) in self.model.balls.iter().zip(ends) {
             let end = if at_to { ball.to } else { ball.from };
             moment += (end.coords + gravity * ball.drop) * ball.mass;
             mass += ball.mass;
