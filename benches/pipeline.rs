@@ -109,12 +109,14 @@ fn poses(suspension: Point3<f64>) -> Vec<(&'static str, Pose)> {
             point: suspension,
             component: 0,
             tolerance: 2.0,
+            unique: false,
         },
         Goal::Immerse {
             fluid_density: 1.0,
             min_distance: 0.1,
             tolerance: 5.0,
             mass_tolerance: Some(1.0),
+            unique: false,
         },
     ];
     let turned = |axis: Vector3<f64>, degrees: f64| {

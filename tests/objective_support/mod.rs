@@ -81,6 +81,7 @@ pub fn immerse(fluid_density: f64, min_distance: f64, mass_tolerance: Option<f64
         min_distance,
         tolerance: 10.0,
         mass_tolerance,
+        unique: false,
     }
 }
 
@@ -90,6 +91,7 @@ pub fn suspend(point: Point3<f64>, component: usize) -> Goal {
         point,
         component,
         tolerance: 5.0,
+        unique: false,
     }
 }
 
