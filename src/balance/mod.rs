@@ -284,6 +284,34 @@ impl Equilibria {
     }
 }
 
+impl Equilibrium {
+    /// The state in words, after a verb such as "hangs": `23.0° off, ball "c0" at its `from`
+    /// end`, naming every ball that moved from where the pose has it, and whether it is marginal.
+    pub fn describe(&self) -> String {
+        let moved: Vec<String> = self
+            .balls
+            .iter()
+            .filter(|ball| ball.moved)
+            .map(|ball| {
+                let end = match ball.rest {
+                    BallRest::To => "to",
+                    _ => "from",
+                };
+                format!("ball \"{}\" at its `{end}` end", ball.capsule)
+            })
+            .collect();
+        let mut text = format!("{:.1}° off", self.angle);
+        if !moved.is_empty() {
+            text.push_str(", ");
+            text.push_str(&moved.join(", "));
+        }
+        if self.marginal {
+            text.push_str(" (marginal: a ball's axis is within min-angle of horizontal)");
+        }
+        text
+    }
+}
+
 /// One stable state: where the balls are and how the model settles.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Equilibrium {
