@@ -95,6 +95,14 @@ pub fn suspend(point: Point3<f64>, component: usize) -> Goal {
     }
 }
 
+/// `goal` with `unique=#true` (a `suspend` or `immerse` goal; others are returned as they are).
+pub fn unique(mut goal: Goal) -> Goal {
+    if let Goal::Suspend { unique, .. } | Goal::Immerse { unique, .. } = &mut goal {
+        *unique = true;
+    }
+    goal
+}
+
 /// A capsule of component `component` with random ends inside `[lo, hi]` (shrunk by 8 mm) and a
 /// random radius in [2, 5]; when `steep`, its axis is within about 30° of z.
 pub fn random_capsule(
