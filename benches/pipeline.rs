@@ -1,5 +1,5 @@
-//! The per-mesh pipeline on a real model: load, mass properties, and evaluating poses with two
-//! capsules, each beside a baseline (one pass summing every vertex coordinate) measured in the
+//! The per-mesh pipeline on a real model: load, mass properties, evaluating poses with two
+//! capsules, and enumerating the stable states of a hanging pose with up to 12, each beside a baseline (one pass summing every vertex coordinate) measured in the
 //! same process so results can be read as ratios. `docs/benchmarks.md` describes the figures.
 //!
 //! Run with `cargo bench --bench pipeline`. Meshes come from `../shared/meshes` beside the
@@ -151,6 +151,39 @@ fn poses(suspension: Point3<f64>) -> Vec<(&'static str, Pose)> {
     .collect()
 }
 
+/// `count` short capsules through the centroid, their axes fanned out from z.
+fn fan(centroid: Point3<f64>, count: usize) -> Design {
+    let capsules = (0..count)
+        .map(|j| {
+            let turn = j as f64 * std::f64::consts::TAU / count as f64;
+            let axis = Vector3::new(0.3 * turn.cos(), 0.3 * turn.sin(), 0.5);
+            PlacedCapsule {
+                name: format!("c{j}"),
+                component: 0,
+                from: centroid - axis,
+                to: centroid + axis,
+                radius: 0.15,
+                ball_radius: 0.13,
+            }
+        })
+        .collect();
+    Design {
+        capsules,
+        infill: 0.8,
+    }
+}
+
+/// `pose` with only its suspend goal, and without goals.
+fn hanging(pose: &Pose) -> (Pose, Pose) {
+    let mut hanging = pose.clone();
+    hanging
+        .goals
+        .retain(|goal| matches!(goal.value, Goal::Suspend { .. }));
+    let mut bare = pose.clone();
+    bare.goals.clear();
+    (hanging, bare)
+}
+
 fn pipeline(c: &mut Criterion) {
     for (label, relative) in MESHES {
         let path = shared_mesh(relative);
@@ -201,6 +234,18 @@ fn pipeline(c: &mut Criterion) {
         for (name, pose) in &poses {
             group.bench_function(format!("evaluate_pose/{name}"), |b| {
                 b.iter(|| evaluate_pose(&project, black_box(&bodies), &design, pose))
+            });
+        }
+        // Every stable state of a hanging goal (2^n assignments of ball ends) against the same
+        // pose without goals, for n capsules.
+        for count in [1, 4, 8, 12] {
+            let many = fan(mass.centroid, count);
+            let (hanging, bare) = hanging(&poses[0].1);
+            group.bench_function(format!("equilibria/{count}"), |b| {
+                b.iter(|| evaluate_pose(&project, black_box(&bodies), &many, &hanging))
+            });
+            group.bench_function(format!("equilibria/{count}/no_goal"), |b| {
+                b.iter(|| evaluate_pose(&project, black_box(&bodies), &many, &bare))
             });
         }
         // Distance queries: one point near the centroid, brute force against the tree.

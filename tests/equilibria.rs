@@ -4,6 +4,7 @@
 
 mod balance_support;
 mod geometry_support;
+mod objective_support;
 
 use std::path::Path;
 
@@ -11,9 +12,11 @@ use balance_support::{assert_close, ball_volume, capsule, evaluate, project, res
 use ballast::balance::{BallRest, Equilibria, GoalOutcome, PoseEvaluation};
 use ballast::compile::{compile, Compilation};
 use ballast::design::Design;
-use ballast::spec::model::{Goal, Project};
+use ballast::objective::Parameters;
+use ballast::spec::model::{Goal, Pose, Project};
 use geometry_support::box_mesh;
 use nalgebra::{Point3, Vector3};
+use objective_support::{objective, random_capsule, tall_box, unique, Seeded};
 
 /// The equilibria of goal `goal` of `evaluation`, and whether the goal was met.
 fn equilibria(evaluation: &PoseEvaluation, goal: usize) -> (&Equilibria, bool) {
@@ -260,4 +263,85 @@ fn the_committed_fish_rights_itself_from_every_orientation() {
     assert_eq!(found.assignments, 1 << compilation.design.capsules.len());
     assert_eq!(found.states.len(), 1, "{found:?}");
     assert!(found.states[0].wanted && found.states[0].angle < 2.0);
+}
+
+/// `count` random steep capsules in the tall box, and the box hung from its top centre.
+fn many_capsules(count: usize, goal: Goal) -> (Project, Design, Pose) {
+    let mut rng = Seeded::new(11);
+    let capsules = (0..count)
+        .map(|j| {
+            let mut c = random_capsule(
+                &mut rng,
+                0,
+                Point3::origin(),
+                Point3::new(40.0, 60.0, 100.0),
+                true,
+            );
+            c.name = format!("c{j}");
+            c
+        })
+        .collect();
+    let design = Design {
+        capsules,
+        infill: 0.2,
+    };
+    (project(&["box"]), design, rest_pose(1, vec![goal]))
+}
+
+fn hung_from_top(unique: bool) -> Goal {
+    Goal::Suspend {
+        point: Point3::new(20.0, 30.0, 100.0),
+        component: 0,
+        tolerance: 2.0,
+        unique,
+    }
+}
+
+#[test]
+fn past_twelve_balls_only_moves_of_one_or_two_balls_are_tried() {
+    for (count, assignments, complete) in [(12, 4096, true), (13, 1 + 13 + 78, false)] {
+        let (project, design, pose) = many_capsules(count, hung_from_top(false));
+        let evaluation = evaluate(&project, &[tall_box()], &design, &pose);
+        let (found, _) = equilibria(&evaluation, 0);
+        assert_eq!(found.complete, complete, "{count} balls");
+        assert_eq!(found.assignments, assignments, "{count} balls");
+        // Every state listed keeps its balls: each axis at least min-angle from horizontal,
+        // unless marked marginal.
+        for state in &found.states {
+            let lowest = state
+                .balls
+                .iter()
+                .map(|b| b.elevation)
+                .fold(f64::INFINITY, f64::min);
+            assert_eq!(state.marginal, lowest < project.ball.min_angle);
+        }
+    }
+}
+
+#[test]
+fn a_unique_goal_adds_one_constraint_per_other_assignment() {
+    for (count, others) in [(1, 1), (3, 7), (6, 63), (7, 7 + 21)] {
+        let (project, design, pose) = many_capsules(count, hung_from_top(false));
+        let mut with_unique = project.clone();
+        with_unique.poses = vec![pose.clone()];
+        with_unique.poses[0].goals[0].value = unique(hung_from_top(false));
+        let mut plain = project;
+        plain.poses = vec![pose];
+        let count_of = |project: &Project| {
+            let objective = objective(
+                project,
+                &[tall_box()],
+                &design,
+                Parameters::for_project(project),
+            );
+            objective
+                .constraints(&objective.layout().to_vector(&design))
+                .len()
+        };
+        assert_eq!(
+            count_of(&with_unique) - count_of(&plain),
+            others,
+            "{count} capsules"
+        );
+    }
 }
