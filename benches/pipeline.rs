@@ -3,7 +3,8 @@
 //! same process so results can be read as ratios. `docs/benchmarks.md` describes the figures.
 //!
 //! Run with `cargo bench --bench pipeline`. Meshes come from `../shared/meshes` beside the
-//! checkout; a mesh that is missing is skipped with a note.
+//! checkout; a mesh that is missing is skipped with a note. The stable states use the example
+//! hammer in `examples/meshes` (`cargo bench --bench pipeline -- equilibria`).
 
 mod support;
 
@@ -151,6 +152,44 @@ fn poses(suspension: Point3<f64>) -> Vec<(&'static str, Pose)> {
     .collect()
 }
 
+/// Every stable state of a hanging goal (2^n assignments of ball ends) against the same pose
+/// without goals, for n capsules, on the example hammer (in the repository, 4 k vertices).
+fn equilibria(c: &mut Criterion) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/meshes/hammer.obj");
+    let mesh = match load_mesh(&path, &MeshSelector::Whole) {
+        Ok(mesh) => mesh,
+        Err(error) => {
+            eprintln!("note: skipping equilibria: {error}");
+            return;
+        }
+    };
+    let mass = mass_properties(&mesh);
+    let project = project();
+    let top = mesh
+        .positions
+        .iter()
+        .map(|p| p.z)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let poses = poses(Point3::new(mass.centroid.x, mass.centroid.y, top));
+    let (hanging, bare) = hanging(&poses[0].1);
+    let bodies = [ComponentBody { mesh: &mesh, mass }];
+    let mut group = c.benchmark_group("equilibria");
+    group
+        .sample_size(10)
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(2));
+    for count in [1, 4, 8, 12] {
+        let many = fan(mass.centroid, count);
+        group.bench_function(format!("{count}/suspend"), |b| {
+            b.iter(|| evaluate_pose(&project, black_box(&bodies), &many, &hanging))
+        });
+        group.bench_function(format!("{count}/no_goal"), |b| {
+            b.iter(|| evaluate_pose(&project, black_box(&bodies), &many, &bare))
+        });
+    }
+    group.finish();
+}
+
 /// `count` short capsules through the centroid, their axes fanned out from z.
 fn fan(centroid: Point3<f64>, count: usize) -> Design {
     let capsules = (0..count)
@@ -236,18 +275,6 @@ fn pipeline(c: &mut Criterion) {
                 b.iter(|| evaluate_pose(&project, black_box(&bodies), &design, pose))
             });
         }
-        // Every stable state of a hanging goal (2^n assignments of ball ends) against the same
-        // pose without goals, for n capsules.
-        for count in [1, 4, 8, 12] {
-            let many = fan(mass.centroid, count);
-            let (hanging, bare) = hanging(&poses[0].1);
-            group.bench_function(format!("equilibria/{count}"), |b| {
-                b.iter(|| evaluate_pose(&project, black_box(&bodies), &many, &hanging))
-            });
-            group.bench_function(format!("equilibria/{count}/no_goal"), |b| {
-                b.iter(|| evaluate_pose(&project, black_box(&bodies), &many, &bare))
-            });
-        }
         // Distance queries: one point near the centroid, brute force against the tree.
         let probe = mass.centroid + nalgebra::Vector3::new(0.01, 0.02, 0.03);
         group.bench_function("distance/brute_force", |b| {
@@ -279,5 +306,5 @@ fn pipeline(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, pipeline);
+criterion_group!(benches, pipeline, equilibria);
 criterion_main!(benches);
