@@ -40,7 +40,8 @@ pub(crate) fn flip_sets(count: usize, limit: usize) -> Vec<Vec<usize>> {
     sets
 }
 
-/// One ball that can roll between two distinct ends and weighs in the model's mass.
+/// One ball that weighs in the model's mass, at either end of its capsule (the two ends are equal
+/// for a spherical cavity).
 struct Roller {
     /// Index in the design's capsules.
     capsule: usize,
@@ -95,28 +96,19 @@ impl<'a> Model<'a> {
                 continue;
             }
             fixed_moment -= Vector3::from(placed.centre_world) * placed.mass;
-            if capsule.to == capsule.from {
-                // A spherical cavity: its ball sits at the bottom whatever the orientation.
-                // Counted with its end, moved by `drop` like the rollers.
-                rollers.push(Roller {
-                    capsule: j,
-                    ends: [frames[j] * capsule.from; 2],
-                    mass: placed.mass,
-                    drop: (capsule.radius - capsule.ball_radius).max(0.0),
-                    wanted: None,
-                });
-                continue;
-            }
+            // A spherical cavity's ball has one place whatever the orientation: two equal ends.
+            let wanted = match placed.rest {
+                _ if capsule.to == capsule.from => None,
+                BallRest::From => Some(false),
+                BallRest::To => Some(true),
+                BallRest::Undetermined => None,
+            };
             rollers.push(Roller {
                 capsule: j,
                 ends: [frames[j] * capsule.from, frames[j] * capsule.to],
                 mass: placed.mass,
                 drop: (capsule.radius - capsule.ball_radius).max(0.0),
-                wanted: match placed.rest {
-                    BallRest::From => Some(false),
-                    BallRest::To => Some(true),
-                    BallRest::Undetermined => None,
-                },
+                wanted,
             });
         }
         Model {
@@ -165,7 +157,7 @@ impl<'a> Model<'a> {
 
     /// The centre of mass with each roller at the end `at_to` says, its ball against that end's
     /// cap for gravity `gravity` (unit, world).
-    pub(crate) fn centre(&self, at_to: &[bool], gravity: &Vector3<f64>) -> Point3<f64> {
+    fn centre(&self, at_to: &[bool], gravity: &Vector3<f64>) -> Point3<f64> {
         let mut moment = self.fixed_moment;
         for (roller, &to) in self.rollers.iter().zip(at_to) {
             let end = roller.ends[usize::from(to)];
@@ -182,7 +174,7 @@ impl<'a> Model<'a> {
     /// depends on the orientation it decides. A fixed point `g = (c(g) − s) / |c(g) − s|` is
     /// iterated from `c` without the drop; the map's contraction factor is at most
     /// `Σ m_i (r_i − b_i) / (M |c − s|)`, far below 1 for any real design.
-    pub(crate) fn settle(&self, anchor: &Point3<f64>, at_to: &[bool]) -> Option<Vector3<f64>> {
+    fn settle(&self, anchor: &Point3<f64>, at_to: &[bool]) -> Option<Vector3<f64>> {
         let mut gravity = Vector3::zeros();
         for _ in 0..SETTLE_ITERATIONS {
             let offset = self.centre(at_to, &gravity) - anchor;
