@@ -345,3 +345,105 @@ fn a_unique_goal_adds_one_constraint_per_other_assignment() {
         );
     }
 }
+
+/// Quasi-static release of a one-ball model from gravity direction `start` (unit, the pose's
+/// world frame) with its ball at `to` (else `from`): the model turns a small step at a time
+/// towards hanging (or floating) with its centre of mass below `anchor`, the ball rolling to the
+/// lower end whenever its axis is at least min-angle from horizontal and staying put otherwise.
+/// Returns the settled angle off the pose's gravity, degrees. It uses only the pose's centre of
+/// mass and the capsule, not the enumeration.
+fn released(compilation: &Compilation, anchor: &Point3<f64>, start: Vector3<f64>, to: bool) -> f64 {
+    let evaluation = &compilation.poses[0];
+    let capsule = &compilation.design.capsules[0];
+    let frame = compilation.project.poses[0].component_frame(capsule.component);
+    let ends = [frame * capsule.from, frame * capsule.to];
+    let axis = (ends[1] - ends[0]).normalize();
+    let ball = &evaluation.balls[0];
+    let drop = capsule.radius - capsule.ball_radius;
+    let fixed = Point3::from(evaluation.centre_of_mass).coords * evaluation.mass
+        - Vector3::from(ball.centre_world) * ball.mass;
+    let sine = compilation.project.ball.min_angle.to_radians().sin();
+    let mut gravity = start.normalize();
+    let mut at_to = to;
+    for _ in 0..20_000 {
+        let along = axis.dot(&gravity);
+        if along >= sine {
+            at_to = true;
+        } else if along <= -sine {
+            at_to = false;
+        }
+        let end = ends[usize::from(at_to)];
+        let centre = (fixed + (end.coords + gravity * drop) * ball.mass) / evaluation.mass;
+        let wanted = (Point3::from(centre) - anchor).normalize();
+        let step = (wanted - gravity * wanted.dot(&gravity)) * 0.02;
+        gravity = (gravity + step).normalize();
+        if step.norm() < 1e-12 {
+            break;
+        }
+    }
+    degrees_between(&gravity, &-compilation.project.up.unit_vector())
+}
+
+/// `count` directions spread evenly over the sphere (a Fibonacci lattice).
+fn directions(count: usize) -> Vec<Vector3<f64>> {
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    (0..count)
+        .map(|k| {
+            let z = 1.0 - 2.0 * (k as f64 + 0.5) / count as f64;
+            let r = (1.0 - z * z).sqrt();
+            let turn = golden * k as f64;
+            Vector3::new(r * turn.cos(), r * turn.sin(), z)
+        })
+        .collect()
+}
+
+#[test]
+fn released_quasi_statically_the_committed_fish_rights_itself_and_the_stuck_one_does_not() {
+    let fish = checked("fish");
+    let GoalOutcome::Immerse {
+        buoyancy_centre,
+        tolerance,
+        ..
+    } = fish.poses[0].goals[0].outcome
+    else {
+        panic!("the fish floats");
+    };
+    let mut worst = 0.0f64;
+    for start in directions(300) {
+        for to in [false, true] {
+            worst = worst.max(released(&fish, &Point3::from(buoyancy_centre), start, to));
+        }
+    }
+    eprintln!("fish released from 600 starts: at most {worst:.3}° off upright");
+    assert!(worst <= tolerance, "settled {worst}° off upright");
+
+    let mesh = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/meshes/blub_fish.obj");
+    let source = STUCK_FISH.replace("MESH", &mesh.to_string_lossy());
+    let stuck = compile(&source, &mesh.with_file_name("stuck_fish.kdl")).unwrap();
+    let GoalOutcome::Immerse {
+        buoyancy_centre, ..
+    } = stuck.poses[0].goals[0].outcome
+    else {
+        panic!("the fish floats");
+    };
+    let (found, _) = equilibria(&stuck.poses[0], 0);
+    let up = stuck.project.up.unit_vector();
+    // Released upside down (gravity along the pose's up), the ball rolls and the fish stays turned
+    // where the enumeration says.
+    let settled = [false, true].map(|to| {
+        released(
+            &stuck,
+            &Point3::from(buoyancy_centre),
+            up + Vector3::x() * 0.01,
+            to,
+        )
+    });
+    eprintln!("stuck fish released upside down: {settled:?}°");
+    assert!(
+        settled
+            .iter()
+            .any(|angle| (angle - found.states[1].angle).abs() < 0.1),
+        "{settled:?} against {}",
+        found.states[1].angle
+    );
+}
