@@ -54,9 +54,9 @@ const RADIUS: f64 = 8.0;
 const LENGTH: f64 = 30.0;
 const HEIGHT: f64 = 30.0;
 
-/// The closed form above: for the ball at `to` (else `from`), the angle φ off vertical, and
-/// whether the ball stays (the state exists).
-fn closed_form(alpha: f64, to: bool, project: &Project) -> (f64, bool) {
+/// The closed form above: for the ball at `to` (else `from`), the angle φ off vertical, and how
+/// far above horizontal the axis keeps the ball at its end there (negative: it rolls away).
+fn closed_form(alpha: f64, to: bool, project: &Project) -> (f64, f64) {
     let pi = std::f64::consts::PI;
     let material = project.material.density * INFILL;
     let box_volume = 40.0 * 60.0 * 100.0;
@@ -71,8 +71,8 @@ fn closed_form(alpha: f64, to: bool, project: &Project) -> (f64, bool) {
     let cx = (m0 * 20.0 + m * ex) / (m0 + m);
     let cz = (m0 * z0 + m * ez) / (m0 + m);
     let phi = ((cx - 20.0).abs()).atan2(SUSPENSION[2] - cz).to_degrees();
-    let stays = if to { phi - alpha } else { alpha + phi };
-    (phi, stays >= project.ball.min_angle)
+    let keeps = if to { phi - alpha } else { alpha + phi };
+    (phi, keeps)
 }
 
 fn hung_box(alpha: f64) -> (Project, PoseEvaluation) {
@@ -98,18 +98,20 @@ fn hung_box(alpha: f64) -> (Project, PoseEvaluation) {
 
 #[test]
 fn a_hung_box_with_one_capsule_has_the_states_of_the_closed_form() {
-    let mut seen_both = false;
-    let mut seen_one = false;
-    for alpha in [5.0, 12.0, 30.0] {
+    let mut seen = [false; 3];
+    for alpha in [5.0, 12.0, 18.0, 30.0] {
         let (project, evaluation) = hung_box(alpha);
         let (found, met) = equilibria(&evaluation, 0);
         assert!(found.complete);
         assert_eq!(found.assignments, 2);
+        // A state where the axis keeps its ball at least min-angle above horizontal, a marginal
+        // one within min-angle of it, none when the ball clearly rolls away.
+        let min_angle = project.ball.min_angle;
         let mut expected = Vec::new();
         for to in [false, true] {
-            let (phi, stays) = closed_form(alpha, to, &project);
-            if stays {
-                expected.push((to, phi));
+            let (phi, keeps) = closed_form(alpha, to, &project);
+            if keeps > -min_angle {
+                expected.push((to, phi, keeps < min_angle));
             }
         }
         assert_eq!(
@@ -117,22 +119,28 @@ fn a_hung_box_with_one_capsule_has_the_states_of_the_closed_form() {
             expected.len(),
             "alpha {alpha}: {found:?}"
         );
-        for (state, (to, phi)) in found.states.iter().zip(&expected) {
+        for (state, (to, phi, marginal)) in found.states.iter().zip(&expected) {
             let rest = if *to { BallRest::To } else { BallRest::From };
             assert_eq!(state.balls[0].rest, rest);
             // In the pose the axis rises along +x, so the ball is wanted at `from`.
             assert_eq!(state.wanted, !to);
             assert_eq!(state.balls[0].moved, *to);
             assert_close("angle off vertical", state.angle, *phi, 1e-9);
-            assert!(!state.marginal);
+            assert_eq!(state.marginal, *marginal, "alpha {alpha}");
         }
         // unique=#true: the goal fails while the other state exists (and always here, since
         // the wanted hang is some 17° off vertical, beyond the tolerance).
         assert!(!met);
-        seen_both |= expected.len() == 2;
-        seen_one |= expected.len() == 1;
+        let others = found.unwanted().count();
+        let marginal = found.states.iter().any(|s| s.marginal);
+        seen[0] |= others == 1 && !marginal;
+        seen[1] |= marginal;
+        seen[2] |= others == 0;
     }
-    assert!(seen_both && seen_one, "the cases cover one and two states");
+    assert_eq!(
+        seen, [true; 3],
+        "the cases cover a second state, a marginal one and none"
+    );
 }
 
 fn checked(name: &str) -> Compilation {
