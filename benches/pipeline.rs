@@ -1,9 +1,10 @@
-//! The per-mesh pipeline on a real model: load, mass properties, and evaluating poses with two
-//! capsules, each beside a baseline (one pass summing every vertex coordinate) measured in the
+//! The per-mesh pipeline on a real model: load, mass properties, evaluating poses with two
+//! capsules, and enumerating the stable states of a hanging pose with up to 12, each beside a baseline (one pass summing every vertex coordinate) measured in the
 //! same process so results can be read as ratios. `docs/benchmarks.md` describes the figures.
 //!
 //! Run with `cargo bench --bench pipeline`. Meshes come from `../shared/meshes` beside the
-//! checkout; a mesh that is missing is skipped with a note.
+//! checkout; a mesh that is missing is skipped with a note. The stable states use the example
+//! hammer in `examples/meshes` (`cargo bench --bench pipeline -- equilibria`).
 
 mod support;
 
@@ -133,12 +134,14 @@ fn poses(suspension: Point3<f64>) -> Vec<(&'static str, Pose)> {
             point: suspension,
             component: 0,
             tolerance: 2.0,
+            unique: false,
         },
         Goal::Immerse {
             fluid_density: 1.0,
             min_distance: 0.1,
             tolerance: 5.0,
             mass_tolerance: Some(1.0),
+            unique: false,
         },
     ];
     let turned = |axis: Vector3<f64>, degrees: f64| {
@@ -171,6 +174,77 @@ fn poses(suspension: Point3<f64>) -> Vec<(&'static str, Pose)> {
         (name, pose)
     })
     .collect()
+}
+
+/// Every stable state of a hanging goal (2^n assignments of ball ends) against the same pose
+/// without goals, for n capsules, on the example hammer (in the repository, 4 k vertices).
+fn equilibria(c: &mut Criterion) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/meshes/hammer.obj");
+    let mesh = match load_mesh(&path, &MeshSelector::Whole) {
+        Ok(mesh) => mesh,
+        Err(error) => {
+            eprintln!("note: skipping equilibria: {error}");
+            return;
+        }
+    };
+    let mass = mass_properties(&mesh);
+    let project = project();
+    let top = mesh
+        .positions
+        .iter()
+        .map(|p| p.z)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let poses = poses(Point3::new(mass.centroid.x, mass.centroid.y, top));
+    let (hanging, bare) = hanging(&poses[0].1);
+    let bodies = [ComponentBody { mesh: &mesh, mass }];
+    let mut group = c.benchmark_group("equilibria");
+    group
+        .sample_size(10)
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(2));
+    for count in [1, 4, 8, 12] {
+        let many = fan(mass.centroid, count);
+        group.bench_function(format!("{count}/suspend"), |b| {
+            b.iter(|| evaluate_pose(&project, black_box(&bodies), &many, &hanging))
+        });
+        group.bench_function(format!("{count}/no_goal"), |b| {
+            b.iter(|| evaluate_pose(&project, black_box(&bodies), &many, &bare))
+        });
+    }
+    group.finish();
+}
+
+/// `count` short capsules through the centroid, their axes fanned out from z.
+fn fan(centroid: Point3<f64>, count: usize) -> Design {
+    let capsules = (0..count)
+        .map(|j| {
+            let turn = j as f64 * std::f64::consts::TAU / count as f64;
+            let axis = Vector3::new(0.3 * turn.cos(), 0.3 * turn.sin(), 0.5);
+            PlacedCapsule {
+                name: format!("c{j}"),
+                component: 0,
+                from: centroid - axis,
+                to: centroid + axis,
+                radius: 0.15,
+                ball_radius: 0.13,
+            }
+        })
+        .collect();
+    Design {
+        capsules,
+        infill: 0.8,
+    }
+}
+
+/// `pose` with only its suspend goal, and without goals.
+fn hanging(pose: &Pose) -> (Pose, Pose) {
+    let mut hanging = pose.clone();
+    hanging
+        .goals
+        .retain(|goal| matches!(goal.value, Goal::Suspend { .. }));
+    let mut bare = pose.clone();
+    bare.goals.clear();
+    (hanging, bare)
 }
 
 fn pipeline(c: &mut Criterion) {
@@ -268,5 +342,5 @@ fn pipeline(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, pipeline);
+criterion_group!(benches, pipeline, equilibria);
 criterion_main!(benches);

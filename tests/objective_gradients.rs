@@ -16,7 +16,8 @@ use objective_support::*;
 /// Largest relative error allowed.
 const TOLERANCE: f64 = 1e-6;
 
-/// The box with three capsules, infill a variable, and a pose for every goal kind.
+/// The box with three capsules, infill a variable, and a pose for every goal kind; the hanging
+/// and floating goals ask for uniqueness, so their constraints are checked too.
 fn box_case(seed: u64) -> (Project, Design, Objective) {
     let mut project = project_with(
         &["box"],
@@ -25,7 +26,7 @@ fn box_case(seed: u64) -> (Project, Design, Objective) {
                 "upright",
                 Isometry3::identity(),
                 vec![Isometry3::identity()],
-                vec![stand(5.0), immerse(1.0, 2.0, Some(5.0))],
+                vec![stand(5.0), unique(immerse(1.0, 2.0, Some(5.0)))],
             ),
             named_pose(
                 "tilted",
@@ -37,7 +38,7 @@ fn box_case(seed: u64) -> (Project, Design, Objective) {
                 "hanging",
                 rotation(Vector3::x(), 180.0),
                 vec![Isometry3::identity()],
-                vec![suspend(Point3::new(20.0, 30.0, 100.0), 0)],
+                vec![unique(suspend(Point3::new(20.0, 30.0, 100.0), 0))],
             ),
         ],
     );

@@ -152,7 +152,7 @@ fn articulated_arm_stands_in_one_pose_and_topples_in_its_mirror() {
 }
 
 #[test]
-fn hammer_hangs_level_and_fish_self_rights() {
+fn hammer_hangs_level_and_fish_self_rights_from_every_orientation() {
     for name in ["hammer", "fish"] {
         let compilation = optimized_and_current(name);
         assert!(
@@ -163,6 +163,19 @@ fn hammer_hangs_level_and_fish_self_rights() {
         let optimization = compilation.optimization.as_ref().unwrap();
         let none = optimization.candidates.iter().find(|c| c.capsules == 0);
         assert!(!none.unwrap().meets_goals, "{name}: solid already meets it");
+        // The fish asks for uniqueness: the optimizer's design floats upright only. The hammer
+        // does not, and its design also hangs turned in its level pose.
+        let states: Vec<usize> = compilation.poses[0]
+            .goals
+            .iter()
+            .map(|goal| match &goal.outcome {
+                GoalOutcome::Suspend { equilibria, .. }
+                | GoalOutcome::Immerse { equilibria, .. } => equilibria.states.len(),
+                _ => 0,
+            })
+            .collect();
+        let expected = if name == "fish" { 1 } else { 2 };
+        assert_eq!(states, vec![expected], "{name}: stable states");
     }
 }
 

@@ -141,6 +141,7 @@ fn full_project() {
                     point: point(0.0, 0.0, 42.0),
                     component: 2,
                     tolerance: 1.0,
+                    unique: false,
                 }],
             ),
             pose(
@@ -152,6 +153,7 @@ fn full_project() {
                     min_distance: 2.0,
                     tolerance: 3.0,
                     mass_tolerance: Some(5.0),
+                    unique: false,
                 }],
             ),
         ],
@@ -252,12 +254,14 @@ fn goal_defaults() {
                 point: point(1.0, 2.0, 3.0),
                 component: 0,
                 tolerance: 2.0,
+                unique: false,
             },
             Goal::Immerse {
                 fluid_density: 1.03,
                 min_distance: 0.0,
                 tolerance: 2.0,
                 mass_tolerance: None,
+                unique: false,
             },
         ]
     );

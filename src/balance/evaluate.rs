@@ -4,13 +4,14 @@ use nalgebra::Point3;
 
 use super::support::GroundPlane;
 use super::tilt::{RollingBall, TiltedModel};
-use super::{ball, goals, mass, support, BallMove, BallPlacement, ComponentBody, PoseEvaluation};
-use super::{mass::MassTotals, Support};
+use super::{ball, equilibria, goals, mass, support, BallMove, BallPlacement, ComponentBody};
+use super::{mass::MassTotals, PoseEvaluation, Support};
 use crate::design::Design;
 use crate::spec::model::{Pose, Project};
 
 /// What `design` does in `pose`: mass and centre of mass, where each ball rests, the support on
-/// the ground with its toppling angles, and the outcome of each of the pose's goals.
+/// the ground with its toppling angles, and the outcome of each of the pose's goals (with every
+/// stable state of a hanging or floating goal).
 ///
 /// `bodies` is indexed like [`Project::components`]. Component `i` is placed in world by
 /// `pose.transform * pose.component_transforms[i]`, or by `pose.transform` alone when the pose has
@@ -50,13 +51,16 @@ pub fn evaluate_pose(
         &balls,
         &totals,
     );
+    let coincidence = 1e-9 * extent(&vertices);
+    let model = equilibria::Model::new(bodies, design, pose, project, &balls, &totals, coincidence);
     let measured = goals::Measured {
         pose,
         up,
         totals: &totals,
         tilt_margin: support.tilt_margin,
-        coincidence: 1e-9 * extent(&vertices),
+        coincidence,
         cubic_in_cm3: cubic,
+        model: &model,
     };
     let goals = pose
         .goals

@@ -10,7 +10,9 @@
 //! - the support polygon on the ground and the toppling angle about each of its edges (the angles
 //!   eq. 1 takes a smooth maximum of, balls held still), and the tilt margin with the balls
 //!   rolling as the ground tilts, over every direction;
-//! - for each goal of the pose, the measured value beside the required one (eq. 1-5).
+//! - for each goal of the pose, the measured value beside the required one (eq. 1-5);
+//! - for each `suspend` and `immerse` goal, every stable state of the hanging or floating model
+//!   (each assignment of ball ends that stays put in the orientation it settles in).
 //!
 //! These are the exact, non-smooth quantities a report states and a verifier re-checks; they are
 //! not the smoothed objectives an optimizer descends.
@@ -29,6 +31,7 @@
 //! and topples), so finite inputs always give finite outputs.
 
 mod ball;
+pub(crate) mod equilibria;
 pub(crate) mod evaluate;
 mod goals;
 mod hull;
@@ -36,6 +39,7 @@ mod mass;
 pub(crate) mod support;
 pub(crate) mod tilt;
 
+pub use equilibria::{CUT_FLIPS, MAX_ENUMERATED_BALLS};
 pub use evaluate::evaluate_pose;
 
 use serde::Serialize;
@@ -246,6 +250,11 @@ pub enum GoalOutcome {
         tolerance: f64,
         /// The suspension point, world.
         point: [f64; 3],
+        /// Whether the goal asks for the wanted state to be the only stable one (`unique=#true`);
+        /// then it is met only when [`Equilibria::states`] holds no other.
+        unique: bool,
+        /// Every stable state of the model hanging from `point`.
+        equilibria: Equilibria,
     },
     /// Met when `angle ≤ tolerance`, `distance ≥ min_distance` and, when `mass_tolerance` is
     /// given, `|mass_residual| ≤ mass_tolerance`.
@@ -269,5 +278,99 @@ pub enum GoalOutcome {
         /// otherwise).
         #[serde(skip_serializing_if = "Option::is_none")]
         mass_tolerance: Option<f64>,
+        /// As for [`GoalOutcome::Suspend`]: the floating model is then also met only when it has
+        /// no other stable state.
+        unique: bool,
+        /// Every stable state of the fully submerged model.
+        equilibria: Equilibria,
     },
+}
+
+/// Every stable state of a model hanging from a point or floating fully submerged, the pose's
+/// articulation kept and the whole model free to turn.
+///
+/// An assignment of ball ends gives a centre of mass `c`; hung from `s` (or floating about the
+/// centre of buoyancy `s`) the model settles with gravity along `c − s`, a stable orientation
+/// since `c` is then below `s`. The assignment is a stable state when, with gravity so, every
+/// ball rests at the end it was assigned. Standing states (resting facets) are not enumerated.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Equilibria {
+    /// Whether every assignment was tried: false past
+    /// [`MAX_ENUMERATED_BALLS`] rolling balls, when only the assignments that move at most
+    /// [`CUT_FLIPS`] balls from the wanted state were.
+    pub complete: bool,
+    /// How many assignments were tried.
+    pub assignments: usize,
+    /// The stable states found, the wanted one first when it is one; then in the order of the
+    /// assignments tried (deterministic).
+    pub states: Vec<Equilibrium>,
+}
+
+impl Equilibria {
+    /// The stable states other than the wanted one.
+    pub fn unwanted(&self) -> impl Iterator<Item = &Equilibrium> {
+        self.states.iter().filter(|state| !state.wanted)
+    }
+}
+
+impl Equilibrium {
+    /// The state in words, after a verb such as "hangs": `23.0° off, ball "c0" at its `from`
+    /// end`, naming every ball that moved from where the pose has it, and whether it is marginal.
+    pub fn describe(&self) -> String {
+        let moved: Vec<String> = self
+            .balls
+            .iter()
+            .filter(|ball| ball.moved)
+            .map(|ball| {
+                let end = match ball.rest {
+                    BallRest::To => "to",
+                    _ => "from",
+                };
+                format!("ball \"{}\" at its `{end}` end", ball.capsule)
+            })
+            .collect();
+        let mut text = format!("{:.1}° off", self.angle);
+        if !moved.is_empty() {
+            text.push_str(", ");
+            text.push_str(&moved.join(", "));
+        }
+        if self.marginal {
+            text.push_str(" (marginal: a ball's axis is within min-angle of horizontal)");
+        }
+        text
+    }
+}
+
+/// One stable state: where the balls are and how the model settles.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Equilibrium {
+    /// Whether this is the state the goal wants: every ball at the end the pose puts it at (a
+    /// ball undetermined in the pose matches either end).
+    pub wanted: bool,
+    /// Angle between the pose's gravity and this state's, both in the posed model's frame,
+    /// degrees in [0, 180]: how far the settled model is turned from the goal's orientation.
+    pub angle: f64,
+    /// Unit gravity once settled, in the pose's world frame (which turns with the model).
+    pub gravity: [f64; 3],
+    /// Centre of mass in this state, the pose's world frame.
+    pub centre_of_mass: [f64; 3],
+    /// Whether some ball's axis is within the ball's min-angle of horizontal here, so the state
+    /// may or may not hold in a print.
+    pub marginal: bool,
+    /// One per ball that weighs in the model (its capsule's component has a body), in the
+    /// design's order.
+    pub balls: Vec<StateBall>,
+}
+
+/// A ball in a stable state.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StateBall {
+    /// The capsule's name.
+    pub capsule: String,
+    /// The end it rests at ([`BallRest::From`] for a spherical cavity).
+    pub rest: BallRest,
+    /// Angle of the capsule's axis above horizontal in this state, degrees in [0, 90].
+    pub elevation: f64,
+    /// Whether it rests at the other end than in the pose.
+    pub moved: bool,
 }

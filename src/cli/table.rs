@@ -115,6 +115,29 @@ fn pose_section(out: &mut String, evaluation: &PoseEvaluation, units: Units) {
     for goal in &evaluation.goals {
         let status = if goal.met { "met " } else { "FAIL" };
         let _ = writeln!(out, "  [{status}] {}", describe(&goal.outcome, units));
+        states(out, &goal.outcome);
+    }
+}
+
+/// The stable states of a hanging or floating goal other than the wanted one, one line each.
+fn states(out: &mut String, outcome: &GoalOutcome) {
+    let (verb, equilibria) = match outcome {
+        GoalOutcome::Suspend { equilibria, .. } => ("hangs", equilibria),
+        GoalOutcome::Immerse { equilibria, .. } => ("floats", equilibria),
+        _ => return,
+    };
+    for state in equilibria.unwanted() {
+        let _ = writeln!(out, "         also {verb} {}", state.describe());
+    }
+    if !equilibria.states.iter().any(|state| state.wanted) {
+        let _ = writeln!(out, "         the wanted state is not a stable one");
+    }
+    if !equilibria.complete {
+        let _ = writeln!(
+            out,
+            "         (stable states among {} assignments of ball ends, not all)",
+            equilibria.assignments
+        );
     }
 }
 

@@ -37,7 +37,9 @@ pub use report::{Report, REPORT_FORMAT};
 pub use solution::{read_solution, solution_text};
 pub use workspace::{Failure, Stage, Workspace};
 
-use crate::balance::{evaluate_pose, BallRest, ComponentBody, PoseEvaluation};
+use crate::balance::{
+    evaluate_pose, BallRest, ComponentBody, GoalOutcome, PoseEvaluation, MAX_ENUMERATED_BALLS,
+};
 use crate::design::Design;
 use crate::diagnostic::Problem;
 use crate::geometry::{MassProperties, TriMesh};
@@ -164,6 +166,7 @@ pub fn compile_with(
         .map(|pose| evaluate_pose(&project, &bodies, &design, pose))
         .collect();
     problems.extend(undetermined_balls(&project, &design, &poses));
+    problems.extend(other_states(&project, &poses));
     Ok(Compilation {
         project,
         meshes,
@@ -216,6 +219,58 @@ fn undetermined_balls(
                     .with_label(pose.name.span, "in this pose")
                     .with_help("tilt the capsule's axis, or the result in this pose assumes the ball in the middle"),
             );
+        }
+    }
+    warnings
+}
+
+/// A warning for every stable state of a hanging or floating goal other than the wanted one,
+/// when the goal does not ask for uniqueness (with `unique=#true` the goal fails instead), and
+/// one for every goal whose enumeration of ball ends was cut.
+fn other_states(project: &Project, poses: &[PoseEvaluation]) -> Vec<Problem> {
+    let mut warnings = Vec::new();
+    for (pose, evaluation) in project.poses.iter().zip(poses) {
+        for (goal, outcome) in pose.goals.iter().zip(&evaluation.goals) {
+            let (verb, unique, equilibria) = match &outcome.outcome {
+                GoalOutcome::Suspend {
+                    unique, equilibria, ..
+                } => ("hangs", *unique, equilibria),
+                GoalOutcome::Immerse {
+                    unique, equilibria, ..
+                } => ("floats", *unique, equilibria),
+                _ => continue,
+            };
+            if !unique {
+                for state in equilibria.unwanted() {
+                    warnings.push(
+                        Problem::warning(
+                            "ballast::goal::other_state",
+                            format!(
+                                "in pose `{}`, the model also {verb} stably {}",
+                                pose.name.value,
+                                state.describe()
+                            ),
+                        )
+                        .with_label(goal.span, "this goal")
+                        .with_help(format!(
+                            "set `unique=#true` on the `{}` goal to have the optimizer remove other stable states",
+                            goal.value.keyword()
+                        )),
+                    );
+                }
+            }
+            if !equilibria.complete {
+                warnings.push(
+                    Problem::warning(
+                        "ballast::goal::states_cut",
+                        format!(
+                            "in pose `{}`, more than {MAX_ENUMERATED_BALLS} balls can roll: only {} assignments of ball ends (at most two balls moved) were tried for other stable states",
+                            pose.name.value, equilibria.assignments
+                        ),
+                    )
+                    .with_label(goal.span, "this goal"),
+                );
+            }
         }
     }
     warnings

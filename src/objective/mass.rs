@@ -1,6 +1,6 @@
 //! Smooth mass properties of a posed design (paper eq. 7-13 with the ball of eq. 19-21).
 
-use nalgebra::Vector3;
+use nalgebra::{Isometry3, Vector3};
 
 use super::layout::{DesignLayout, CAPSULE_STRIDE, P, Q, R};
 use super::scalar::{Scalar, V3};
@@ -112,43 +112,110 @@ pub(crate) fn totals<D: Scalar>(
     densities: Densities,
     sharpness: f64,
 ) -> SmoothTotals<D> {
-    let pi = std::f64::consts::PI;
     let material = infill.clone() * densities.material;
-    let mut mass = D::from(0.0);
-    let mut moment = V3::constant(&Vector3::zeros());
-    let mut magnitude = 0.0;
-    for (volume, centroid) in &setup.bodies {
-        let m = material.clone() * *volume;
-        magnitude += m.re().abs();
-        moment = moment.add(&V3::constant(&centroid.coords).scale(&m));
-        mass += m;
-    }
+    let mut sums = bodies(setup, &material);
     for capsule in capsules {
         if capsule.component >= setup.bodies.len() {
             continue;
         }
         let frame = setup.frame(capsule.component);
-        let r = &capsule.r;
-        let length = capsule.q.sub(&capsule.p).norm();
-        let void = r.clone() * r * pi * (length + r.clone() * (4.0 / 3.0));
-        let void_mass = -(material.clone() * void);
-        let middle = capsule.p.add(&capsule.q).scale_by(0.5).transformed(&frame);
-        let b = ball_radius(r, densities.clearance);
-        let ball_mass = b.powi(3) * (4.0 / 3.0 * pi * densities.ball);
+        let (void_mass, middle) = void(capsule, &frame, &material);
+        let ball_mass = ball_mass(&capsule.r, densities);
         let gravity = setup.gravity_in(capsule.component);
         let ball =
             ball_centre(capsule, &gravity, densities.clearance, sharpness).transformed(&frame);
-        magnitude += void_mass.re().abs() + ball_mass.re().abs();
-        moment = moment
+        sums.magnitude += void_mass.re().abs() + ball_mass.re().abs();
+        sums.moment = sums
+            .moment
             .add(&middle.scale(&void_mass))
             .add(&ball.scale(&ball_mass));
-        mass += void_mass + ball_mass;
+        sums.mass += void_mass + ball_mass;
     }
-    let cancelled = mass.re().abs() <= 1e-12 * magnitude || mass.re() == 0.0;
-    let centre = if cancelled {
-        V3::constant(&setup.fallback_centre.coords)
-    } else {
-        moment.scale(&mass.recip())
+    SmoothTotals {
+        centre: sums.centre(setup),
+        mass: sums.mass,
+    }
+}
+
+/// Mass of the ball of a capsule of radius `r`, grams: `4/3 πb³` of ball density.
+pub(crate) fn ball_mass<D: Scalar>(r: &D, densities: Densities) -> D {
+    let pi = std::f64::consts::PI;
+    ball_radius(r, densities.clearance).powi(3) * (4.0 / 3.0 * pi * densities.ball)
+}
+
+/// The material of a posed design without its balls: every body at `infill × material`, less
+/// each capsule's void at its axis midpoint (capsules of components without a body left out).
+pub(crate) fn material<D: Scalar>(
+    setup: &PoseSetup,
+    capsules: &[CapsuleVars<D>],
+    infill: &D,
+    densities: Densities,
+) -> Sums<D> {
+    let material = infill.clone() * densities.material;
+    let mut sums = bodies(setup, &material);
+    for capsule in capsules {
+        if capsule.component >= setup.bodies.len() {
+            continue;
+        }
+        let (void_mass, middle) = void(capsule, &setup.frame(capsule.component), &material);
+        sums.add(&void_mass, &middle);
+    }
+    sums
+}
+
+/// Every body of `setup` at `density` (grams per cubic unit).
+fn bodies<D: Scalar>(setup: &PoseSetup, density: &D) -> Sums<D> {
+    let mut sums = Sums {
+        mass: D::from(0.0),
+        moment: V3::constant(&Vector3::zeros()),
+        magnitude: 0.0,
     };
-    SmoothTotals { mass, centre }
+    for (volume, centroid) in &setup.bodies {
+        sums.add(
+            &(density.clone() * *volume),
+            &V3::constant(&centroid.coords),
+        );
+    }
+    sums
+}
+
+/// The (negative) mass of the material a capsule's void removes, `density × πr²(|q − p| + 4/3 r)`,
+/// and the void's centre (axis midpoint), world.
+fn void<D: Scalar>(capsule: &CapsuleVars<D>, frame: &Isometry3<f64>, density: &D) -> (D, V3<D>) {
+    let pi = std::f64::consts::PI;
+    let r = &capsule.r;
+    let length = capsule.q.sub(&capsule.p).norm();
+    let void = r.clone() * r * pi * (length + r.clone() * (4.0 / 3.0));
+    let middle = capsule.p.add(&capsule.q).scale_by(0.5).transformed(frame);
+    (-(density.clone() * void), middle)
+}
+
+/// A running sum of masses at points, world.
+#[derive(Debug, Clone)]
+pub(crate) struct Sums<D> {
+    /// Σ m, grams.
+    pub mass: D,
+    /// Σ m·x.
+    pub moment: V3<D>,
+    /// Σ |m| of the values, to tell a total that cancelled from one that is merely small.
+    magnitude: f64,
+}
+
+impl<D: Scalar> Sums<D> {
+    /// Adds `mass` at `at`.
+    pub fn add(&mut self, mass: &D, at: &V3<D>) {
+        self.magnitude += mass.re().abs();
+        self.moment = self.moment.add(&at.scale(mass));
+        self.mass += mass.clone();
+    }
+
+    /// The centre of mass, or the setup's fallback when the mass cancels.
+    pub fn centre(&self, setup: &PoseSetup) -> V3<D> {
+        let cancelled = self.mass.re().abs() <= 1e-12 * self.magnitude || self.mass.re() == 0.0;
+        if cancelled {
+            V3::constant(&setup.fallback_centre.coords)
+        } else {
+            self.moment.scale(&self.mass.recip())
+        }
+    }
 }

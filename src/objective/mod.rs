@@ -26,6 +26,7 @@ mod parameters;
 mod scalar;
 mod setup;
 mod smooth;
+mod uniqueness;
 
 pub use grid_interior::GridInterior;
 pub use interior::InteriorDistance;
@@ -53,6 +54,7 @@ pub struct Objective {
     poses: Vec<PoseSetup>,
     densities: Densities,
     fixed_infill: f64,
+    min_angle: f64,
     limits: Limits,
     interior: Option<Box<dyn InteriorDistance>>,
 }
@@ -99,6 +101,7 @@ impl Objective {
                 clearance: project.ball.clearance,
             },
             fixed_infill: project.infill.value,
+            min_angle: project.ball.min_angle,
             limits,
             parameters,
             interior: None,
@@ -176,7 +179,11 @@ impl Objective {
     /// 4. per pose, per `immerse` goal: `|c − c_buo|² − d_min² ≥ 0` (eq. 5), then with a mass
     ///    tolerance `τ`: `τ − (m − ρ_F V) ≥ 0` and `τ + (m − ρ_F V) ≥ 0` (eq. 3, grams), once per
     ///    distinct fluid density and tolerance (mass and volume do not depend on the pose);
-    /// 5. with an [`InteriorDistance`] ([`with_interior`](Self::with_interior)), per capsule per
+    /// 5. per pose, per `suspend` or `immerse` goal with `unique=#true`, per assignment of ball
+    ///    ends other than the wanted one (all of them up to 6 capsules, those moving one or two
+    ///    balls beyond): some ball leaves its assigned end where that assignment settles,
+    ///    `smax(−σ_i â_i·g_A) − ln(n)/s − sin(φ_min + 1°) ≥ 0` (`docs/optimizer.md`, "Uniqueness");
+    /// 6. with an [`InteriorDistance`] ([`with_interior`](Self::with_interior)), per capsule per
     ///    axis sample: `d(x) − r − wall ≥ 0` (eq. 15).
     ///
     /// The count depends only on the layout, the project and the parameters, never on `x`.
@@ -229,6 +236,17 @@ impl Objective {
                 constraints::immersion_constraints(setup, &totals, &mut seen, &mut out);
             }
         }
+        let infill = self.infill(x);
+        for setup in &self.poses {
+            uniqueness::uniqueness_constraints(
+                setup,
+                &vars,
+                &infill,
+                self.densities,
+                self.min_angle,
+                &mut out,
+            );
+        }
         out
     }
 
@@ -280,17 +298,21 @@ impl Objective {
 
     /// The smooth mass totals of `x` in `setup`'s pose.
     fn totals<D: Scalar>(&self, setup: &PoseSetup, x: &[D]) -> SmoothTotals<D> {
-        let infill = match self.layout.infill_index() {
-            Some(i) => x[i].clone(),
-            None => D::from(self.fixed_infill),
-        };
         mass::totals(
             setup,
             &capsules(&self.layout, x),
-            &infill,
+            &self.infill(x),
             self.densities,
             self.parameters.ball_sharpness,
         )
+    }
+
+    /// The infill fraction of `x`: its variable, or the project's fixed value.
+    fn infill<D: Scalar>(&self, x: &[D]) -> D {
+        match self.layout.infill_index() {
+            Some(i) => x[i].clone(),
+            None => D::from(self.fixed_infill),
+        }
     }
 
     /// `x` cut or padded with zeros to the layout's length.

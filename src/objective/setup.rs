@@ -59,8 +59,13 @@ pub(crate) enum GoalSetup {
     Stand { margin: f64 },
     /// Topple by at least `margin` radians.
     Imbalance { margin: f64 },
-    /// Hang from `point` (world) within `tolerance` radians.
-    Suspend { point: Vector3<f64>, tolerance: f64 },
+    /// Hang from `point` (world) within `tolerance` radians; with `unique`, in no other stable
+    /// state.
+    Suspend {
+        point: Vector3<f64>,
+        tolerance: f64,
+        unique: bool,
+    },
     /// Right itself in a fluid.
     Immerse {
         /// g per cubic project unit.
@@ -68,6 +73,8 @@ pub(crate) enum GoalSetup {
         min_distance: f64,
         tolerance: f64,
         mass_tolerance: Option<f64>,
+        /// In no other stable state.
+        unique: bool,
     },
 }
 
@@ -134,20 +141,24 @@ impl PoseSetup {
                     point,
                     component,
                     tolerance,
+                    unique,
                 } => GoalSetup::Suspend {
                     point: (pose.component_frame(component) * point).coords,
                     tolerance: tolerance.to_radians(),
+                    unique,
                 },
                 Goal::Immerse {
                     fluid_density,
                     min_distance,
                     tolerance,
                     mass_tolerance,
+                    unique,
                 } => GoalSetup::Immerse {
                     fluid_density: fluid_density * cubic,
                     min_distance,
                     tolerance: tolerance.to_radians(),
                     mass_tolerance,
+                    unique,
                 },
             })
             .collect();

@@ -299,6 +299,8 @@ pub enum Goal {
         component: usize,
         /// Allowed angle between the string and gravity, degrees.
         tolerance: f64,
+        /// Met only when hanging as wanted is the model's only stable state (`unique=#true`).
+        unique: bool,
     },
     /// Float upright in a fluid: the centre of buoyancy straight above the centre of mass.
     Immerse {
@@ -310,6 +312,9 @@ pub enum Goal {
         tolerance: f64,
         /// When given, |mass − fluid density × volume| must be at most this many grams.
         mass_tolerance: Option<f64>,
+        /// Met only when floating as wanted is the model's only stable state: it rights itself
+        /// from any orientation (`unique=#true`).
+        unique: bool,
     },
 }
 

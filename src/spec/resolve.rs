@@ -316,12 +316,14 @@ impl<'a> Resolver<'a> {
                     .and_then(|name| self.component_index(&name))
                     .unwrap_or(0),
                 tolerance: number("tolerance", 2.0),
+                unique: node.flag("unique").unwrap_or(false),
             },
             "immerse" => Goal::Immerse {
                 fluid_density: number("fluid-density", 1.0),
                 min_distance: number("min-distance", 0.0),
                 tolerance: number("tolerance", 2.0),
                 mass_tolerance: node.number("mass-tolerance"),
+                unique: node.flag("unique").unwrap_or(false),
             },
             _ => return None,
         };

@@ -156,6 +156,7 @@ const TRANSFORM_STEPS: [NodeSpec; 3] = [
 
 const CONTACT: PropSpec = length_prop("contact-tolerance", ValueKind::Positive);
 const TOLERANCE: PropSpec = prop("tolerance", ValueKind::NonNegative);
+const UNIQUE: PropSpec = prop("unique", ValueKind::Bool);
 
 /// The `capsule` node, in a project file and in a solution file.
 const CAPSULE: NodeSpec = NodeSpec {
@@ -199,7 +200,7 @@ const POSE_CHILDREN: &[NodeSpec] = &[
     repeated(leaf(
         "suspend",
         POINT,
-        &[prop("component", ValueKind::String), TOLERANCE],
+        &[prop("component", ValueKind::String), TOLERANCE, UNIQUE],
     )),
     repeated(leaf(
         "immerse",
@@ -209,6 +210,7 @@ const POSE_CHILDREN: &[NodeSpec] = &[
             length_prop("min-distance", ValueKind::NonNegative),
             TOLERANCE,
             prop("mass-tolerance", ValueKind::NonNegative),
+            UNIQUE,
         ],
     )),
 ];
