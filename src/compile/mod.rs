@@ -37,10 +37,10 @@ pub use report::{Report, REPORT_FORMAT};
 pub use solution::{read_solution, solution_text};
 pub use workspace::{Failure, Stage, Workspace};
 
-use crate::balance::{evaluate_pose, BallRest, ComponentBody, PoseEvaluation};
+use crate::balance::{component_print, evaluate_pose, BallRest, ComponentBody, PoseEvaluation};
 use crate::design::Design;
 use crate::diagnostic::Problem;
-use crate::geometry::{MassProperties, TriMesh};
+use crate::geometry::{mass_properties, MassProperties, PrintVolumes, TriMesh};
 use crate::spec::model::Project;
 use crate::spec::parse_project;
 
@@ -133,11 +133,15 @@ pub fn compile_with(
         Some(meshes) if !problems.iter().any(Problem::is_error) => meshes,
         _ => return Err(Failure::Invalid(problems)),
     };
+    let prints: Vec<PrintVolumes> = meshes
+        .iter()
+        .map(|mesh| component_print(&project, mesh, &mass_properties(mesh)))
+        .collect();
     let (design, source, optimization) = match (&project.optimize, &options.optimize) {
         (None, _) => (written, DesignSource::Written, None),
         (Some(settings), Some(run)) => {
             let (design, optimization) =
-                optimize_design(&project, settings, &meshes, run, workspace)
+                optimize_design(&project, settings, &meshes, &prints, run, workspace)
                     .ok_or(Failure::Cancelled)?;
             (design, DesignSource::Optimized, Some(optimization))
         }
@@ -156,7 +160,11 @@ pub fn compile_with(
             }
         }
     };
-    let bodies: Vec<ComponentBody> = meshes.iter().map(ComponentBody::new).collect();
+    let bodies: Vec<ComponentBody> = meshes
+        .iter()
+        .zip(&prints)
+        .map(|(mesh, print)| ComponentBody::with_print(mesh, *print))
+        .collect();
     let mass = bodies.iter().map(|body| body.mass).collect();
     let poses: Vec<PoseEvaluation> = project
         .poses

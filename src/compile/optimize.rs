@@ -15,6 +15,7 @@ use crate::optimize::{
     Candidate, Conflict, GoalRef, GridKey, Method, Outcome, Problem, Ranking, SeedSite,
     StartCapsule,
 };
+use crate::geometry::PrintVolumes;
 use crate::spec::model::{Optimize, Project};
 
 /// How `build` runs the optimizer, beyond what the project file says.
@@ -243,6 +244,7 @@ pub fn optimize_design(
     project: &Project,
     settings: &Optimize,
     meshes: &[TriMesh],
+    prints: &[PrintVolumes],
     options: &OptimizeOptions,
     workspace: &mut Workspace,
 ) -> Option<(Design, Optimization)> {
@@ -252,19 +254,29 @@ pub fn optimize_design(
         .filter(|warm| warm.fits(meshes))
         .map(|warm| &warm.design);
     if let Some(design) = warm {
-        let optimized = optimize_from(project, settings, meshes, options, workspace, Some(design))?;
+        let optimized = optimize_from(
+            project,
+            settings,
+            meshes,
+            prints,
+            options,
+            workspace,
+            Some(design),
+        )?;
         if optimized.1.meets_goals {
             return Some(optimized);
         }
     }
-    optimize_from(project, settings, meshes, options, workspace, None)
+    optimize_from(project, settings, meshes, prints, options, workspace, None)
 }
 
 /// [`optimize_design`] from the seeds [`prepare`] gives for `warm`.
+#[allow(clippy::too_many_arguments)]
 fn optimize_from(
     project: &Project,
     settings: &Optimize,
     meshes: &[TriMesh],
+    prints: &[PrintVolumes],
     options: &OptimizeOptions,
     workspace: &mut Workspace,
     warm: Option<&Design>,
@@ -278,7 +290,7 @@ fn optimize_from(
     let precompute = clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
-    let problem = Problem::new(project, meshes, interior.clone(), options.method)
+    let problem = Problem::new(project, meshes, prints, interior.clone(), options.method)
         .with_cancel(workspace.cancel.clone());
     let requested = options.capsules.or(settings.capsules);
     let candidates = run_heuristic(&problem, &seeds, requested, &|capsules| {
@@ -332,6 +344,7 @@ fn optimize_from(
         explain_conflicts(
             project,
             meshes,
+            prints,
             &interior,
             &starts,
             &unmet,

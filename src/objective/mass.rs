@@ -47,6 +47,9 @@ pub(crate) struct Densities {
     pub ball: f64,
     /// Ball clearance, project units.
     pub clearance: f64,
+    /// Thickness of the solid shell printed around every capsule, project units
+    /// ([`capsule_shell`](crate::balance::capsule_shell)).
+    pub shell: f64,
 }
 
 /// Mass (grams) and centre of mass (world) of a posed design.
@@ -101,10 +104,13 @@ pub(crate) fn ball_radius<D: Scalar>(r: &D, clearance: f64) -> D {
     }
 }
 
-/// Mass and centre of mass (eq. 12-13): material of density `infill × material` over every
-/// body, less each capsule's void (`πr²(|q − p| + 4/3 r)` at the axis midpoint), plus each ball
-/// (`4/3 πb³` of ball density at [`ball_centre`]). Capsules whose component has no body are left
-/// out, as in the exact evaluation. When the mass cancels, the centre is the setup's fallback.
+/// Mass and centre of mass (eq. 12-13), as the exact evaluation sums them: each body's solid
+/// part at the material's density and its sparse part at `infill ×` that; per capsule, the
+/// capsule dilated by the shell thickness `t` loses its sparse material and gains its shell solid,
+/// `(1 − infill) πR²(L + 4/3 R) − πr²(L + 4/3 r)` with `R = r + t` and `L = |q − p|`, at the axis
+/// midpoint, and the ball (`4/3 πb³` of ball density at [`ball_centre`]) is added. Capsules
+/// whose component has no body are left out. When the mass cancels, the centre is the setup's
+/// fallback.
 pub(crate) fn totals<D: Scalar>(
     setup: &PoseSetup,
     capsules: &[CapsuleVars<D>],
@@ -113,36 +119,40 @@ pub(crate) fn totals<D: Scalar>(
     sharpness: f64,
 ) -> SmoothTotals<D> {
     let pi = std::f64::consts::PI;
-    let material = infill.clone() * densities.material;
     let mut mass = D::from(0.0);
     let mut moment = V3::constant(&Vector3::zeros());
     let mut magnitude = 0.0;
-    for (volume, centroid) in &setup.bodies {
-        let m = material.clone() * *volume;
-        magnitude += m.re().abs();
-        moment = moment.add(&V3::constant(&centroid.coords).scale(&m));
-        mass += m;
+    for [(solid, solid_centre), (sparse, sparse_centre)] in &setup.printed {
+        let solid_mass = D::from(densities.material * *solid);
+        let sparse_mass = infill.clone() * (densities.material * *sparse);
+        magnitude += solid_mass.re().abs() + sparse_mass.re().abs();
+        moment = moment
+            .add(&V3::constant(&solid_centre.coords).scale(&solid_mass))
+            .add(&V3::constant(&sparse_centre.coords).scale(&sparse_mass));
+        mass += solid_mass + sparse_mass;
     }
+    let capsule_volume = |length: &D, r: &D| r.clone() * r * pi * (length.clone() + r.clone() * (4.0 / 3.0));
     for capsule in capsules {
-        if capsule.component >= setup.bodies.len() {
+        if capsule.component >= setup.printed.len() {
             continue;
         }
         let frame = setup.frame(capsule.component);
         let r = &capsule.r;
         let length = capsule.q.sub(&capsule.p).norm();
-        let void = r.clone() * r * pi * (length + r.clone() * (4.0 / 3.0));
-        let void_mass = -(material.clone() * void);
+        let dilated = capsule_volume(&length, &(r.clone() + densities.shell));
+        let void = capsule_volume(&length, r);
+        let change = ((-infill.clone() + 1.0) * dilated - void) * densities.material;
         let middle = capsule.p.add(&capsule.q).scale_by(0.5).transformed(&frame);
         let b = ball_radius(r, densities.clearance);
         let ball_mass = b.powi(3) * (4.0 / 3.0 * pi * densities.ball);
         let gravity = setup.gravity_in(capsule.component);
         let ball =
             ball_centre(capsule, &gravity, densities.clearance, sharpness).transformed(&frame);
-        magnitude += void_mass.re().abs() + ball_mass.re().abs();
+        magnitude += change.re().abs() + ball_mass.re().abs();
         moment = moment
-            .add(&middle.scale(&void_mass))
+            .add(&middle.scale(&change))
             .add(&ball.scale(&ball_mass));
-        mass += void_mass + ball_mass;
+        mass += change + ball_mass;
     }
     let cancelled = mass.re().abs() <= 1e-12 * magnitude || mass.re() == 0.0;
     let centre = if cancelled {
