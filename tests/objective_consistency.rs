@@ -26,7 +26,10 @@ fn sharp(project: &Project) -> Parameters {
 /// Asserts that the smooth centre of mass of every pose equals the exact one to 1e-6 of the
 /// model's size, and returns the exact tilt margins (degrees) with the smooth stand objectives.
 fn compare(project: &Project, meshes: &[TriMesh], design: &Design, size: f64) -> Vec<(f64, f64)> {
-    let bodies: Vec<ComponentBody> = meshes.iter().map(ComponentBody::new).collect();
+    let bodies: Vec<ComponentBody> = meshes
+        .iter()
+        .map(|mesh| ComponentBody::for_project(mesh, project))
+        .collect();
     let objective = objective(project, meshes, design, sharp(project));
     let x = objective.layout().to_vector(design);
     let rebuilt = objective

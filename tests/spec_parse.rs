@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 
 use ballast::geometry::MeshSelector;
 use ballast::spec::model::{
-    Axis, Ball, Capsule, Component, Goal, Infill, Material, Optimize, Output, Pose, Project,
+    Axis, Ball, Capsule, Component, Goal, Infill, Material, Optimize, Output, Pose, Print, Project,
     Spanned, Units,
 };
 use ballast::spec::parse_project;
@@ -97,6 +97,7 @@ fn full_project() {
             range: Some((0.2, 0.6)),
         },
         wall: 1.5,
+        print: Print::defaults(Units::Millimetre),
         components: vec![
             component(
                 "body",
@@ -202,6 +203,7 @@ fn defaults() {
             range: None,
         },
         wall: mm.from_millimetres(1.0),
+        print: Print::defaults(mm),
         components: vec![component("body", "/projects/body.obj", MeshSelector::Whole)],
         poses: vec![pose(
             "rest",

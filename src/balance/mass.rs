@@ -87,20 +87,19 @@ pub(crate) fn mass_totals(
 /// `uniform` mass model.
 ///
 /// Around a hole, each layer gets the perimeters (horizontal thickness `T_h`, see
-/// [`Print::perimeter_thickness`]) and the layers next to the hole's floor and ceiling are solid
-/// (vertical thickness `T_v`, the mean of the top and bottom solid layers times the layer
-/// height). Where the capsule's surface normal makes an angle θ with up, the shell is
-/// `max(T_v |cos θ|, T_h |sin θ|)` thick; around a horizontal axis that averages to
-/// `(2/π) √(T_h² + T_v²)`, the one thickness used all round: a capsule dilated by a sphere is a
-/// capsule, so the shell's volume and centroid stay closed form.
+/// [`Print::perimeter_thickness`]); the layers under the hole's floor and over its ceiling are
+/// solid (vertical thickness `T_v`, the mean of the top and bottom solid layers times the layer
+/// height), and the slicer grows those surfaces sideways by its surface margin. One thickness
+/// all round keeps the shell closed form (a capsule dilated by a sphere is a capsule):
+/// `√(T_h² + T_v²)`, 1.47 mm at PrusaSlicer's defaults, where its G-code gives 1.3 mm for a level
+/// capsule and 1.7 mm for one tilted 10° (`docs/physics.md`).
 pub fn capsule_shell(print: &Print) -> f64 {
     match print.model {
         MassModel::Uniform => 0.0,
         MassModel::Fdm => {
             let horizontal = print.perimeter_thickness();
             let layers = (print.top_solid_layers as f64 + print.bottom_solid_layers as f64) / 2.0;
-            let vertical = layers * print.layer_height;
-            std::f64::consts::FRAC_2_PI * horizontal.hypot(vertical)
+            horizontal.hypot(layers * print.layer_height)
         }
     }
 }

@@ -40,7 +40,7 @@ pub use mass::capsule_shell;
 use serde::Serialize;
 
 use crate::geometry::{print_volumes, MassProperties, PrintVolumes, Slicing, TriMesh};
-use crate::spec::model::{Axis, MassModel, Project};
+use crate::spec::model::{Axis, MassModel, Print, Project};
 
 /// Per-component data that does not change with the pose: the mesh in its rest frame, its mass
 /// properties and where its material is printed solid or sparse, computed once (they are the
@@ -92,17 +92,16 @@ impl<'a> ComponentBody<'a> {
 pub fn component_print(project: &Project, mesh: &TriMesh, mass: &MassProperties) -> PrintVolumes {
     match project.print.model {
         MassModel::Uniform => PrintVolumes::uniform(mass),
-        MassModel::Fdm => print_volumes(mesh, &slicing(project)),
+        MassModel::Fdm => print_volumes(mesh, &slicing(&project.print, project.up)),
     }
 }
 
-/// The geometry stage's view of `project`'s print settings: built along the `up` axis of every
+/// The geometry stage's view of the print settings `print`: built along `up` in every
 /// component's rest frame.
-pub fn slicing(project: &Project) -> Slicing {
-    let print = &project.print;
+pub fn slicing(print: &Print, up: Axis) -> Slicing {
     let count = |n: u64| usize::try_from(n).unwrap_or(usize::MAX);
     Slicing {
-        up: match project.up {
+        up: match up {
             Axis::X => 0,
             Axis::Y => 1,
             Axis::Z => 2,
@@ -113,6 +112,7 @@ pub fn slicing(project: &Project) -> Slicing {
         top_layers: count(print.top_solid_layers),
         bottom_layers: count(print.bottom_solid_layers),
         min_sparse_area: print.solid_infill_below_area,
+        surface_margin: print.surface_margin,
     }
 }
 

@@ -75,6 +75,8 @@ pub struct Compilation {
     pub meshes: Vec<TriMesh>,
     /// Each component's volume, centroid and second moment, in project order.
     pub mass: Vec<MassProperties>,
+    /// Per component, where it is printed solid and where sparse (the project's mass model).
+    pub prints: Vec<PrintVolumes>,
     /// The capsules evaluated.
     pub design: Design,
     /// One per pose, in project order.
@@ -176,6 +178,7 @@ pub fn compile_with(
         project,
         meshes,
         mass,
+        prints,
         design,
         poses,
         warnings: problems,

@@ -8,6 +8,7 @@ use serde::Serialize;
 
 use super::workspace::{Stage, Workspace};
 use crate::design::Design;
+use crate::geometry::PrintVolumes;
 use crate::geometry::{DistanceGrid, Skeleton, TriMesh};
 use crate::objective::{GridInterior, Parameters};
 use crate::optimize::{
@@ -15,7 +16,6 @@ use crate::optimize::{
     Candidate, Conflict, GoalRef, GridKey, Method, Outcome, Problem, Ranking, SeedSite,
     StartCapsule,
 };
-use crate::geometry::PrintVolumes;
 use crate::spec::model::{Optimize, Project};
 
 /// How `build` runs the optimizer, beyond what the project file says.

@@ -7,7 +7,11 @@
 //! - **perimeter**: within `perimeter_thickness` (horizontally) of the slice outline;
 //! - **top or bottom**: the same column is outside the mesh in one of the `top_layers` layers
 //!   above, or the `bottom_layers` below (the solid layers under every top surface and over
-//!   every bottom surface, sloping ones included);
+//!   every bottom surface, sloping ones included); or within `surface_margin` of a top surface
+//!   (the part of a layer's fill region, inside the perimeters, that the layer above does not
+//!   cover) of this layer or one of the `top_layers − 1` above, or of a bottom surface of this
+//!   layer or one of the `bottom_layers − 1` below (PrusaSlicer grows every top and bottom
+//!   surface by a margin before it adds the solid layers);
 //! - **small region**: what is left forms a region (4-connected cells) smaller than
 //!   `min_sparse_area`, which the slicer fills solid;
 //! - **sparse**: the rest, printed at the infill fraction.
@@ -37,6 +41,8 @@ pub struct Slicing {
     pub bottom_layers: usize,
     /// Interior regions of a layer smaller than this area are filled solid.
     pub min_sparse_area: f64,
+    /// How far a top or bottom surface's solid layers reach past it into the sparse infill.
+    pub surface_margin: f64,
 }
 
 /// A volume and its centroid, rest frame.
@@ -100,10 +106,22 @@ pub fn print_volumes(mesh: &TriMesh, slicing: &Slicing) -> PrintVolumes {
     };
     let segments = layout.slice(mesh);
     let inside: Vec<Vec<bool>> = segments.iter().map(|s| layout.inside(s)).collect();
+    let near: Vec<Vec<bool>> = segments.iter().map(|s| layout.near_outline(s)).collect();
+    let fill: Vec<Vec<bool>> = inside
+        .iter()
+        .zip(&near)
+        .map(|(inside, near)| inside.iter().zip(near).map(|(i, n)| *i && !n).collect())
+        .collect();
+    let tops: Vec<Vec<bool>> = (0..layout.layers)
+        .map(|k| layout.surface(&fill[k], k.checked_add(1), &inside))
+        .collect();
+    let bottoms: Vec<Vec<bool>> = (0..layout.layers)
+        .map(|k| layout.surface(&fill[k], k.checked_sub(1), &inside))
+        .collect();
     let mut solid = Sum::default();
     let mut sparse = Sum::default();
-    for (k, layer_segments) in segments.iter().enumerate() {
-        let class = layout.classify(k, layer_segments, &inside);
+    for k in 0..layout.layers {
+        let class = layout.classify(k, &inside, &near, &tops, &bottoms);
         let z = layout.slice_height(k);
         let cell_volume = layout.cell * layout.cell * layout.thickness(k);
         for (index, kind) in class.iter().enumerate() {
@@ -246,7 +264,11 @@ impl Layout {
             };
             let low = a[up].min(b[up]).min(c[up]);
             let high = a[up].max(b[up]).max(c[up]);
-            for (k, layer) in layers.iter_mut().enumerate().skip(self.first_layer_above(low)) {
+            for (k, layer) in layers
+                .iter_mut()
+                .enumerate()
+                .skip(self.first_layer_above(low))
+            {
                 let z = self.slice_height(k);
                 if z > high {
                     break;
@@ -309,7 +331,9 @@ impl Layout {
         for (j, row) in crossings.iter_mut().enumerate() {
             row.sort_by(f64::total_cmp);
             for pair in row.chunks_exact(2) {
-                let start = ((pair[0] - self.origin.0) / self.cell - 0.5).ceil().max(0.0);
+                let start = ((pair[0] - self.origin.0) / self.cell - 0.5)
+                    .ceil()
+                    .max(0.0);
                 let end = ((pair[1] - self.origin.0) / self.cell - 0.5).floor();
                 if end < start {
                     continue;
@@ -364,23 +388,57 @@ impl Layout {
         near
     }
 
+    /// The fill cells of a layer (`fill`) under which (or over which) layer `next` is outside,
+    /// grown by the surface margin within `fill`: the slicer's top (or bottom) surface of the
+    /// layer with the ring it adds around it.
+    fn surface(&self, fill: &[bool], next: Option<usize>, inside: &[Vec<bool>]) -> Vec<bool> {
+        let exposed: Vec<bool> = fill
+            .iter()
+            .enumerate()
+            .map(|(index, &f)| {
+                f && !next
+                    .and_then(|l| inside.get(l))
+                    .is_some_and(|cells| cells[index])
+            })
+            .collect();
+        let reach = self.slicing.surface_margin / self.cell;
+        if reach <= 0.0 || !exposed.iter().any(|&e| e) {
+            return exposed;
+        }
+        let distance = squared_distance(&exposed, self.columns, self.rows);
+        distance
+            .iter()
+            .zip(fill)
+            .map(|(d, &f)| f && *d <= reach * reach)
+            .collect()
+    }
+
     /// Layer `k`'s cells: outside, solid or sparse.
-    fn classify(&self, k: usize, segments: &[Segment], inside: &[Vec<bool>]) -> Vec<Cell> {
-        let near = self.near_outline(segments);
+    fn classify(
+        &self,
+        k: usize,
+        inside: &[Vec<bool>],
+        near: &[Vec<bool>],
+        tops: &[Vec<bool>],
+        bottoms: &[Vec<bool>],
+    ) -> Vec<Cell> {
         let here = &inside[k];
         let covered = |layer: Option<usize>, index: usize| {
             layer
                 .and_then(|l| inside.get(l))
                 .is_some_and(|cells| cells[index])
         };
+        let (top, bottom) = (self.slicing.top_layers, self.slicing.bottom_layers);
         let mut class: Vec<Cell> = (0..here.len())
             .map(|index| {
                 if !here[index] {
                     return Cell::Outside;
                 }
-                let shell = near[index]
-                    || (1..=self.slicing.top_layers).any(|j| !covered(k.checked_add(j), index))
-                    || (1..=self.slicing.bottom_layers).any(|j| !covered(k.checked_sub(j), index));
+                let shell = near[k][index]
+                    || (1..=top).any(|j| !covered(k.checked_add(j), index))
+                    || (1..=bottom).any(|j| !covered(k.checked_sub(j), index))
+                    || (0..top).any(|j| tops.get(k + j).is_some_and(|s| s[index]))
+                    || (0..bottom).any(|j| k.checked_sub(j).is_some_and(|l| bottoms[l][index]));
                 if shell {
                     Cell::Solid
                 } else {
@@ -432,6 +490,70 @@ impl Layout {
             }
         }
     }
+}
+
+/// Squared distance (in cells) from every cell centre to the nearest marked cell centre, exact
+/// (Felzenszwalb and Huttenlocher's two passes of lower envelopes of parabolas); `INFINITY`
+/// without marked cells.
+fn squared_distance(marked: &[bool], columns: usize, rows: usize) -> Vec<f64> {
+    let mut grid: Vec<f64> = marked
+        .iter()
+        .map(|&m| if m { 0.0 } else { f64::INFINITY })
+        .collect();
+    let mut line = Vec::new();
+    for i in 0..columns {
+        line.clear();
+        line.extend((0..rows).map(|j| grid[j * columns + i]));
+        let out = envelope(&line);
+        for (j, d) in out.into_iter().enumerate() {
+            grid[j * columns + i] = d;
+        }
+    }
+    for j in 0..rows {
+        let row = &mut grid[j * columns..(j + 1) * columns];
+        let out = envelope(row);
+        row.copy_from_slice(&out);
+    }
+    grid
+}
+
+/// One pass of [`squared_distance`]: `min_q f(q) + (p − q)²` for every `p`.
+fn envelope(f: &[f64]) -> Vec<f64> {
+    let n = f.len();
+    let mut out = vec![f64::INFINITY; n];
+    let sites: Vec<usize> = (0..n).filter(|&q| f[q].is_finite()).collect();
+    if sites.is_empty() {
+        return out;
+    }
+    // Parabola apexes `v` and the boundaries `z` between them.
+    let mut v: Vec<usize> = Vec::with_capacity(sites.len());
+    let mut z: Vec<f64> = Vec::with_capacity(sites.len() + 1);
+    let meet = |a: usize, b: usize| {
+        ((f[b] + (b * b) as f64) - (f[a] + (a * a) as f64)) / (2.0 * (b as f64 - a as f64))
+    };
+    for &q in &sites {
+        while let Some(&last) = v.last() {
+            let s = meet(last, q);
+            if v.len() > 1 && s <= z[z.len() - 1] {
+                v.pop();
+                z.pop();
+            } else {
+                z.push(s);
+                break;
+            }
+        }
+        v.push(q);
+    }
+    // z[i] is the boundary between v[i] and v[i + 1].
+    let mut k = 0;
+    for (p, value) in out.iter_mut().enumerate() {
+        while k + 1 < v.len() && z[k] < p as f64 {
+            k += 1;
+        }
+        let d = p as f64 - v[k] as f64;
+        *value = d * d + f[v[k]];
+    }
+    out
 }
 
 /// A running sum of volumes at points.

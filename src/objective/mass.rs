@@ -131,7 +131,8 @@ pub(crate) fn totals<D: Scalar>(
             .add(&V3::constant(&sparse_centre.coords).scale(&sparse_mass));
         mass += solid_mass + sparse_mass;
     }
-    let capsule_volume = |length: &D, r: &D| r.clone() * r * pi * (length.clone() + r.clone() * (4.0 / 3.0));
+    let capsule_volume =
+        |length: &D, r: &D| r.clone() * r * pi * (length.clone() + r.clone() * (4.0 / 3.0));
     for capsule in capsules {
         if capsule.component >= setup.printed.len() {
             continue;

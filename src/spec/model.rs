@@ -269,6 +269,10 @@ pub struct Print {
     /// Interior regions of a layer smaller than this area, square project units, are filled
     /// solid (PrusaSlicer: 70 mm²).
     pub solid_infill_below_area: f64,
+    /// How far the solid layers of a top or bottom surface reach past it into the sparse infill
+    /// (PrusaSlicer 2.5: a fixed 3 mm, `EXTERNAL_INFILL_MARGIN`; not a setting of the slicer, so
+    /// not of the project file either).
+    pub surface_margin: f64,
 }
 
 impl Print {
@@ -284,6 +288,7 @@ impl Print {
             top_solid_layers: 3,
             bottom_solid_layers: 3,
             solid_infill_below_area: mm(mm(70.0)),
+            surface_margin: mm(3.0),
         }
     }
 

@@ -12,9 +12,8 @@ use nalgebra::{Isometry3, Point3};
 
 use super::codes;
 use super::model::{
-    Axis, Ball, Capsule, Component, Goal, Infill, MassModel, Material, Optimize, Output, Pose, Print,
-    Project,
-    Spanned, Units,
+    Axis, Ball, Capsule, Component, Goal, Infill, MassModel, Material, Optimize, Output, Pose,
+    Print, Project, Spanned, Units,
 };
 use super::transform::{compose, Step};
 use super::tree::Node;
@@ -157,6 +156,7 @@ impl<'a> Resolver<'a> {
                 "solid-infill-below-area",
                 defaults.solid_infill_below_area,
             ),
+            surface_margin: defaults.surface_margin,
         }
     }
 
