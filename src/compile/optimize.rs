@@ -438,8 +438,10 @@ fn warm_capsules(design: &Design, pinned: &[StartCapsule]) -> Vec<StartCapsule> 
 /// bring a capsule closer to the surface or to another capsule than it was.
 fn rounded(problem: &Problem, outcome: &Outcome, meshes: &[TriMesh]) -> Outcome {
     let decimals = length_decimals(meshes);
-    let step = 10f64.powi(-(decimals as i32));
-    let round = |v: f64| (v / step).round() * step;
+    // k / 10^d, both exact, is the double the solution file's decimal `k·10^-d` reads back as;
+    // k · 10^-d is not always (−1503 · 0.01 = −15.030000000000001).
+    let scale = 10f64.powi(decimals as i32);
+    let round = |v: f64| (v * scale).round() / scale;
     let written = &problem.project().capsules;
     let mut design = outcome.design.clone();
     for capsule in &mut design.capsules {
@@ -451,7 +453,7 @@ fn rounded(problem: &Problem, outcome: &Outcome, meshes: &[TriMesh]) -> Outcome 
         }
         capsule.from = capsule.from.map(round);
         capsule.to = capsule.to.map(round);
-        capsule.radius = (capsule.radius / step).floor() * step - step;
+        capsule.radius = ((capsule.radius * scale).floor() - 1.0) / scale;
         if let Some(ball) = problem.project().ball.radius_for(capsule.radius) {
             capsule.ball_radius = ball;
         }
