@@ -142,3 +142,22 @@ fn a_build_that_is_not_optimized_reports_no_stage() {
     assert!(checked.is_ok());
     assert!(taken(&stages).is_empty());
 }
+
+#[test]
+fn a_mesh_is_sliced_once_per_print_settings() {
+    let (path, source) = t_shape();
+    let mut workspace = Workspace::new();
+    let check = CompileOptions::default();
+    let first = build(&source, &path, &check, &mut workspace);
+    assert_eq!(workspace.prints.sliced(), 1);
+    let again = build(&source, &path, &check, &mut workspace);
+    assert_eq!(workspace.prints.sliced(), 0);
+    assert_eq!(again.prints, first.prints);
+    assert_eq!(again.poses, first.poses);
+    // Other settings are another print: sliced again, and more perimeters weigh more.
+    let thicker = source.replace("wall 1.2", "wall 1.2\nprint perimeters=4");
+    let other = build(&thicker, &path, &check, &mut workspace);
+    assert_eq!(workspace.prints.sliced(), 1);
+    assert!(other.prints[0].solid.volume > first.prints[0].solid.volume);
+    assert!(other.poses[0].mass > first.poses[0].mass);
+}

@@ -18,6 +18,7 @@ mod mesh_cache;
 mod meshes;
 mod optimize;
 mod outputs;
+mod print_cache;
 mod report;
 mod scene;
 mod solution;
@@ -33,14 +34,15 @@ pub use optimize::{
     Preparation, SeedReport, Timings, WarmStart,
 };
 pub use outputs::write_outputs;
+pub use print_cache::PrintCache;
 pub use report::{Report, REPORT_FORMAT};
 pub use solution::{read_solution, solution_text};
 pub use workspace::{Failure, Stage, Workspace};
 
-use crate::balance::{component_print, evaluate_pose, BallRest, ComponentBody, PoseEvaluation};
+use crate::balance::{evaluate_pose, BallRest, ComponentBody, PoseEvaluation};
 use crate::design::Design;
 use crate::diagnostic::Problem;
-use crate::geometry::{mass_properties, MassProperties, PrintVolumes, TriMesh};
+use crate::geometry::{MassProperties, PrintVolumes, TriMesh};
 use crate::spec::model::Project;
 use crate::spec::parse_project;
 
@@ -137,7 +139,7 @@ pub fn compile_with(
     };
     let prints: Vec<PrintVolumes> = meshes
         .iter()
-        .map(|mesh| component_print(&project, mesh, &mass_properties(mesh)))
+        .map(|mesh| workspace.prints.volumes(&project, mesh))
         .collect();
     let (design, source, optimization) = match (&project.optimize, &options.optimize) {
         (None, _) => (written, DesignSource::Written, None),
