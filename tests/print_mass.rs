@@ -139,3 +139,29 @@ fn a_capsule_adds_its_shell_solid_and_removes_the_sparse_infill_it_displaces() {
     project.print.model = ballast::spec::model::MassModel::Uniform;
     assert_eq!(capsule_shell(&project.print), 0.0);
 }
+
+#[test]
+fn odd_input_gives_empty_regions_not_a_panic() {
+    let s = slicing(1.2, 0.3, 3);
+    let empty = ballast::geometry::TriMesh {
+        positions: vec![],
+        triangles: vec![],
+    };
+    let mut broken = box_mesh(10.0, 10.0, 10.0);
+    broken.positions[3].x = f64::NAN;
+    let mut infinite = box_mesh(10.0, 10.0, 10.0);
+    infinite.positions[5].y = f64::INFINITY;
+    let mut out_of_range = box_mesh(10.0, 10.0, 10.0);
+    out_of_range.triangles[0] = [0, 1, 99];
+    for mesh in [&empty, &broken, &infinite] {
+        let volumes = print_volumes(mesh, &s);
+        assert_eq!(volumes.solid.volume + volumes.sparse.volume, 0.0);
+    }
+    // A triangle past the positions is skipped; the rest still slices.
+    let volumes = print_volumes(&out_of_range, &s);
+    assert!(volumes.solid.volume.is_finite() && volumes.sparse.volume.is_finite());
+    let mut flat = s;
+    flat.layer_height = 0.0;
+    let volumes = print_volumes(&box_mesh(10.0, 10.0, 10.0), &flat);
+    assert_eq!(volumes.solid.volume + volumes.sparse.volume, 0.0);
+}

@@ -88,8 +88,8 @@ const CELL_BUDGET: f64 = 1e7;
 const CELLS_PER_PERIMETER: f64 = 4.0;
 
 /// The solid and sparse volumes of `mesh` printed with `slicing` (see the module
-/// documentation). A mesh without extent, or settings without a positive layer height, gives
-/// empty regions at the origin.
+/// documentation). A mesh without extent or with a non-finite coordinate, or settings without a
+/// positive layer height, gives empty regions at the origin.
 pub fn print_volumes(mesh: &TriMesh, slicing: &Slicing) -> PrintVolumes {
     let empty = PrintVolumes {
         solid: Region {
@@ -171,6 +171,13 @@ impl Layout {
     fn new(mesh: &TriMesh, slicing: &Slicing) -> Option<Layout> {
         let up = slicing.up.min(2);
         let (u, v) = ((up + 1) % 3, (up + 2) % 3);
+        if mesh
+            .positions
+            .iter()
+            .any(|p| !p.iter().all(|x| x.is_finite()))
+        {
+            return None;
+        }
         let first = mesh.positions.first()?;
         let (mut low, mut high) = (first.coords, first.coords);
         for p in &mesh.positions {
@@ -189,6 +196,9 @@ impl Layout {
             1 + (((height - h0) / h + 0.5).ceil() - 1.0).max(0.0) as usize
         };
         let (width, depth) = (high[u] - low[u], high[v] - low[v]);
+        if !(width.is_finite() && depth.is_finite()) {
+            return None;
+        }
         let finest = slicing.perimeter_thickness / CELLS_PER_PERIMETER;
         let budget = (width * depth * layers as f64 / CELL_BUDGET).sqrt();
         let mut cell = finest.max(budget);
@@ -338,9 +348,11 @@ impl Layout {
                 if end < start {
                     continue;
                 }
-                let end = (end as usize).min(self.columns - 1);
-                for cell in &mut inside[j * self.columns + start as usize..=j * self.columns + end]
-                {
+                let (start, end) = (start as usize, (end as usize).min(self.columns - 1));
+                if start > end {
+                    continue;
+                }
+                for cell in &mut inside[j * self.columns + start..=j * self.columns + end] {
                     *cell = true;
                 }
             }
