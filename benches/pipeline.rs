@@ -19,7 +19,7 @@ use ballast::geometry::{
     TriangleTree,
 };
 use ballast::spec::model::{
-    Axis, Ball, Component, Goal, Infill, Material, Output, Pose, Project, Spanned, Units,
+    Axis, Ball, Component, Goal, Infill, Material, Output, Pose, Print, Project, Spanned, Units,
 };
 use criterion::{criterion_group, criterion_main, Criterion};
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
@@ -58,6 +58,7 @@ fn project() -> Project {
             range: None,
         },
         wall: 0.1,
+        print: Print::defaults(Units::Millimetre),
         components: vec![Component {
             name: Spanned::new("hammer".to_string(), span),
             mesh: Spanned::new(PathBuf::from("hammer.obj"), span),
@@ -271,7 +272,7 @@ fn pipeline(c: &mut Criterion) {
             .map(|p| p.z)
             .fold(f64::NEG_INFINITY, f64::max);
         let poses = poses(Point3::new(mass.centroid.x, mass.centroid.y, top));
-        let bodies = [ComponentBody { mesh: &mesh, mass }];
+        let bodies = [ComponentBody::for_project(&mesh, &project)];
         for (name, pose) in &poses {
             let result = evaluate_pose(&project, &bodies, &design, pose);
             eprintln!(

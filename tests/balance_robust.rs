@@ -186,8 +186,11 @@ fn references_past_the_end_are_tolerated() {
 #[test]
 fn missing_component_transforms_default_to_the_identity() {
     let meshes = [box_mesh(10.0, 10.0, 10.0), box_mesh(20.0, 20.0, 20.0)];
-    let bodies: Vec<ComponentBody> = meshes.iter().map(ComponentBody::new).collect();
     let project = project(&["a", "b"]);
+    let bodies: Vec<ComponentBody> = meshes
+        .iter()
+        .map(|mesh| ComponentBody::for_project(mesh, &project))
+        .collect();
     let short = pose(Isometry3::identity(), vec![Isometry3::identity()], vec![]);
     let full = rest_pose(2, vec![]);
     let a = evaluate_pose(&project, &bodies, &design(vec![]), &short);

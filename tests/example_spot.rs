@@ -1,5 +1,5 @@
-//! `examples/spot.kdl`, the six-pose showcase: it compiles, its hand-placed capsule meets every
-//! goal, and without the capsule the solid cow fails the three goals the file's header says it
+//! `examples/spot.kdl`, the six-pose showcase: it compiles, its capsules meet every
+//! goal, and without them the solid cow fails the three goals the file's header says it
 //! fails.
 
 use std::fs;
@@ -71,7 +71,7 @@ fn owned(rows: &[(&str, &str, bool)]) -> Vec<(String, String, bool)> {
 }
 
 #[test]
-fn spot_compiles_and_its_capsule_meets_all_six_goals() {
+fn spot_compiles_and_its_capsules_meet_all_six_goals() {
     let (output, report) = check_json(&examples().join("spot.kdl"));
     assert_eq!(
         output.status.code(),
@@ -80,7 +80,7 @@ fn spot_compiles_and_its_capsule_meets_all_six_goals() {
         String::from_utf8_lossy(&output.stderr)
     );
     assert!(output.stderr.is_empty(), "no errors or warnings expected");
-    assert_eq!(report["capsules"].as_array().unwrap().len(), 1);
+    assert_eq!(report["capsules"].as_array().unwrap().len(), 2);
     assert_eq!(report["all_goals_met"], true);
     assert_eq!(
         verdicts(&report),
@@ -133,12 +133,12 @@ fn the_solid_cow_fails_rearing_up_rolling_off_its_back_and_hanging_level() {
         ])
     );
     let goal = |pose: usize| &report["poses"][pose]["goals"][0];
-    // It still stands on its hind legs and tail, but only just (2.8 degrees, 5 needed).
+    // It still stands on its hind legs and tail, but only just (3.9 degrees printed, 5 needed).
     let rearing = goal(1)["tilt_margin"].as_f64().unwrap();
     assert!((2.0..4.0).contains(&rearing), "{rearing}");
-    // It stays on its back (5.8 degrees) instead of rolling off.
+    // It stays on its back (3.2 degrees printed; 5.8 in uniform material) instead of rolling off.
     let back = goal(4)["tilt_margin"].as_f64().unwrap();
-    assert!(back > 4.0, "{back}");
+    assert!(back > 2.0, "{back}");
     // Hung from its back it tips head down, the string some 30 degrees off vertical.
     let angle = goal(5)["angle"].as_f64().unwrap();
     assert!(angle > 20.0, "{angle}");

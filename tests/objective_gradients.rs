@@ -8,13 +8,21 @@ mod objective_support;
 use balance_support::{imbalance, rotation, stand};
 use ballast::design::Design;
 use ballast::objective::{smooth_max, InteriorDistance, Objective, Parameters};
-use ballast::spec::model::Project;
+use ballast::spec::model::{Print, Project, Units};
 use nalgebra::{Isometry3, Point3, Vector3};
 use num_dual::{Derivative, DualDVec64};
 use objective_support::*;
 
 /// Largest relative error allowed.
 const TOLERANCE: f64 = 1e-6;
+
+/// Odd seeds use the `fdm` mass model (solid shells, a shell around every capsule), even ones the
+/// test projects' `uniform` one, so both are differentiated.
+fn with_fdm_for_odd(project: &mut Project, seed: u64) {
+    if seed % 2 == 1 {
+        project.print = Print::defaults(Units::Millimetre);
+    }
+}
 
 /// The box with three capsules, infill a variable, and a pose for every goal kind; the hanging
 /// and floating goals ask for uniqueness, so their constraints are checked too.
@@ -43,6 +51,7 @@ fn box_case(seed: u64) -> (Project, Design, Objective) {
         ],
     );
     project.infill.range = Some((0.1, 1.0));
+    with_fdm_for_odd(&mut project, seed);
     let mut rng = Seeded::new(seed);
     let capsules = (0..3)
         .map(|_| {
@@ -70,7 +79,7 @@ fn box_case(seed: u64) -> (Project, Design, Objective) {
 
 /// The two-part model, one capsule per part, the arm swung in one pose.
 fn two_part_case(seed: u64) -> (Project, Design, Objective) {
-    let project = project_with(
+    let mut project = project_with(
         &["base", "arm"],
         vec![
             named_pose(
@@ -87,6 +96,7 @@ fn two_part_case(seed: u64) -> (Project, Design, Objective) {
             ),
         ],
     );
+    with_fdm_for_odd(&mut project, seed);
     let mut rng = Seeded::new(seed);
     let design = Design {
         capsules: vec![

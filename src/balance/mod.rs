@@ -41,13 +41,16 @@ pub(crate) mod tilt;
 
 pub use equilibria::{CUT_FLIPS, MAX_ENUMERATED_BALLS};
 pub use evaluate::evaluate_pose;
+pub use mass::capsule_shell;
 
 use serde::Serialize;
 
-use crate::geometry::{MassProperties, TriMesh};
+use crate::geometry::{print_volumes, MassProperties, PrintVolumes, Slicing, TriMesh};
+use crate::spec::model::{Axis, MassModel, Print, Project};
 
-/// Per-component data that does not change with the pose: the mesh in its rest frame and its mass
-/// properties, computed once (they are the expensive part) and shared by every pose.
+/// Per-component data that does not change with the pose: the mesh in its rest frame, its mass
+/// properties and where its material is printed solid or sparse, computed once (they are the
+/// expensive part) and shared by every pose.
 ///
 /// The slice passed to [`evaluate_pose`] is indexed like
 /// [`Project::components`](crate::spec::model::Project::components).
@@ -59,19 +62,63 @@ pub struct ComponentBody<'a> {
     /// [`mass_properties`](crate::geometry::mass_properties) of `mesh`: the outer volume and its
     /// centroid, rest frame.
     pub mass: MassProperties,
+    /// The material of the printed mesh before capsules are cut: [`print_volumes`] under the
+    /// `fdm` mass model, [`PrintVolumes::uniform`] under `uniform`.
+    pub print: PrintVolumes,
 }
 
 impl<'a> ComponentBody<'a> {
-    /// The body of `mesh`, with its mass properties computed.
+    /// The body of `mesh`, with its mass properties and print volumes computed for `project`'s
+    /// [`print`](crate::spec::model::Project::print) settings.
     ///
     /// # Panics
     /// If a triangle indexes past the positions (as [`mass_properties`](crate::geometry::mass_properties)
     /// does); meshes from [`load_mesh`](crate::geometry::load_mesh) never do.
-    pub fn new(mesh: &'a TriMesh) -> Self {
+    pub fn for_project(mesh: &'a TriMesh, project: &Project) -> Self {
+        let mass = crate::geometry::mass_properties(mesh);
+        ComponentBody {
+            mesh,
+            mass,
+            print: component_print(project, mesh, &mass),
+        }
+    }
+
+    /// The body of `mesh` with its print volumes already computed (by [`component_print`]).
+    pub fn with_print(mesh: &'a TriMesh, print: PrintVolumes) -> Self {
         ComponentBody {
             mesh,
             mass: crate::geometry::mass_properties(mesh),
+            print,
         }
+    }
+}
+
+/// Where `mesh` (with mass properties `mass`) is printed solid and where sparse under
+/// `project`'s mass model: the slicer's layers for `fdm`, all sparse for `uniform`.
+pub fn component_print(project: &Project, mesh: &TriMesh, mass: &MassProperties) -> PrintVolumes {
+    match project.print.model {
+        MassModel::Uniform => PrintVolumes::uniform(mass),
+        MassModel::Fdm => print_volumes(mesh, &slicing(&project.print, project.up)),
+    }
+}
+
+/// The geometry stage's view of the print settings `print`: built along `up` in every
+/// component's rest frame.
+pub fn slicing(print: &Print, up: Axis) -> Slicing {
+    let count = |n: u64| usize::try_from(n).unwrap_or(usize::MAX);
+    Slicing {
+        up: match up {
+            Axis::X => 0,
+            Axis::Y => 1,
+            Axis::Z => 2,
+        },
+        perimeter_thickness: print.perimeter_thickness(),
+        layer_height: print.layer_height,
+        first_layer_height: print.first_layer_height,
+        top_layers: count(print.top_solid_layers),
+        bottom_layers: count(print.bottom_solid_layers),
+        min_sparse_area: print.solid_infill_below_area,
+        surface_margin: print.surface_margin,
     }
 }
 

@@ -18,6 +18,7 @@ mod mesh_cache;
 mod meshes;
 mod optimize;
 mod outputs;
+mod print_cache;
 mod report;
 mod scene;
 mod solution;
@@ -33,6 +34,7 @@ pub use optimize::{
     Preparation, SeedReport, Timings, WarmStart,
 };
 pub use outputs::write_outputs;
+pub use print_cache::PrintCache;
 pub use report::{Report, REPORT_FORMAT};
 pub use solution::{read_solution, solution_text};
 pub use workspace::{Failure, Stage, Workspace};
@@ -42,7 +44,7 @@ use crate::balance::{
 };
 use crate::design::Design;
 use crate::diagnostic::Problem;
-use crate::geometry::{MassProperties, TriMesh};
+use crate::geometry::{MassProperties, PrintVolumes, TriMesh};
 use crate::spec::model::Project;
 use crate::spec::parse_project;
 
@@ -77,6 +79,8 @@ pub struct Compilation {
     pub meshes: Vec<TriMesh>,
     /// Each component's volume, centroid and second moment, in project order.
     pub mass: Vec<MassProperties>,
+    /// Per component, where it is printed solid and where sparse (the project's mass model).
+    pub prints: Vec<PrintVolumes>,
     /// The capsules evaluated.
     pub design: Design,
     /// One per pose, in project order.
@@ -135,11 +139,15 @@ pub fn compile_with(
         Some(meshes) if !problems.iter().any(Problem::is_error) => meshes,
         _ => return Err(Failure::Invalid(problems)),
     };
+    let prints: Vec<PrintVolumes> = meshes
+        .iter()
+        .map(|mesh| workspace.prints.volumes(&project, mesh))
+        .collect();
     let (design, source, optimization) = match (&project.optimize, &options.optimize) {
         (None, _) => (written, DesignSource::Written, None),
         (Some(settings), Some(run)) => {
             let (design, optimization) =
-                optimize_design(&project, settings, &meshes, run, workspace)
+                optimize_design(&project, settings, &meshes, &prints, run, workspace)
                     .ok_or(Failure::Cancelled)?;
             (design, DesignSource::Optimized, Some(optimization))
         }
@@ -158,7 +166,11 @@ pub fn compile_with(
             }
         }
     };
-    let bodies: Vec<ComponentBody> = meshes.iter().map(ComponentBody::new).collect();
+    let bodies: Vec<ComponentBody> = meshes
+        .iter()
+        .zip(&prints)
+        .map(|(mesh, print)| ComponentBody::with_print(mesh, *print))
+        .collect();
     let mass = bodies.iter().map(|body| body.mass).collect();
     let poses: Vec<PoseEvaluation> = project
         .poses
@@ -171,6 +183,7 @@ pub fn compile_with(
         project,
         meshes,
         mass,
+        prints,
         design,
         poses,
         warnings: problems,

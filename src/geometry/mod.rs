@@ -5,6 +5,7 @@
 //!   buffer files a `.gltf` file reads, without loading them (`external_buffer_paths`).
 //! - [`check_mesh`]: holes, non-manifold and misoriented edges, degenerate triangles, inversion.
 //! - [`mass_properties`]: volume, centroid and second moment of the enclosed solid.
+//! - [`print_volumes`]: the solid and the sparse part of an FDM print of the solid.
 //! - [`winding_number`]: inside/outside test that tolerates small holes.
 //! - [`distance_to_point`], [`distance_to_segment`] and the primitive distances they use.
 //! - [`TriangleTree`]: the same distances, fast, for many queries against one mesh.
@@ -19,6 +20,7 @@ mod load_gltf;
 mod load_obj;
 mod mass;
 mod mesh;
+mod print;
 mod skeleton;
 mod tree;
 mod validate;
@@ -33,6 +35,7 @@ pub(crate) use gltf_buffers::external_buffer_paths;
 pub use load::{load_mesh, LoadError, MeshSelector};
 pub use mass::{mass_properties, MassProperties};
 pub use mesh::TriMesh;
+pub use print::{print_volumes, PrintVolumes, Region, Slicing};
 pub use skeleton::{Skeleton, SkeletonSegment};
 pub use tree::TriangleTree;
 pub use validate::{check_mesh, MeshCheck};

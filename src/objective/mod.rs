@@ -99,6 +99,7 @@ impl Objective {
                 material: project.material.density * cubic,
                 ball: project.ball.density * cubic,
                 clearance: project.ball.clearance,
+                shell: crate::balance::capsule_shell(&project.print),
             },
             fixed_infill: project.infill.value,
             min_angle: project.ball.min_angle,

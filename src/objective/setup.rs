@@ -24,6 +24,9 @@ pub struct PoseSetup {
     pub up: Vector3<f64>,
     /// Per body: outer volume (cubic project units) and its centroid in world.
     pub bodies: Vec<(f64, Point3<f64>)>,
+    /// Per body: the volume printed solid and its centroid in world, then the volume printed at
+    /// the infill fraction and its centroid ([`ComponentBody::print`]).
+    pub printed: Vec<[(f64, Point3<f64>); 2]>,
     /// Outer volume of all components, cubic project units.
     pub volume: f64,
     /// Centroid of the outer volume, world (the centre of buoyancy); the fallback centre when the
@@ -95,6 +98,17 @@ impl PoseSetup {
             .iter()
             .zip(&frames)
             .map(|(body, frame)| (body.mass.volume, frame * body.mass.centroid))
+            .collect();
+        let printed = bodies
+            .iter()
+            .zip(&frames)
+            .map(|(body, frame)| {
+                let (solid, sparse) = (&body.print.solid, &body.print.sparse);
+                [
+                    (solid.volume, frame * solid.centroid),
+                    (sparse.volume, frame * sparse.centroid),
+                ]
+            })
             .collect();
         let fallback_centre = if placed.is_empty() {
             Point3::origin()
@@ -171,6 +185,7 @@ impl PoseSetup {
             default_frame: pose.transform,
             up,
             bodies: placed,
+            printed,
             volume,
             buoyancy_centre,
             fallback_centre,

@@ -63,7 +63,7 @@ pub(crate) fn uniqueness_constraints<D: Scalar>(
     }
     let weighed: Vec<&CapsuleVars<D>> = capsules
         .iter()
-        .filter(|c| c.component < setup.bodies.len())
+        .filter(|c| c.component < setup.printed.len())
         .collect();
     let fixed = material(setup, capsules, infill, densities);
     let mut ends = Vec::with_capacity(weighed.len());

@@ -147,6 +147,9 @@ pub const UNITS: &[&str] = &["mm", "cm", "m", "in"];
 /// Axes that can point up.
 pub const AXES: &[&str] = &["x", "y", "z"];
 
+/// The mass models a `print` node can name.
+pub const MASS_MODELS: &[&str] = &["fdm", "uniform"];
+
 /// The steps of a rigid transform, in a pose or in a pose's component block.
 const TRANSFORM_STEPS: [NodeSpec; 3] = [
     repeated(leaf("rotate", ANGLES, &[])),
@@ -249,6 +252,20 @@ pub const DOCUMENT: &[NodeSpec] = &[
         ],
     ),
     leaf("wall", length_args(ValueKind::NonNegative, 1, 1), &[]),
+    leaf(
+        "print",
+        NO_ARGS,
+        &[
+            prop("model", ValueKind::Enum(MASS_MODELS)),
+            prop("perimeters", ValueKind::Count),
+            length_prop("extrusion-width", ValueKind::Positive),
+            length_prop("layer-height", ValueKind::Positive),
+            length_prop("first-layer-height", ValueKind::Positive),
+            prop("top-solid-layers", ValueKind::Count),
+            prop("bottom-solid-layers", ValueKind::Count),
+            prop("solid-infill-below-area", ValueKind::NonNegative),
+        ],
+    ),
     mandatory(repeated(leaf(
         "component",
         NAME_ARG,

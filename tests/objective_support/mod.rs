@@ -152,7 +152,10 @@ pub fn objective(
     design: &Design,
     parameters: Parameters,
 ) -> Objective {
-    let bodies: Vec<ComponentBody> = meshes.iter().map(ComponentBody::new).collect();
+    let bodies: Vec<ComponentBody> = meshes
+        .iter()
+        .map(|mesh| ComponentBody::for_project(mesh, project))
+        .collect();
     Objective::new(
         project,
         &bodies,
