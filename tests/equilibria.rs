@@ -180,7 +180,7 @@ fn flipped_angle(compilation: &Compilation, pose: usize, anchor: &Point3<f64>) -
 }
 
 #[test]
-fn the_hammer_also_hangs_about_23_degrees_off_level_with_its_ball_at_the_other_end() {
+fn the_hammer_also_hangs_off_level_with_its_ball_at_the_other_end() {
     let compilation = checked("hammer");
     let level = &compilation.poses[0];
     let GoalOutcome::Suspend { point, .. } = level.goals[0].outcome else {
@@ -194,7 +194,9 @@ fn the_hammer_also_hangs_about_23_degrees_off_level_with_its_ball_at_the_other_e
     assert!(!other.wanted && other.balls[0].moved);
     assert_ne!(other.balls[0].rest, level.balls[0].rest);
     let (angle, keeps) = flipped_angle(&compilation, 0, &Point3::from(point));
-    assert!((21.0..25.0).contains(&other.angle), "{}", other.angle);
+    // A real second state, well away from level (23° for the design of the uniform-infill mass
+    // model, 36° for today's print-true one).
+    assert!(other.angle > 10.0, "{}", other.angle);
     assert_close("second hang", other.angle, angle, 0.01);
     assert!(
         keeps > compilation.project.ball.min_angle,
@@ -210,15 +212,18 @@ fn the_hammer_also_hangs_about_23_degrees_off_level_with_its_ball_at_the_other_e
         .iter()
         .find(|w| w.code == "ballast::goal::other_state")
         .expect("a warning for the second hang");
-    assert!(warning.message.contains("23.0°"), "{}", warning.message);
+    let named = format!("{:.1}°", other.angle);
+    assert!(warning.message.contains(&named), "{}", warning.message);
 }
 
-/// The fish as optimized before its goal asked for uniqueness: released upside down, its ball
-/// rolls to the other end and it stays turned.
+/// The fish as optimized before its goal asked for uniqueness, under the uniform-infill mass model
+/// it was optimized for: released upside down, its ball rolls to the other end and it stays
+/// turned.
 const STUCK_FISH: &str = r#"
 units in
 up y
 material "PLA" density=1.24
+print model="uniform"
 ball density=7.85 clearance=(mm)0.2
 infill 0.75
 wall (mm)1.2

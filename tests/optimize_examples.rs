@@ -184,11 +184,6 @@ fn spot_meets_all_six_goals_that_the_solid_misses_three_of() {
     assert!(compilation.all_goals_met(), "{:?}", verdicts(&compilation));
     assert!(compilation.design.capsules.len() <= 2);
     no_ball_rolls_within_the_required_margin(&compilation);
-    // Grazing, the ball rolls to the other end before the cow topples: the margin is the
-    // rolling one, below what the balls-held edges say.
-    let grazing = &compilation.poses[2];
-    assert_eq!(grazing.pose, "grazing");
-    assert!(grazing.support.tilt_margin < grazing.support.fixed_ball_margin - 1.0);
 }
 
 #[test]
