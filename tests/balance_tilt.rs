@@ -13,7 +13,7 @@ use std::f64::consts::PI;
 use balance_support::*;
 use ballast::balance::{BallRest, PoseEvaluation};
 use ballast::spec::model::Project;
-use geometry_support::box_mesh;
+use geometry_support::{box_mesh, prism};
 use nalgebra::{Point3, Vector3};
 
 /// The 40 mm cube at 10 % infill with one capsule through its centre, in the xz-plane, whose
@@ -149,4 +149,53 @@ fn a_toppling_model_needs_the_tilt_to_its_nearest_corner() {
     let corner = atan_degrees((dx * dx + dy * dy).sqrt(), 20.0);
     assert_close("rescue tilt", result.support.tilt_margin, -corner, 1e-6);
     assert!(result.support.fixed_ball_margin > result.support.tilt_margin);
+}
+
+#[test]
+fn a_cylinder_tips_the_way_its_ball_rolls() {
+    // An upright 64-gon prism (circumradius 15, height 60, a vertex at +x) at 10 % infill with a
+    // capsule through its centre rising 10° towards +x. At rest the ball is at the −x end; tilting
+    // the ground down towards +x, it rolls to +x at 10°, and the cylinder then topples over an
+    // edge next to the +x vertex: the foot of its centre is (R − x) cos(π/64) from those edges'
+    // lines. Held still at −x, the ball would make the −x side the critical one, later.
+    let (n, radius, height) = (64, 15.0, 60.0);
+    let (half, elevation) = (8.0, 10f64.to_radians());
+    let from = Point3::new(half * elevation.cos(), 0.0, 30.0 + half * elevation.sin());
+    let to = Point3::new(-half * elevation.cos(), 0.0, 30.0 - half * elevation.sin());
+    let mut project = project(&["cylinder"]);
+    project.infill.value = 0.1;
+    let mut design = design(vec![capsule(0, from, to, 6.2, 6.0)]);
+    design.infill = 0.1;
+    let result = evaluate(
+        &project,
+        &[prism(n, radius, height)],
+        &design,
+        &rest_pose(1, vec![stand(0.0)]),
+    );
+    let volume = f64::from(n) / 2.0 * radius * radius * (2.0 * PI / f64::from(n)).sin() * height;
+    let void = PI * 6.2 * 6.2 * (2.0 * half + 4.0 / 3.0 * 6.2);
+    let body = 0.1 * PLA * (volume - void) / 1000.0;
+    let steel = STEEL * ball_volume(6.0) / 1000.0;
+    let centre = |ball: Point3<f64>| {
+        (Vector3::new(0.0, 0.0, 30.0) * body + ball.coords * steel) / (body + steel)
+    };
+    let across = (PI / f64::from(n)).cos();
+    let rolled = centre(from);
+    let expected = atan_degrees((radius - rolled.x) * across, rolled.z);
+    let resting = centre(to - Vector3::z() * 0.2);
+    let held = atan_degrees((radius + resting.x) * across, resting.z);
+    assert!(10.0 < expected && expected < held, "{expected} {held}");
+    let support = &result.support;
+    assert_close("rolling margin", support.tilt_margin, expected, 1e-6);
+    assert_close("balls held", support.fixed_ball_margin, held, 1e-9);
+    let direction = support.tilt_direction.unwrap();
+    assert_close("towards +x", direction[0], across, 1e-6);
+    assert_close(
+        "beside the vertex",
+        direction[1].abs(),
+        (PI / f64::from(n)).sin(),
+        1e-6,
+    );
+    assert_eq!(support.ball_moves.len(), 1);
+    assert_eq!(support.ball_moves[0].to, BallRest::From);
 }
