@@ -197,7 +197,7 @@ fn equilibria(c: &mut Criterion) {
         .fold(f64::NEG_INFINITY, f64::max);
     let poses = poses(Point3::new(mass.centroid.x, mass.centroid.y, top));
     let (hanging, bare) = hanging(&poses[0].1);
-    let bodies = [ComponentBody { mesh: &mesh, mass }];
+    let bodies = [ComponentBody::for_project(&mesh, &project)];
     let mut group = c.benchmark_group("equilibria");
     group
         .sample_size(10)
