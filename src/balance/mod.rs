@@ -30,7 +30,6 @@
 mod ball;
 pub(crate) mod evaluate;
 mod goals;
-mod hull;
 mod mass;
 pub(crate) mod support;
 

@@ -2,8 +2,8 @@
 
 use nalgebra::{Point3, Vector2, Vector3};
 
-use super::hull::convex_hull;
 use super::{Support, SupportEdge};
+use crate::geometry::polygon::convex_hull;
 use crate::spec::model::{Axis, Goal, Pose, Project};
 
 /// Toppling angle reported when nothing touches the ground: the model falls whichever way.
