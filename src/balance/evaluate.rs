@@ -2,12 +2,17 @@
 
 use nalgebra::Point3;
 
-use super::{ball, goals, mass, support, ComponentBody, PoseEvaluation};
+use super::{ball, goals, mass, rest, support, ComponentBody, PoseEvaluation};
 use crate::design::Design;
 use crate::spec::model::{Pose, Project};
 
 /// What `design` does in `pose`: mass and centre of mass, where each ball rests, the support on
 /// the ground with its toppling angles, and the outcome of each of the pose's goals.
+///
+/// A pose with a `stand` or `imbalance` goal is first settled onto its hull
+/// ([`rest`](super::rest)) with the design's centre of mass in the written pose, and everything is
+/// evaluated in the settled pose; [`PoseEvaluation::resting`] says which facet and how far the
+/// written rotation was from it.
 ///
 /// `bodies` is indexed like [`Project::components`]. Component `i` is placed in world by
 /// `pose.transform * pose.component_transforms[i]`, or by `pose.transform` alone when the pose has
@@ -15,6 +20,23 @@ use crate::spec::model::{Pose, Project};
 /// mass (see [`BallPlacement::mass`](super::BallPlacement::mass)). The design's infill is used,
 /// not the project's. Never panics; finite inputs give finite outputs.
 pub fn evaluate_pose(
+    project: &Project,
+    bodies: &[ComponentBody],
+    design: &Design,
+    pose: &Pose,
+) -> PoseEvaluation {
+    let written = evaluate_placed(project, bodies, design, pose);
+    let settled = rest::settle_pose(project, bodies, pose, &written.centre_of_mass.into());
+    let mut evaluation = match settled.resting {
+        Some(_) => evaluate_placed(project, bodies, design, &settled.pose),
+        None => written,
+    };
+    evaluation.resting = settled.resting;
+    evaluation
+}
+
+/// What `design` does in `pose` exactly as placed, without settling on the hull.
+fn evaluate_placed(
     project: &Project,
     bodies: &[ComponentBody],
     design: &Design,
@@ -35,7 +57,8 @@ pub fn evaluate_pose(
     let support = support::support(
         &vertices,
         project.up,
-        support::contact_tolerance(project, pose),
+        support::contact_tolerance(pose)
+            .unwrap_or_else(|| rest::default_contact_tolerance(&vertices)),
         &totals.centre_of_mass,
     );
     let measured = goals::Measured {
@@ -58,6 +81,7 @@ pub fn evaluate_pose(
         centre_of_mass: totals.centre_of_mass.into(),
         balls,
         support,
+        resting: None,
         goals,
     }
 }

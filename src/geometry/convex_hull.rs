@@ -58,7 +58,7 @@ pub fn convex_hull(points: &[Point3<f64>]) -> Option<ConvexHull> {
         .filter(|&i| points[i].iter().all(|x| x.is_finite()))
         .collect();
     let extent = extent(points, &finite);
-    if !(extent > 0.0) {
+    if extent.is_nan() || extent <= 0.0 {
         return None;
     }
     let mut hull = Quickhull::start(points, &finite, OUTSIDE * extent)?;
