@@ -10,17 +10,21 @@
 //! the facet. An `imbalance` pose stops on the first facet down, the one it lands on before it
 //! falls.
 //!
-//! The result is a correction: a rotation of the world about a ground point that takes the
-//! reached facet's outward normal exactly to `−up`. The evaluation applies it to the pose's
-//! transform, so every component frame, ball and centre is computed in the settled pose.
+//! The rolling only decides the facet. The correction is the shortest rotation taking that
+//! facet's outward normal (in the written pose) exactly to `−up`, about its lowest corner, the
+//! same rotation `down` computes: what happens on the ground depends only on which way gravity
+//! points in the model, not on a turn about the vertical that a real roll may add. The evaluation
+//! applies it to the pose's transform, so every component frame, ball and centre is computed in
+//! the settled pose, and its angle is how far the written rotation was off.
 
 use nalgebra::{Isometry3, Point3, Translation3, Unit, UnitQuaternion, Vector2, Vector3};
 use serde::Serialize;
 
+use super::facets::facet_rotation;
 use super::support::{support_lines, GroundPlane};
 use super::ComponentBody;
 use crate::geometry::polygon::convex_hull as convex_hull_2d;
-use crate::geometry::{convex_hull, ConvexHull, COPLANAR};
+use crate::geometry::{convex_hull, ConvexHull, HullFacet, COPLANAR};
 use crate::spec::model::{Axis, Goal, Pose, Project};
 
 /// Settling that turns a pose by more than this, degrees, deserves a warning: the written rotation
@@ -95,10 +99,11 @@ pub(crate) fn settle_pose(
     let Some(hull) = convex_hull(&vertices) else {
         return unsettled();
     };
-    let Some((correction, facet)) = roll(&hull, &vertices, project.up, centre, rule) else {
+    let Some(facet) = roll(&hull, &vertices, project.up, centre, rule) else {
         return unsettled();
     };
     let facet = &hull.facets[facet];
+    let correction = correction(facet, &vertices, project.up);
     let down = pose.transform.rotation.inverse() * facet.normal;
     let mut settled = pose.clone();
     settled.transform = correction * pose.transform;
@@ -147,16 +152,16 @@ pub(crate) fn solid_centre(bodies: &[ComponentBody], pose: &Pose) -> Point3<f64>
 }
 
 /// Rolls the hull of `points` (world) with centre of mass `centre` on the ground below it, as
-/// `rule` says; the world correction that puts the reached facet flat on the ground, and that
-/// facet's index. `None` when the centre is balanced exactly over an edge or a vertex (no way to
-/// roll) or no facet is reached within a step per facet.
+/// `rule` says; the index of the facet it comes to rest on. `None` when the centre is balanced
+/// exactly over an edge or a vertex (no way to roll) or no facet is reached within a step per
+/// facet.
 pub(crate) fn roll(
     hull: &ConvexHull,
     points: &[Point3<f64>],
     up: Axis,
     centre: &Point3<f64>,
     rule: Rule,
-) -> Option<(Isometry3<f64>, usize)> {
+) -> Option<usize> {
     let plane = GroundPlane::new(up);
     let tolerance = hull.tolerance;
     let mut moved = Isometry3::identity();
@@ -179,7 +184,7 @@ pub(crate) fn roll(
         let lines = support_lines(&polygon);
         let inside = lines.iter().all(|(_, _, line)| line.distance(&foot) <= 0.0);
         if polygon.len() >= 3 && (step == 0 || rule == Rule::FirstFacet || inside) {
-            return snap(hull, points, &plane, moved);
+            return facing_down(hull, &moved, &plane);
         }
         let pivot = nearest_on_boundary(&polygon, &foot)?;
         let offset = foot - pivot;
@@ -204,29 +209,29 @@ pub(crate) fn roll(
     None
 }
 
-/// The correction `moved` followed by the small rotation that takes the facet most nearly facing
-/// down exactly to `−up`, about its lowest corner; and that facet's index (`None` for a hull
-/// without facets).
-fn snap(
-    hull: &ConvexHull,
-    points: &[Point3<f64>],
-    plane: &GroundPlane,
-    moved: Isometry3<f64>,
-) -> Option<(Isometry3<f64>, usize)> {
+/// The index of the facet of `hull` that `moved` turns most nearly to face `−up` (`None` for a
+/// hull without facets).
+fn facing_down(hull: &ConvexHull, moved: &Isometry3<f64>, plane: &GroundPlane) -> Option<usize> {
     let down = -plane.up;
-    let (index, facet) = hull.facets.iter().enumerate().max_by(|(_, a), (_, b)| {
-        (moved.rotation * a.normal)
-            .dot(&down)
-            .total_cmp(&(moved.rotation * b.normal).dot(&down))
-    })?;
+    hull.facets
+        .iter()
+        .map(|facet| (moved.rotation * facet.normal).dot(&down))
+        .enumerate()
+        .max_by(|(_, a), (_, b)| a.total_cmp(b))
+        .map(|(index, _)| index)
+}
+
+/// The correction that puts `facet` of the hull of `points` (world) flat on the ground: the
+/// shortest rotation taking its outward normal to `−up`, about its lowest corner.
+fn correction(facet: &HullFacet, points: &[Point3<f64>], up: Axis) -> Isometry3<f64> {
+    let plane = GroundPlane::new(up);
     let lowest = facet
         .corners
         .iter()
-        .map(|&i| moved * points[i])
-        .min_by(|a, b| plane.height(a).total_cmp(&plane.height(b)))?;
-    let turn = UnitQuaternion::rotation_between(&(moved.rotation * facet.normal), &down)
-        .unwrap_or_else(UnitQuaternion::identity);
-    Some((about(&lowest, turn) * moved, index))
+        .map(|&i| points[i])
+        .min_by(|a, b| plane.height(a).total_cmp(&plane.height(b)))
+        .unwrap_or_else(Point3::origin);
+    about(&lowest, facet_rotation(&facet.normal, up))
 }
 
 /// The rotation `turn` about the point `origin`.
