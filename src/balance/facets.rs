@@ -13,7 +13,11 @@ use crate::spec::model::{Axis, Goal, Pose, Project, Spanned};
 /// One facet of the hull and how the model rests on it.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct RestingFacet {
-    /// The facet's outward unit normal, model frame: the `down` direction that picks it.
+    /// The facet's outward unit normal, model frame.
+    pub normal: [f64; 3],
+    /// A `down` direction that picks this facet: the normal when the solid model rests on the
+    /// facet stably (the ray from its centre along the normal then meets the facet), else the
+    /// unit direction from the solid centre to the mean of the facet's corners.
     pub down: [f64; 3],
     /// Its area, square project units.
     pub area: f64,
@@ -113,13 +117,26 @@ pub fn resting_facets(
     let mut facets: Vec<RestingFacet> = hull
         .facets
         .iter()
-        .map(|facet| RestingFacet {
-            down: facet.normal.into(),
-            area: facet.area,
-            corners: facet.corners.len(),
-            solid_margin: facet_margin(facet, &points, &centre),
-            design_margin: design
-                .and_then(|design| design_margin(project, bodies, &frame, design, facet)),
+        .map(|facet| {
+            let solid_margin = facet_margin(facet, &points, &centre);
+            let down = if solid_margin > 0.0 {
+                facet.normal
+            } else {
+                let corners = facet.corners.iter().map(|&i| points[i].coords);
+                let mean = corners.sum::<Vector3<f64>>() / facet.corners.len() as f64;
+                (mean - centre.coords)
+                    .try_normalize(0.0)
+                    .unwrap_or(facet.normal)
+            };
+            RestingFacet {
+                normal: facet.normal.into(),
+                down: down.into(),
+                area: facet.area,
+                corners: facet.corners.len(),
+                solid_margin,
+                design_margin: design
+                    .and_then(|design| design_margin(project, bodies, &frame, design, facet)),
+            }
         })
         .collect();
     let key = |f: &RestingFacet| (f.design_margin.unwrap_or(f64::NEG_INFINITY), f.solid_margin);

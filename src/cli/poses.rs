@@ -29,12 +29,21 @@ pub fn run(path: &Path, pose: Option<&str>, options: &CompileOptions) -> i32 {
     let bodies: Vec<ComponentBody> = compilation.meshes.iter().map(ComponentBody::new).collect();
     let design = (!compilation.design.capsules.is_empty()).then_some(&compilation.design);
     let Some(facets) = resting_facets(project, &bodies, chosen, design) else {
-        eprintln!("error: the model of {} has no volume, so no convex hull", file_name(path));
+        eprintln!(
+            "error: the model of {} has no volume, so no convex hull",
+            file_name(path)
+        );
         return EXIT_INVALID;
     };
     print!(
         "{}",
-        listing(&file_name(path), &chosen.name.value, project.units.keyword(), &facets, design.is_some())
+        listing(
+            &file_name(path),
+            &chosen.name.value,
+            project.units.keyword(),
+            &facets,
+            design.is_some()
+        )
     );
     EXIT_MET
 }
@@ -61,7 +70,7 @@ fn listing(
     let design_column = if with_design { "  design margin" } else { "" };
     let _ = writeln!(
         out,
-        "  facet  solid margin{design_column}  area ({units}²)  corners  down"
+        "  facet  solid margin{design_column}  area ({units}²)  corners  outward normal"
     );
     for (k, facet) in stable.iter().enumerate() {
         let design = match (with_design, facet.design_margin) {
@@ -76,11 +85,14 @@ fn listing(
             facet.solid_margin,
             facet.area,
             facet.corners,
-            direction(&facet.down)
+            direction(&facet.normal)
         );
     }
     if !stable.is_empty() {
-        let _ = writeln!(out, "\nTo rest on one, paste its pose into the project:");
+        let _ = writeln!(
+            out,
+            "\nTo rest on one, paste its pose into the project (`down` aims from the solid centre of mass into the facet):"
+        );
         for (k, facet) in stable.iter().enumerate() {
             let _ = writeln!(
                 out,

@@ -10,7 +10,7 @@ use crate::diagnostic::Problem;
 use crate::geometry::convex_hull;
 use crate::spec::model::{Goal, Project};
 
-/// The problem code of a `down` that names no facet the model can stand on.
+/// The warning code of a `down` that names a facet the solid model rolls off in a `stand` pose.
 pub const UNSTABLE_DOWN: &str = "ballast::pose::unstable_down";
 /// The problem code of a `down` in a project whose model has no volume, hence no hull.
 pub const NO_HULL: &str = "ballast::pose::no_hull";
@@ -19,7 +19,8 @@ pub const NO_HULL: &str = "ballast::pose::no_hull";
 /// the ground: the hull facet (of the model as the pose places its components) that the ray from
 /// the solid model's centre of mass along `down` leaves through, turned by the shortest rotation
 /// that takes its outward normal to `−up` ([`facet_rotation`]). An error at `down` when the model
-/// has no hull, or when the pose has a `stand` goal and the solid model would roll off that facet.
+/// has no hull; a warning when the pose has a `stand` goal and the solid model would roll off that
+/// facet (the design's capsules must then hold it there).
 pub fn place_down_poses(project: &mut Project, bodies: &[ComponentBody]) -> Vec<Problem> {
     let mut problems = Vec::new();
     let up = project.up;
@@ -48,17 +49,16 @@ pub fn place_down_poses(project: &mut Project, bodies: &[ComponentBody]) -> Vec<
         let margin = facet_margin(facet, &points, &centre);
         if stands && margin <= 0.0 {
             problems.push(
-                Problem::error(
+                Problem::warning(
                     UNSTABLE_DOWN,
                     format!(
-                        "in pose `{}`, `down` names a facet the solid model rolls off: its centre of mass is {:.2}° beyond the facet's edge",
+                        "in pose `{}`, `down` names a facet the solid model rolls off: its centre of mass is {:.2}° beyond the facet's edge, so only the capsules' balls can hold it there",
                         pose.name.value, -margin
                     ),
                 )
                 .with_label(down.span, "this direction")
                 .with_help("`ballast poses` lists the facets the model rests on stably, with their `down` directions"),
             );
-            continue;
         }
         pose.transform =
             Isometry3::from_parts(Default::default(), facet_rotation(&facet.normal, up));
