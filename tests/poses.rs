@@ -131,7 +131,9 @@ fn a_zero_down_or_one_beside_a_rotation_is_an_error_at_its_span() {
             "ballast::pose::down_with_steps",
         ),
     ] {
-        let problems = t_shape_with(extra).err().expect("invalid");
+        let Err(problems) = t_shape_with(extra) else {
+            panic!("{code}: the project compiled");
+        };
         let (_, text) = t_shape();
         let problem = problems
             .iter()
