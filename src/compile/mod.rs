@@ -125,7 +125,10 @@ pub fn compile_with(
     };
     let (meshes, mesh_problems) = load_components(&project, &mut workspace.meshes);
     problems.extend(mesh_problems);
-    if let Some(meshes) = &meshes {
+    if let Some(meshes) = meshes
+        .as_ref()
+        .filter(|_| project.poses.iter().any(|pose| pose.down.is_some()))
+    {
         let bodies: Vec<ComponentBody> = meshes.iter().map(ComponentBody::new).collect();
         problems.extend(down::place_down_poses(&mut project, &bodies));
     }
