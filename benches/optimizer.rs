@@ -26,7 +26,7 @@ use std::time::Instant;
 use ballast::compile::{
     self, compile_with, CompileOptions, OptimizeOptions, Preparation, Workspace,
 };
-use ballast::geometry::{load_mesh, DistanceGrid, MeshSelector, Skeleton, TriMesh};
+use ballast::geometry::{load_mesh, DistanceGrid, MeshSelector, PrintVolumes, Skeleton, TriMesh};
 use ballast::objective::{GridInterior, Parameters};
 use ballast::optimize::{choose, default_cell, rank, run_heuristic, Candidate, Method, Problem};
 use ballast::spec::model::{Optimize, Project};
@@ -67,6 +67,7 @@ struct Example {
     name: String,
     project: Project,
     meshes: Vec<TriMesh>,
+    prints: Vec<PrintVolumes>,
 }
 
 impl Example {
@@ -84,6 +85,7 @@ impl Example {
             name: name.to_string(),
             project: compiled.project,
             meshes: compiled.meshes,
+            prints: compiled.prints,
         }
     }
 
@@ -136,6 +138,7 @@ fn heuristic(example: &Example, prepared: &Preparation, method: Method, base: &T
     let problem = Problem::new(
         &example.project,
         &example.meshes,
+        &example.prints,
         prepared.interior.clone(),
         method,
     );
@@ -408,6 +411,7 @@ fn main() {
             let problem = Problem::new(
                 &example.project,
                 &example.meshes,
+                &example.prints,
                 prep.interior.clone(),
                 Method::Hybrid,
             );

@@ -1,9 +1,10 @@
-//! The per-mesh pipeline on a real model: load, mass properties, and evaluating poses with two
-//! capsules, each beside a baseline (one pass summing every vertex coordinate) measured in the
+//! The per-mesh pipeline on a real model: load, mass properties, evaluating poses with two
+//! capsules, and enumerating the stable states of a hanging pose with up to 12, each beside a baseline (one pass summing every vertex coordinate) measured in the
 //! same process so results can be read as ratios. `docs/benchmarks.md` describes the figures.
 //!
 //! Run with `cargo bench --bench pipeline`. Meshes come from `../shared/meshes` beside the
-//! checkout; a mesh that is missing is skipped with a note.
+//! checkout; a mesh that is missing is skipped with a note. The stable states use the example
+//! hammer in `examples/meshes` (`cargo bench --bench pipeline -- equilibria`).
 
 mod support;
 
@@ -18,7 +19,7 @@ use ballast::geometry::{
     TriangleTree,
 };
 use ballast::spec::model::{
-    Axis, Ball, Component, Goal, Infill, Material, Output, Pose, Project, Spanned, Units,
+    Axis, Ball, Component, Goal, Infill, Material, Output, Pose, Print, Project, Spanned, Units,
 };
 use criterion::{criterion_group, criterion_main, Criterion};
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
@@ -57,6 +58,7 @@ fn project() -> Project {
             range: None,
         },
         wall: 0.1,
+        print: Print::defaults(Units::Millimetre),
         components: vec![Component {
             name: Spanned::new("hammer".to_string(), span),
             mesh: Spanned::new(PathBuf::from("hammer.obj"), span),
@@ -93,6 +95,30 @@ fn design(centroid: Point3<f64>) -> Design {
     }
 }
 
+/// `count` short capsules around `centroid`, each tilted a different way, so their balls roll at
+/// different tilts.
+fn capsules_around(centroid: Point3<f64>, count: usize) -> Design {
+    let capsules = (0..count)
+        .map(|i| {
+            let turn = i as f64 * 2.4;
+            let axis = Vector3::new(turn.cos(), turn.sin(), 0.05 + 0.02 * i as f64) * 0.3;
+            let centre = centroid + Vector3::new(0.0, 0.0, 0.1 * i as f64 - 0.8);
+            PlacedCapsule {
+                name: format!("c{i}"),
+                component: 0,
+                from: centre - axis,
+                to: centre + axis,
+                radius: 0.15,
+                ball_radius: 0.13,
+            }
+        })
+        .collect();
+    Design {
+        capsules,
+        infill: 0.8,
+    }
+}
+
 /// Four poses (upright, on its side, upside down, tilted), each with one goal of every kind.
 fn poses(suspension: Point3<f64>) -> Vec<(&'static str, Pose)> {
     let span = miette::SourceSpan::from((0, 0));
@@ -109,12 +135,14 @@ fn poses(suspension: Point3<f64>) -> Vec<(&'static str, Pose)> {
             point: suspension,
             component: 0,
             tolerance: 2.0,
+            unique: false,
         },
         Goal::Immerse {
             fluid_density: 1.0,
             min_distance: 0.1,
             tolerance: 5.0,
             mass_tolerance: Some(1.0),
+            unique: false,
         },
     ];
     let turned = |axis: Vector3<f64>, degrees: f64| {
@@ -150,6 +178,77 @@ fn poses(suspension: Point3<f64>) -> Vec<(&'static str, Pose)> {
     .collect()
 }
 
+/// Every stable state of a hanging goal (2^n assignments of ball ends) against the same pose
+/// without goals, for n capsules, on the example hammer (in the repository, 4 k vertices).
+fn equilibria(c: &mut Criterion) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/meshes/hammer.obj");
+    let mesh = match load_mesh(&path, &MeshSelector::Whole) {
+        Ok(mesh) => mesh,
+        Err(error) => {
+            eprintln!("note: skipping equilibria: {error}");
+            return;
+        }
+    };
+    let mass = mass_properties(&mesh);
+    let project = project();
+    let top = mesh
+        .positions
+        .iter()
+        .map(|p| p.z)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let poses = poses(Point3::new(mass.centroid.x, mass.centroid.y, top));
+    let (hanging, bare) = hanging(&poses[0].1);
+    let bodies = [ComponentBody { mesh: &mesh, mass }];
+    let mut group = c.benchmark_group("equilibria");
+    group
+        .sample_size(10)
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(2));
+    for count in [1, 4, 8, 12] {
+        let many = fan(mass.centroid, count);
+        group.bench_function(format!("{count}/suspend"), |b| {
+            b.iter(|| evaluate_pose(&project, black_box(&bodies), &many, &hanging))
+        });
+        group.bench_function(format!("{count}/no_goal"), |b| {
+            b.iter(|| evaluate_pose(&project, black_box(&bodies), &many, &bare))
+        });
+    }
+    group.finish();
+}
+
+/// `count` short capsules through the centroid, their axes fanned out from z.
+fn fan(centroid: Point3<f64>, count: usize) -> Design {
+    let capsules = (0..count)
+        .map(|j| {
+            let turn = j as f64 * std::f64::consts::TAU / count as f64;
+            let axis = Vector3::new(0.3 * turn.cos(), 0.3 * turn.sin(), 0.5);
+            PlacedCapsule {
+                name: format!("c{j}"),
+                component: 0,
+                from: centroid - axis,
+                to: centroid + axis,
+                radius: 0.15,
+                ball_radius: 0.13,
+            }
+        })
+        .collect();
+    Design {
+        capsules,
+        infill: 0.8,
+    }
+}
+
+/// `pose` with only its suspend goal, and without goals.
+fn hanging(pose: &Pose) -> (Pose, Pose) {
+    let mut hanging = pose.clone();
+    hanging
+        .goals
+        .retain(|goal| matches!(goal.value, Goal::Suspend { .. }));
+    let mut bare = pose.clone();
+    bare.goals.clear();
+    (hanging, bare)
+}
+
 fn pipeline(c: &mut Criterion) {
     for (label, relative) in MESHES {
         let path = shared_mesh(relative);
@@ -174,7 +273,7 @@ fn pipeline(c: &mut Criterion) {
             .map(|p| p.z)
             .fold(f64::NEG_INFINITY, f64::max);
         let poses = poses(Point3::new(mass.centroid.x, mass.centroid.y, top));
-        let bodies = [ComponentBody { mesh: &mesh, mass }];
+        let bodies = [ComponentBody::for_project(&mesh, &project)];
         for (name, pose) in &poses {
             let result = evaluate_pose(&project, &bodies, &design, pose);
             eprintln!(
@@ -200,6 +299,18 @@ fn pipeline(c: &mut Criterion) {
         for (name, pose) in &poses {
             group.bench_function(format!("evaluate_pose/{name}"), |b| {
                 b.iter(|| evaluate_pose(&project, black_box(&bodies), &design, pose))
+            });
+        }
+        // The tilt margin with rolling balls: one stand pose, by capsule count.
+        let upright = &poses[0].1;
+        let stand_only = Pose {
+            goals: upright.goals[..1].to_vec(),
+            ..upright.clone()
+        };
+        for count in [0, 1, 4, 16] {
+            let many = capsules_around(mass.centroid, count);
+            group.bench_function(format!("evaluate_pose/stand/{count}_capsules"), |b| {
+                b.iter(|| evaluate_pose(&project, black_box(&bodies), &many, &stand_only))
             });
         }
         // Distance queries: one point near the centroid, brute force against the tree.
@@ -233,5 +344,5 @@ fn pipeline(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, pipeline);
+criterion_group!(benches, pipeline, equilibria);
 criterion_main!(benches);

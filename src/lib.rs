@@ -12,6 +12,7 @@
 //! - [`objective`]: the smooth objective and constraints, with exact gradients, an optimizer
 //!   descends.
 //! - [`emit`]: glTF scenes (one per pose) and atomic file writes.
+//! - [`gcode`]: what a slicer's G-code deposits, to check the mass model against.
 //! - [`cancel`]: a flag another thread sets to stop a long build early.
 //! - [`watch`]: watch mode's loop: rebuild once per burst of changes to a project's files.
 //!
@@ -26,6 +27,7 @@ pub mod design;
 pub mod diagnostic;
 pub mod emit;
 pub mod fabrication;
+pub mod gcode;
 pub mod geometry;
 pub mod objective;
 pub mod optimize;

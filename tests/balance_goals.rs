@@ -18,6 +18,7 @@ fn suspend(x: f64, y: f64, z: f64, component: usize, tolerance: f64) -> Goal {
         point: Point3::new(x, y, z),
         component,
         tolerance,
+        unique: false,
     }
 }
 
@@ -27,6 +28,7 @@ fn immerse(fluid_density: f64, min_distance: f64, tolerance: f64, mass: Option<f
         min_distance,
         tolerance,
         mass_tolerance: mass,
+        unique: false,
     }
 }
 

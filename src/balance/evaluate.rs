@@ -2,12 +2,16 @@
 
 use nalgebra::Point3;
 
-use super::{ball, goals, mass, rest, support, ComponentBody, PoseEvaluation};
+use super::support::GroundPlane;
+use super::tilt::{RollingBall, TiltedModel};
+use super::{ball, equilibria, goals, mass, rest, support, BallMove, BallPlacement};
+use super::{mass::MassTotals, ComponentBody, PoseEvaluation, Support};
 use crate::design::Design;
 use crate::spec::model::{Pose, Project};
 
 /// What `design` does in `pose`: mass and centre of mass, where each ball rests, the support on
-/// the ground with its toppling angles, and the outcome of each of the pose's goals.
+/// the ground with its toppling angles, and the outcome of each of the pose's goals (with every
+/// stable state of a hanging or floating goal).
 ///
 /// A pose with a `stand` or `imbalance` goal is first settled onto its hull
 /// ([`rest`](super::rest)) with the design's centre of mass in the written pose, and everything is
@@ -54,20 +58,32 @@ fn evaluate_placed(
         .collect();
     let totals = mass::mass_totals(project, bodies, design, pose, &balls);
     let vertices = posed_vertices(bodies, pose);
-    let support = support::support(
+    let mut support = support::support(
         &vertices,
         project.up,
         support::contact_tolerance(pose)
             .unwrap_or_else(|| rest::default_contact_tolerance(&vertices)),
         &totals.centre_of_mass,
     );
+    with_rolling_balls(
+        &mut support,
+        project,
+        bodies.len(),
+        design,
+        pose,
+        &balls,
+        &totals,
+    );
+    let coincidence = 1e-9 * extent(&vertices);
+    let model = equilibria::Model::new(bodies, design, pose, project, &balls, &totals, coincidence);
     let measured = goals::Measured {
         pose,
         up,
         totals: &totals,
         tilt_margin: support.tilt_margin,
-        coincidence: 1e-9 * extent(&vertices),
+        coincidence,
         cubic_in_cm3: cubic,
+        model: &model,
     };
     let goals = pose
         .goals
@@ -84,6 +100,68 @@ fn evaluate_placed(
         resting: None,
         goals,
     }
+}
+
+/// Replaces the fixed-ball tilt margin of `support` by the margin with every ball rolling (see
+/// [`super::tilt`]) when the support is a polygon and the model has a positive mass above it.
+/// `balls` are the design's balls as placed at rest; those whose component has no body (one of
+/// `body_count`) are not in the mass and do not roll.
+fn with_rolling_balls(
+    support: &mut Support,
+    project: &Project,
+    body_count: usize,
+    design: &Design,
+    pose: &Pose,
+    balls: &[BallPlacement],
+    totals: &MassTotals,
+) {
+    let plane = GroundPlane::new(project.up);
+    let polygon: Vec<_> = support
+        .polygon
+        .iter()
+        .map(|p| plane.project(&Point3::from(*p)))
+        .collect();
+    let mut fixed_moment = totals.centre_of_mass.coords * totals.mass;
+    let mut fixed_mass = totals.mass;
+    let mut rolling = Vec::new();
+    let mut names = Vec::new();
+    for (capsule, ball) in design.capsules.iter().zip(balls) {
+        if capsule.component >= body_count {
+            continue;
+        }
+        fixed_moment -= Point3::from(ball.centre_world).coords * ball.mass;
+        fixed_mass -= ball.mass;
+        let frame = pose.component_frame(capsule.component);
+        rolling.push(RollingBall {
+            from: frame * capsule.from,
+            to: frame * capsule.to,
+            drop: (capsule.radius - capsule.ball_radius).max(0.0),
+            mass: ball.mass,
+        });
+        names.push(&capsule.name);
+    }
+    let model = TiltedModel {
+        plane: &plane,
+        ground: support.ground_height,
+        polygon: &polygon,
+        fixed_mass,
+        fixed_moment,
+        balls: &rolling,
+    };
+    let Some(tilt) = model.worst_tilt() else {
+        return;
+    };
+    support.tilt_margin = tilt.margin;
+    support.tilt_direction = Some(tilt.direction.into());
+    support.ball_moves = tilt
+        .moves
+        .into_iter()
+        .map(|m| BallMove {
+            capsule: names[m.ball].clone(),
+            tilt: m.tilt,
+            to: m.to,
+        })
+        .collect();
 }
 
 /// Every vertex of every component, in world, component by component.

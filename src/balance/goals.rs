@@ -1,7 +1,9 @@
-//! Each goal of a pose measured against what it requires (paper eq. 1-5, unsmoothed).
+//! Each goal of a pose measured against what it requires (paper eq. 1-5, unsmoothed), with the
+//! stable states of hanging and floating goals.
 
 use nalgebra::Vector3;
 
+use super::equilibria::Model;
 use super::mass::MassTotals;
 use super::{GoalEvaluation, GoalOutcome};
 use crate::spec::model::{Goal, Pose};
@@ -24,6 +26,8 @@ pub(crate) struct Measured<'a> {
     pub coincidence: f64,
     /// cm³ per cubic project unit.
     pub cubic_in_cm3: f64,
+    /// The model turning freely, for the stable states of hanging and floating goals.
+    pub model: &'a Model<'a>,
 }
 
 /// The outcome of `goal` in the measured pose.
@@ -54,15 +58,20 @@ pub(crate) fn evaluate_goal(goal: &Goal, measured: &Measured) -> GoalEvaluation 
             point,
             component,
             tolerance,
+            unique,
         } => {
             let point = measured.pose.component_frame(component) * point;
             let angle = angle_to(&(centre - point), &-measured.up, measured.coincidence);
+            let equilibria = measured.model.states(&point);
+            let alone = !unique || equilibria.unwanted().next().is_none();
             GoalEvaluation {
-                met: angle <= tolerance,
+                met: angle <= tolerance && alone,
                 outcome: GoalOutcome::Suspend {
                     angle,
                     tolerance,
                     point: point.into(),
+                    unique,
+                    equilibria,
                 },
             }
         }
@@ -71,6 +80,7 @@ pub(crate) fn evaluate_goal(goal: &Goal, measured: &Measured) -> GoalEvaluation 
             min_distance,
             tolerance,
             mass_tolerance,
+            unique,
         } => {
             let buoyancy = measured.totals.buoyancy_centre;
             let offset = buoyancy - centre;
@@ -79,8 +89,10 @@ pub(crate) fn evaluate_goal(goal: &Goal, measured: &Measured) -> GoalEvaluation 
             let displaced_mass = fluid_density * measured.totals.volume * measured.cubic_in_cm3;
             let mass_residual = measured.totals.mass - displaced_mass;
             let mass_ok = mass_tolerance.is_none_or(|allowed| mass_residual.abs() <= allowed);
+            let equilibria = measured.model.states(&buoyancy);
+            let alone = !unique || equilibria.unwanted().next().is_none();
             GoalEvaluation {
-                met: angle <= tolerance && distance >= min_distance && mass_ok,
+                met: angle <= tolerance && distance >= min_distance && mass_ok && alone,
                 outcome: GoalOutcome::Immerse {
                     angle,
                     tolerance,
@@ -90,6 +102,8 @@ pub(crate) fn evaluate_goal(goal: &Goal, measured: &Measured) -> GoalEvaluation 
                     displaced_mass,
                     mass_residual,
                     mass_tolerance,
+                    unique,
+                    equilibria,
                 },
             }
         }

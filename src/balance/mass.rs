@@ -1,10 +1,11 @@
-//! Mass, centre of mass and centre of buoyancy of a posed model (paper eq. 9-13).
+//! Mass, centre of mass and centre of buoyancy of a posed model (paper eq. 9-13), with the
+//! material where an FDM slicer deposits it (`docs/physics.md`, "The mass of a print").
 
 use nalgebra::{Point3, Vector3};
 
 use super::{BallPlacement, ComponentBody};
 use crate::design::Design;
-use crate::spec::model::{Pose, Project};
+use crate::spec::model::{MassModel, Pose, Print, Project};
 
 /// The mass-related quantities of a posed model.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -23,13 +24,15 @@ pub(crate) struct MassTotals {
 /// counts as zero: dividing by it would only amplify rounding.
 const CANCELLATION: f64 = 1e-12;
 
-/// Sums material and balls over the posed components (eq. 12-13).
+/// Sums material and balls over the posed components (eq. 12-13, with the print's shells).
 ///
-/// Component `i` contributes material of density `material.density × design.infill` over its
-/// mesh volume at its centroid; each capsule removes that material over its void at the axis
-/// midpoint and adds its ball (already placed, in `balls`, one per capsule). Capsules whose
-/// component has no body are left out. When a total cancels to (nearly) zero, its centre is the
-/// mean of the components' world centroids, or the origin without components.
+/// Component `i` contributes its [`PrintVolumes`](crate::geometry::PrintVolumes): the solid part
+/// at the material's density, the sparse part at `design.infill` of it, each at its centroid.
+/// Each capsule removes the sparse material of the capsule dilated by [`capsule_shell`], adds
+/// that shell back solid, and adds its ball (already placed, in `balls`, one per capsule); shell
+/// and void are centred on the axis midpoint. Capsules whose component has no body are left out.
+/// When a total cancels to (nearly) zero, its centre is the mean of the components' world
+/// centroids, or the origin without components.
 pub(crate) fn mass_totals(
     project: &Project,
     bodies: &[ComponentBody],
@@ -37,15 +40,22 @@ pub(crate) fn mass_totals(
     pose: &Pose,
     balls: &[BallPlacement],
 ) -> MassTotals {
-    let density = project.material.density * design.infill * project.units.cubic_in_cm3();
+    let density = project.material.density * project.units.cubic_in_cm3();
+    let shell = capsule_shell(&project.print);
     let mut mass = Weighted::default();
     let mut volume = Weighted::default();
     let mut centroids = Vector3::zeros();
     for (i, body) in bodies.iter().enumerate() {
-        let centroid = pose.component_frame(i) * body.mass.centroid;
+        let frame = pose.component_frame(i);
+        let centroid = frame * body.mass.centroid;
         centroids += centroid.coords;
         volume.add(body.mass.volume, &centroid);
-        mass.add(density * body.mass.volume, &centroid);
+        let (solid, sparse) = (&body.print.solid, &body.print.sparse);
+        mass.add(density * solid.volume, &(frame * solid.centroid));
+        mass.add(
+            density * design.infill * sparse.volume,
+            &(frame * sparse.centroid),
+        );
     }
     for (capsule, ball) in design.capsules.iter().zip(balls) {
         if capsule.component >= bodies.len() {
@@ -53,7 +63,11 @@ pub(crate) fn mass_totals(
         }
         let middle =
             pose.component_frame(capsule.component) * nalgebra::center(&capsule.from, &capsule.to);
-        mass.add(-density * capsule.volume(), &middle);
+        let dilated = capsule_volume(capsule.axis_length(), capsule.radius + shell);
+        mass.add(
+            density * ((1.0 - design.infill) * dilated - capsule.volume()),
+            &middle,
+        );
         mass.add(ball.mass, &Point3::from(ball.centre_world));
     }
     let fallback = if bodies.is_empty() {
@@ -67,6 +81,32 @@ pub(crate) fn mass_totals(
         centre_of_mass: mass.centre().unwrap_or(fallback),
         buoyancy_centre: volume.centre().unwrap_or(fallback),
     }
+}
+
+/// Thickness of the solid shell a slicer prints around a capsule, project units; 0 under the
+/// `uniform` mass model.
+///
+/// Around a hole, each layer gets the perimeters (horizontal thickness `T_h`, see
+/// [`Print::perimeter_thickness`]); the layers under the hole's floor and over its ceiling are
+/// solid (vertical thickness `T_v`, the mean of the top and bottom solid layers times the layer
+/// height), and the slicer grows those surfaces sideways by its surface margin. One thickness
+/// all round keeps the shell closed form (a capsule dilated by a sphere is a capsule):
+/// `√(T_h² + T_v²)`, 1.47 mm at PrusaSlicer's defaults, where its G-code gives 1.3 mm for a level
+/// capsule and 1.7 mm for one tilted 10° (`docs/physics.md`).
+pub fn capsule_shell(print: &Print) -> f64 {
+    match print.model {
+        MassModel::Uniform => 0.0,
+        MassModel::Fdm => {
+            let horizontal = print.perimeter_thickness();
+            let layers = (print.top_solid_layers as f64 + print.bottom_solid_layers as f64) / 2.0;
+            horizontal.hypot(layers * print.layer_height)
+        }
+    }
+}
+
+/// Volume of a capsule: `πr²(length + 4/3 r)`.
+fn capsule_volume(length: f64, radius: f64) -> f64 {
+    std::f64::consts::PI * radius * radius * (length + 4.0 / 3.0 * radius)
 }
 
 /// A running sum of weights at points.

@@ -10,8 +10,11 @@
 //! - for a pose that stands on the ground, the facet of the model's convex hull it rests on: the
 //!   written rotation corrected to put that facet flat on the ground (see `rest`);
 //! - the support polygon on the ground and the toppling angle about each of its edges (the angles
-//!   eq. 1 takes a smooth maximum of);
-//! - for each goal of the pose, the measured value beside the required one (eq. 1-5).
+//!   eq. 1 takes a smooth maximum of, balls held still), and the tilt margin with the balls
+//!   rolling as the ground tilts, over every direction;
+//! - for each goal of the pose, the measured value beside the required one (eq. 1-5);
+//! - for each `suspend` and `immerse` goal, every stable state of the hanging or floating model
+//!   (each assignment of ball ends that stays put in the orientation it settles in).
 //!
 //! These are the exact, non-smooth quantities a report states and a verifier re-checks; they are
 //! not the smoothed objectives an optimizer descends.
@@ -30,23 +33,29 @@
 //! and topples), so finite inputs always give finite outputs.
 
 mod ball;
+pub(crate) mod equilibria;
 pub(crate) mod evaluate;
 pub(crate) mod facets;
 mod goals;
 mod mass;
 pub(crate) mod rest;
 pub(crate) mod support;
+pub(crate) mod tilt;
 
+pub use equilibria::{CUT_FLIPS, MAX_ENUMERATED_BALLS};
 pub use evaluate::evaluate_pose;
 pub use facets::{facet_rotation, resting_facets, RestingFacet};
+pub use mass::capsule_shell;
 pub use rest::{Resting, SNAP_WARNING};
 
 use serde::Serialize;
 
-use crate::geometry::{MassProperties, TriMesh};
+use crate::geometry::{print_volumes, MassProperties, PrintVolumes, Slicing, TriMesh};
+use crate::spec::model::{Axis, MassModel, Print, Project};
 
-/// Per-component data that does not change with the pose: the mesh in its rest frame and its mass
-/// properties, computed once (they are the expensive part) and shared by every pose.
+/// Per-component data that does not change with the pose: the mesh in its rest frame, its mass
+/// properties and where its material is printed solid or sparse, computed once (they are the
+/// expensive part) and shared by every pose.
 ///
 /// The slice passed to [`evaluate_pose`] is indexed like
 /// [`Project::components`](crate::spec::model::Project::components).
@@ -58,19 +67,63 @@ pub struct ComponentBody<'a> {
     /// [`mass_properties`](crate::geometry::mass_properties) of `mesh`: the outer volume and its
     /// centroid, rest frame.
     pub mass: MassProperties,
+    /// The material of the printed mesh before capsules are cut: [`print_volumes`] under the
+    /// `fdm` mass model, [`PrintVolumes::uniform`] under `uniform`.
+    pub print: PrintVolumes,
 }
 
 impl<'a> ComponentBody<'a> {
-    /// The body of `mesh`, with its mass properties computed.
+    /// The body of `mesh`, with its mass properties and print volumes computed for `project`'s
+    /// [`print`](crate::spec::model::Project::print) settings.
     ///
     /// # Panics
     /// If a triangle indexes past the positions (as [`mass_properties`](crate::geometry::mass_properties)
     /// does); meshes from [`load_mesh`](crate::geometry::load_mesh) never do.
-    pub fn new(mesh: &'a TriMesh) -> Self {
+    pub fn for_project(mesh: &'a TriMesh, project: &Project) -> Self {
+        let mass = crate::geometry::mass_properties(mesh);
+        ComponentBody {
+            mesh,
+            mass,
+            print: component_print(project, mesh, &mass),
+        }
+    }
+
+    /// The body of `mesh` with its print volumes already computed (by [`component_print`]).
+    pub fn with_print(mesh: &'a TriMesh, print: PrintVolumes) -> Self {
         ComponentBody {
             mesh,
             mass: crate::geometry::mass_properties(mesh),
+            print,
         }
+    }
+}
+
+/// Where `mesh` (with mass properties `mass`) is printed solid and where sparse under
+/// `project`'s mass model: the slicer's layers for `fdm`, all sparse for `uniform`.
+pub fn component_print(project: &Project, mesh: &TriMesh, mass: &MassProperties) -> PrintVolumes {
+    match project.print.model {
+        MassModel::Uniform => PrintVolumes::uniform(mass),
+        MassModel::Fdm => print_volumes(mesh, &slicing(&project.print, project.up)),
+    }
+}
+
+/// The geometry stage's view of the print settings `print`: built along `up` in every
+/// component's rest frame.
+pub fn slicing(print: &Print, up: Axis) -> Slicing {
+    let count = |n: u64| usize::try_from(n).unwrap_or(usize::MAX);
+    Slicing {
+        up: match up {
+            Axis::X => 0,
+            Axis::Y => 1,
+            Axis::Z => 2,
+        },
+        perimeter_thickness: print.perimeter_thickness(),
+        layer_height: print.layer_height,
+        first_layer_height: print.first_layer_height,
+        top_layers: count(print.top_solid_layers),
+        bottom_layers: count(print.bottom_solid_layers),
+        min_sparse_area: print.solid_infill_below_area,
+        surface_margin: print.surface_margin,
     }
 }
 
@@ -169,9 +222,36 @@ pub struct Support {
     /// is how far beyond that end the centre lies along the segment (negative when between the
     /// ends). So a point or a line never stands with a positive margin.
     pub edges: Vec<SupportEdge>,
-    /// The smallest toppling angle over all edges, degrees: the tilt of the ground the pose
-    /// survives in every direction. Negative: it topples. −90 when there is no support at all.
+    /// The smallest toppling angle over all edges with every ball held where it rests, degrees.
+    /// Negative: it topples. −90 when there is no support at all.
+    pub fixed_ball_margin: f64,
+    /// The tilt of the ground the pose survives in every direction, degrees, with every ball
+    /// rolling to the end the tilted gravity sends it to as the tilt grows (docs/physics.md): the
+    /// smallest tilt, over all directions, that topples the model.
+    /// Negative when it topples on level ground: minus the smallest tilt that would make it stand.
+    /// For a support of one or two points, where nothing stands with a positive margin, the
+    /// fixed-ball margin. −90 when there is no support at all.
     pub tilt_margin: f64,
+    /// The horizontal unit vector, world, towards which the ground descends at the worst tilt:
+    /// the way the model topples (or, when it topples on level ground, the way the ground would
+    /// have to descend to make it stand). `None` without a support, or for a point support under
+    /// the centre of mass. Left out of the JSON when `None`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tilt_direction: Option<[f64; 3]>,
+    /// The balls that roll to their other end as the ground tilts towards `tilt_direction`,
+    /// before the model's state changes, in the order they roll.
+    pub ball_moves: Vec<BallMove>,
+}
+
+/// A ball rolling to its capsule's other end while the ground tilts.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BallMove {
+    /// The capsule's name.
+    pub capsule: String,
+    /// The tilt of the ground at which it rolls, degrees.
+    pub tilt: f64,
+    /// The end it rolls to.
+    pub to: BallRest,
 }
 
 /// One edge of the support polygon and how far the model is from toppling over it.
@@ -228,6 +308,11 @@ pub enum GoalOutcome {
         tolerance: f64,
         /// The suspension point, world.
         point: [f64; 3],
+        /// Whether the goal asks for the wanted state to be the only stable one (`unique=#true`);
+        /// then it is met only when [`Equilibria::states`] holds no other.
+        unique: bool,
+        /// Every stable state of the model hanging from `point`.
+        equilibria: Equilibria,
     },
     /// Met when `angle ≤ tolerance`, `distance ≥ min_distance` and, when `mass_tolerance` is
     /// given, `|mass_residual| ≤ mass_tolerance`.
@@ -251,5 +336,99 @@ pub enum GoalOutcome {
         /// otherwise).
         #[serde(skip_serializing_if = "Option::is_none")]
         mass_tolerance: Option<f64>,
+        /// As for [`GoalOutcome::Suspend`]: the floating model is then also met only when it has
+        /// no other stable state.
+        unique: bool,
+        /// Every stable state of the fully submerged model.
+        equilibria: Equilibria,
     },
+}
+
+/// Every stable state of a model hanging from a point or floating fully submerged, the pose's
+/// articulation kept and the whole model free to turn.
+///
+/// An assignment of ball ends gives a centre of mass `c`; hung from `s` (or floating about the
+/// centre of buoyancy `s`) the model settles with gravity along `c − s`, a stable orientation
+/// since `c` is then below `s`. The assignment is a stable state when, with gravity so, every
+/// ball rests at the end it was assigned. Standing states (resting facets) are not enumerated.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Equilibria {
+    /// Whether every assignment was tried: false past
+    /// [`MAX_ENUMERATED_BALLS`] rolling balls, when only the assignments that move at most
+    /// [`CUT_FLIPS`] balls from the wanted state were.
+    pub complete: bool,
+    /// How many assignments were tried.
+    pub assignments: usize,
+    /// The stable states found, the wanted one first when it is one; then in the order of the
+    /// assignments tried (deterministic).
+    pub states: Vec<Equilibrium>,
+}
+
+impl Equilibria {
+    /// The stable states other than the wanted one.
+    pub fn unwanted(&self) -> impl Iterator<Item = &Equilibrium> {
+        self.states.iter().filter(|state| !state.wanted)
+    }
+}
+
+impl Equilibrium {
+    /// The state in words, after a verb such as "hangs": `23.0° off, ball "c0" at its `from`
+    /// end`, naming every ball that moved from where the pose has it, and whether it is marginal.
+    pub fn describe(&self) -> String {
+        let moved: Vec<String> = self
+            .balls
+            .iter()
+            .filter(|ball| ball.moved)
+            .map(|ball| {
+                let end = match ball.rest {
+                    BallRest::To => "to",
+                    _ => "from",
+                };
+                format!("ball \"{}\" at its `{end}` end", ball.capsule)
+            })
+            .collect();
+        let mut text = format!("{:.1}° off", self.angle);
+        if !moved.is_empty() {
+            text.push_str(", ");
+            text.push_str(&moved.join(", "));
+        }
+        if self.marginal {
+            text.push_str(" (marginal: a ball's axis is within min-angle of horizontal)");
+        }
+        text
+    }
+}
+
+/// One stable state: where the balls are and how the model settles.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Equilibrium {
+    /// Whether this is the state the goal wants: every ball at the end the pose puts it at (a
+    /// ball undetermined in the pose matches either end).
+    pub wanted: bool,
+    /// Angle between the pose's gravity and this state's, both in the posed model's frame,
+    /// degrees in [0, 180]: how far the settled model is turned from the goal's orientation.
+    pub angle: f64,
+    /// Unit gravity once settled, in the pose's world frame (which turns with the model).
+    pub gravity: [f64; 3],
+    /// Centre of mass in this state, the pose's world frame.
+    pub centre_of_mass: [f64; 3],
+    /// Whether some ball's axis is within the ball's min-angle of horizontal here, so the state
+    /// may or may not hold in a print.
+    pub marginal: bool,
+    /// One per ball that weighs in the model (its capsule's component has a body), in the
+    /// design's order.
+    pub balls: Vec<StateBall>,
+}
+
+/// A ball in a stable state.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StateBall {
+    /// The capsule's name.
+    pub capsule: String,
+    /// The end it rests at ([`BallRest::From`] for a spherical cavity).
+    pub rest: BallRest,
+    /// Angle of the capsule's axis above horizontal in this state, degrees in [0, 90].
+    pub elevation: f64,
+    /// Whether it rests at the other end than in the pose.
+    pub moved: bool,
 }

@@ -49,27 +49,37 @@ pub(crate) fn support(
             contacts: Vec::new(),
             polygon: Vec::new(),
             edges: Vec::new(),
+            fixed_ball_margin: NO_SUPPORT,
             tilt_margin: NO_SUPPORT,
+            tilt_direction: None,
+            ball_moves: Vec::new(),
         };
     };
     let (contacts, polygon) = footprint(vertices, &plane, ground, tolerance);
     let height = plane.height(centre) - ground;
     let foot = plane.project(centre);
-    let edges: Vec<SupportEdge> = edge_distances(&polygon, &foot)
-        .into_iter()
-        .map(|(start, end, distance)| SupportEdge {
-            start: plane.lift(&start, ground).into(),
-            end: plane.lift(&end, ground).into(),
-            distance,
+    let lines = support_lines(&polygon);
+    let edges: Vec<SupportEdge> = lines
+        .iter()
+        .map(|(start, end, line)| SupportEdge {
+            start: plane.lift(start, ground).into(),
+            end: plane.lift(end, ground).into(),
+            distance: line.distance(&foot),
             // `+ 0.0` turns −0 into 0.
-            toppling_angle: (-distance).atan2(height).to_degrees() + 0.0,
+            toppling_angle: (-line.distance(&foot)).atan2(height).to_degrees() + 0.0,
         })
         .collect();
-    let tilt_margin = edges
-        .iter()
-        .map(|edge| edge.toppling_angle)
-        .reduce(f64::min)
-        .unwrap_or(NO_SUPPORT);
+    let worst = (0..edges.len()).reduce(|best, i| {
+        if edges[i].toppling_angle < edges[best].toppling_angle {
+            i
+        } else {
+            best
+        }
+    });
+    let tilt_margin = worst.map_or(NO_SUPPORT, |i| edges[i].toppling_angle);
+    let tilt_direction = worst
+        .and_then(|i| lines[i].2.outward(&foot))
+        .map(|v| (plane.e1 * v.x + plane.e2 * v.y).into());
     Support {
         ground_height: ground,
         contact_tolerance: tolerance,
@@ -80,7 +90,10 @@ pub(crate) fn support(
             .map(|q| plane.lift(q, ground).into())
             .collect(),
         edges,
+        fixed_ball_margin: tilt_margin,
         tilt_margin,
+        tilt_direction,
+        ball_moves: Vec::new(),
     }
 }
 
@@ -142,6 +155,20 @@ pub(crate) enum SupportLine {
 }
 
 impl SupportLine {
+    /// The horizontal unit vector, plane coordinates, in which `foot` moving increases its
+    /// distance; `None` for a point support's own origin.
+    pub(crate) fn outward(&self, foot: &Vector2<f64>) -> Option<Vector2<f64>> {
+        match self {
+            SupportLine::Linear { normal, .. } => Some(*normal),
+            SupportLine::Side { origin, normal } => Some(if (foot - origin).dot(normal) < 0.0 {
+                -normal
+            } else {
+                *normal
+            }),
+            SupportLine::Point { origin } => (foot - origin).try_normalize(0.0),
+        }
+    }
+
     /// The signed distance of `foot`, positive outside.
     pub(crate) fn distance(&self, foot: &Vector2<f64>) -> f64 {
         match self {
@@ -196,18 +223,6 @@ pub(crate) fn support_lines(
             })
             .collect(),
     }
-}
-
-/// The (pseudo-)edges of a convex `polygon` (counter-clockwise, as from [`convex_hull`]) with the
-/// signed distance of `foot` from each, positive outside.
-fn edge_distances(
-    polygon: &[Vector2<f64>],
-    foot: &Vector2<f64>,
-) -> Vec<(Vector2<f64>, Vector2<f64>, f64)> {
-    support_lines(polygon)
-        .into_iter()
-        .map(|(start, end, line)| (start, end, line.distance(foot)))
-        .collect()
 }
 
 /// The ground's frame: two horizontal axes `e1`, `e2` with `e1 × e2 = up`, so counter-clockwise

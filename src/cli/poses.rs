@@ -26,7 +26,12 @@ pub fn run(path: &Path, pose: Option<&str>, options: &CompileOptions) -> i32 {
         );
         return EXIT_INVALID;
     };
-    let bodies: Vec<ComponentBody> = compilation.meshes.iter().map(ComponentBody::new).collect();
+    let bodies: Vec<ComponentBody> = compilation
+        .meshes
+        .iter()
+        .zip(&compilation.prints)
+        .map(|(mesh, print)| ComponentBody::with_print(mesh, *print))
+        .collect();
     let design = (!compilation.design.capsules.is_empty()).then_some(&compilation.design);
     let Some(facets) = resting_facets(project, &bodies, chosen, design) else {
         eprintln!(

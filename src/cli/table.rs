@@ -68,7 +68,22 @@ fn pose_section(out: &mut String, evaluation: &PoseEvaluation, units: Units) {
             length(support.centre_height),
         );
         let _ = writeln!(out, "  toppling angles {}", list_angles(&angles));
-        let _ = writeln!(out, "  tilt margin     {:.1}", support.tilt_margin);
+        let towards = support
+            .tilt_direction
+            .map(|d| {
+                format!(
+                    " towards ({:.2}, {:.2}, {:.2})",
+                    d[0] + 0.0,
+                    d[1] + 0.0,
+                    d[2] + 0.0
+                )
+            })
+            .unwrap_or_default();
+        let _ = writeln!(
+            out,
+            "  tilt margin     {:.1}{towards}, balls rolling ({:.1} with the balls held)",
+            support.tilt_margin, support.fixed_ball_margin
+        );
     }
     for ball in &evaluation.balls {
         let rest = match ball.rest {
@@ -83,9 +98,46 @@ fn pose_section(out: &mut String, evaluation: &PoseEvaluation, units: Units) {
             ball.elevation
         );
     }
+    if on_ground {
+        for moved in &support.ball_moves {
+            let end = match moved.to {
+                BallRest::To => "`to`",
+                _ => "`from`",
+            };
+            let _ = writeln!(
+                out,
+                "  ball {:<10} rolls to its {end} end at a tilt of {:.1}",
+                format!("\"{}\"", moved.capsule),
+                moved.tilt
+            );
+        }
+    }
     for goal in &evaluation.goals {
         let status = if goal.met { "met " } else { "FAIL" };
         let _ = writeln!(out, "  [{status}] {}", describe(&goal.outcome, units));
+        states(out, &goal.outcome);
+    }
+}
+
+/// The stable states of a hanging or floating goal other than the wanted one, one line each.
+fn states(out: &mut String, outcome: &GoalOutcome) {
+    let (verb, equilibria) = match outcome {
+        GoalOutcome::Suspend { equilibria, .. } => ("hangs", equilibria),
+        GoalOutcome::Immerse { equilibria, .. } => ("floats", equilibria),
+        _ => return,
+    };
+    for state in equilibria.unwanted() {
+        let _ = writeln!(out, "         also {verb} {}", state.describe());
+    }
+    if !equilibria.states.iter().any(|state| state.wanted) {
+        let _ = writeln!(out, "         the wanted state is not a stable one");
+    }
+    if !equilibria.complete {
+        let _ = writeln!(
+            out,
+            "         (stable states among {} assignments of ball ends, not all)",
+            equilibria.assignments
+        );
     }
 }
 

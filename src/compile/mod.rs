@@ -19,6 +19,7 @@ mod mesh_cache;
 mod meshes;
 mod optimize;
 mod outputs;
+mod print_cache;
 mod report;
 mod scene;
 mod solution;
@@ -34,14 +35,18 @@ pub use optimize::{
     Preparation, SeedReport, Timings, WarmStart,
 };
 pub use outputs::write_outputs;
+pub use print_cache::PrintCache;
 pub use report::{Report, REPORT_FORMAT};
 pub use solution::{read_solution, solution_text};
 pub use workspace::{Failure, Stage, Workspace};
 
-use crate::balance::{evaluate_pose, BallRest, ComponentBody, PoseEvaluation, SNAP_WARNING};
+use crate::balance::{
+    evaluate_pose, BallRest, ComponentBody, GoalOutcome, PoseEvaluation, MAX_ENUMERATED_BALLS,
+    SNAP_WARNING,
+};
 use crate::design::Design;
 use crate::diagnostic::Problem;
-use crate::geometry::{MassProperties, TriMesh};
+use crate::geometry::{MassProperties, PrintVolumes, TriMesh};
 use crate::spec::model::Project;
 use crate::spec::parse_project;
 
@@ -76,6 +81,8 @@ pub struct Compilation {
     pub meshes: Vec<TriMesh>,
     /// Each component's volume, centroid and second moment, in project order.
     pub mass: Vec<MassProperties>,
+    /// Per component, where it is printed solid and where sparse (the project's mass model).
+    pub prints: Vec<PrintVolumes>,
     /// The capsules evaluated.
     pub design: Design,
     /// One per pose, in project order.
@@ -129,7 +136,15 @@ pub fn compile_with(
         .as_ref()
         .filter(|_| project.poses.iter().any(|pose| pose.down.is_some()))
     {
-        let bodies: Vec<ComponentBody> = meshes.iter().map(ComponentBody::new).collect();
+        let prints: Vec<PrintVolumes> = meshes
+            .iter()
+            .map(|mesh| workspace.prints.volumes(&project, mesh))
+            .collect();
+        let bodies: Vec<ComponentBody> = meshes
+            .iter()
+            .zip(&prints)
+            .map(|(mesh, print)| ComponentBody::with_print(mesh, *print))
+            .collect();
         problems.extend(down::place_down_poses(&mut project, &bodies));
     }
     let (written, design_problems) = hand_placed_design(&project);
@@ -141,11 +156,15 @@ pub fn compile_with(
         Some(meshes) if !problems.iter().any(Problem::is_error) => meshes,
         _ => return Err(Failure::Invalid(problems)),
     };
+    let prints: Vec<PrintVolumes> = meshes
+        .iter()
+        .map(|mesh| workspace.prints.volumes(&project, mesh))
+        .collect();
     let (design, source, optimization) = match (&project.optimize, &options.optimize) {
         (None, _) => (written, DesignSource::Written, None),
         (Some(settings), Some(run)) => {
             let (design, optimization) =
-                optimize_design(&project, settings, &meshes, run, workspace)
+                optimize_design(&project, settings, &meshes, &prints, run, workspace)
                     .ok_or(Failure::Cancelled)?;
             (design, DesignSource::Optimized, Some(optimization))
         }
@@ -164,7 +183,11 @@ pub fn compile_with(
             }
         }
     };
-    let bodies: Vec<ComponentBody> = meshes.iter().map(ComponentBody::new).collect();
+    let bodies: Vec<ComponentBody> = meshes
+        .iter()
+        .zip(&prints)
+        .map(|(mesh, print)| ComponentBody::with_print(mesh, *print))
+        .collect();
     let mass = bodies.iter().map(|body| body.mass).collect();
     let poses: Vec<PoseEvaluation> = project
         .poses
@@ -173,10 +196,12 @@ pub fn compile_with(
         .collect();
     problems.extend(undetermined_balls(&project, &design, &poses));
     problems.extend(settled_poses(&project, &poses));
+    problems.extend(other_states(&project, &poses));
     Ok(Compilation {
         project,
         meshes,
         mass,
+        prints,
         design,
         poses,
         warnings: problems,
@@ -252,6 +277,58 @@ fn undetermined_balls(
                     .with_label(pose.name.span, "in this pose")
                     .with_help("tilt the capsule's axis, or the result in this pose assumes the ball in the middle"),
             );
+        }
+    }
+    warnings
+}
+
+/// A warning for every stable state of a hanging or floating goal other than the wanted one,
+/// when the goal does not ask for uniqueness (with `unique=#true` the goal fails instead), and
+/// one for every goal whose enumeration of ball ends was cut.
+fn other_states(project: &Project, poses: &[PoseEvaluation]) -> Vec<Problem> {
+    let mut warnings = Vec::new();
+    for (pose, evaluation) in project.poses.iter().zip(poses) {
+        for (goal, outcome) in pose.goals.iter().zip(&evaluation.goals) {
+            let (verb, unique, equilibria) = match &outcome.outcome {
+                GoalOutcome::Suspend {
+                    unique, equilibria, ..
+                } => ("hangs", *unique, equilibria),
+                GoalOutcome::Immerse {
+                    unique, equilibria, ..
+                } => ("floats", *unique, equilibria),
+                _ => continue,
+            };
+            if !unique {
+                for state in equilibria.unwanted() {
+                    warnings.push(
+                        Problem::warning(
+                            "ballast::goal::other_state",
+                            format!(
+                                "in pose `{}`, the model also {verb} stably {}",
+                                pose.name.value,
+                                state.describe()
+                            ),
+                        )
+                        .with_label(goal.span, "this goal")
+                        .with_help(format!(
+                            "set `unique=#true` on the `{}` goal to have the optimizer remove other stable states",
+                            goal.value.keyword()
+                        )),
+                    );
+                }
+            }
+            if !equilibria.complete {
+                warnings.push(
+                    Problem::warning(
+                        "ballast::goal::states_cut",
+                        format!(
+                            "in pose `{}`, more than {MAX_ENUMERATED_BALLS} balls can roll: only {} assignments of ball ends (at most two balls moved) were tried for other stable states",
+                            pose.name.value, equilibria.assignments
+                        ),
+                    )
+                    .with_label(goal.span, "this goal"),
+                );
+            }
         }
     }
     warnings

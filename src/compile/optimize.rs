@@ -8,6 +8,7 @@ use serde::Serialize;
 
 use super::workspace::{Stage, Workspace};
 use crate::design::Design;
+use crate::geometry::PrintVolumes;
 use crate::geometry::{DistanceGrid, Skeleton, TriMesh};
 use crate::objective::{GridInterior, Parameters};
 use crate::optimize::{
@@ -243,6 +244,7 @@ pub fn optimize_design(
     project: &Project,
     settings: &Optimize,
     meshes: &[TriMesh],
+    prints: &[PrintVolumes],
     options: &OptimizeOptions,
     workspace: &mut Workspace,
 ) -> Option<(Design, Optimization)> {
@@ -252,19 +254,29 @@ pub fn optimize_design(
         .filter(|warm| warm.fits(meshes))
         .map(|warm| &warm.design);
     if let Some(design) = warm {
-        let optimized = optimize_from(project, settings, meshes, options, workspace, Some(design))?;
+        let optimized = optimize_from(
+            project,
+            settings,
+            meshes,
+            prints,
+            options,
+            workspace,
+            Some(design),
+        )?;
         if optimized.1.meets_goals {
             return Some(optimized);
         }
     }
-    optimize_from(project, settings, meshes, options, workspace, None)
+    optimize_from(project, settings, meshes, prints, options, workspace, None)
 }
 
 /// [`optimize_design`] from the seeds [`prepare`] gives for `warm`.
+#[allow(clippy::too_many_arguments)]
 fn optimize_from(
     project: &Project,
     settings: &Optimize,
     meshes: &[TriMesh],
+    prints: &[PrintVolumes],
     options: &OptimizeOptions,
     workspace: &mut Workspace,
     warm: Option<&Design>,
@@ -278,14 +290,19 @@ fn optimize_from(
     let precompute = clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
-    let problem = Problem::new(project, meshes, interior.clone(), options.method)
+    let problem = Problem::new(project, meshes, prints, interior.clone(), options.method)
         .with_cancel(workspace.cancel.clone());
     let requested = options.capsules.or(settings.capsules);
-    let candidates = run_heuristic(&problem, &seeds, requested, &|capsules| {
+    let mut candidates = run_heuristic(&problem, &seeds, requested, &|capsules| {
         workspace.report(Stage::Round { capsules })
     });
     if problem.is_cancelled() || candidates.is_empty() {
         return None;
+    }
+    // Every candidate is judged as the solution file would hold it, so the table, the choice
+    // and `check` agree even for a design on the edge of a goal.
+    for candidate in &mut candidates {
+        candidate.outcome = rounded(&problem, &candidate.outcome, meshes);
     }
     let heuristic = clock.elapsed().as_secs_f64();
 
@@ -308,7 +325,7 @@ fn optimize_from(
     let exhaustive_seconds = clock.elapsed().as_secs_f64();
 
     let chosen = choose(&candidates, requested, settings.tolerance_degrees);
-    let outcome = rounded(&problem, &candidates[chosen].outcome, meshes);
+    let outcome = candidates[chosen].outcome.clone();
     let design = named(project, outcome.design.clone());
 
     let clock = Instant::now();
@@ -332,6 +349,7 @@ fn optimize_from(
         explain_conflicts(
             project,
             meshes,
+            prints,
             &interior,
             &starts,
             &unmet,
@@ -425,8 +443,10 @@ fn warm_capsules(design: &Design, pinned: &[StartCapsule]) -> Vec<StartCapsule> 
 /// bring a capsule closer to the surface or to another capsule than it was.
 fn rounded(problem: &Problem, outcome: &Outcome, meshes: &[TriMesh]) -> Outcome {
     let decimals = length_decimals(meshes);
-    let step = 10f64.powi(-(decimals as i32));
-    let round = |v: f64| (v / step).round() * step;
+    // k / 10^d, both exact, is the double the solution file's decimal `k·10^-d` reads back as;
+    // k · 10^-d is not always (−1503 · 0.01 = −15.030000000000001).
+    let scale = 10f64.powi(decimals as i32);
+    let round = |v: f64| (v * scale).round() / scale;
     let written = &problem.project().capsules;
     let mut design = outcome.design.clone();
     for capsule in &mut design.capsules {
@@ -438,7 +458,7 @@ fn rounded(problem: &Problem, outcome: &Outcome, meshes: &[TriMesh]) -> Outcome 
         }
         capsule.from = capsule.from.map(round);
         capsule.to = capsule.to.map(round);
-        capsule.radius = (capsule.radius / step).floor() * step - step;
+        capsule.radius = ((capsule.radius * scale).floor() - 1.0) / scale;
         if let Some(ball) = problem.project().ball.radius_for(capsule.radius) {
             capsule.ball_radius = ball;
         }

@@ -6,7 +6,8 @@ use std::path::{Component as PathPart, Path};
 use serde::Serialize;
 
 use super::{Compilation, DesignSource, Optimization};
-use crate::balance::PoseEvaluation;
+use crate::balance::{capsule_shell, PoseEvaluation};
+use crate::spec::model::{MassModel, Print};
 
 /// Version of the report's layout; raised when a field changes meaning or disappears.
 pub const REPORT_FORMAT: u32 = 1;
@@ -30,6 +31,8 @@ pub struct Report<'a> {
     pub ball: BallReport<'a>,
     /// Infill fraction evaluated.
     pub infill: f64,
+    /// The mass model and the slicer settings it assumes.
+    pub print: PrintReport,
     /// Minimum wall around capsules, project units.
     pub wall: f64,
     /// The components, in project order.
@@ -56,6 +59,52 @@ pub struct MaterialReport<'a> {
     pub name: &'a str,
     /// g/cm³.
     pub density: f64,
+}
+
+/// The mass model and the print settings it assumed, lengths in project units.
+#[derive(Debug, Clone, Serialize)]
+pub struct PrintReport {
+    /// `fdm` or `uniform`.
+    pub model: MassModel,
+    /// Perimeter loops.
+    pub perimeters: u64,
+    /// Extrusion width.
+    pub extrusion_width: f64,
+    /// Layer height.
+    pub layer_height: f64,
+    /// First layer height.
+    pub first_layer_height: f64,
+    /// Solid layers under top surfaces.
+    pub top_solid_layers: u64,
+    /// Solid layers over bottom surfaces.
+    pub bottom_solid_layers: u64,
+    /// Regions smaller than this are filled solid, square project units.
+    pub solid_infill_below_area: f64,
+    /// How far top and bottom solid layers reach into the sparse infill.
+    pub surface_margin: f64,
+    /// Horizontal thickness of the perimeters.
+    pub perimeter_thickness: f64,
+    /// Thickness of the solid shell modelled around every capsule (0 under `uniform`).
+    pub capsule_shell: f64,
+}
+
+impl PrintReport {
+    /// The report of `print`.
+    pub fn new(print: &Print) -> PrintReport {
+        PrintReport {
+            model: print.model,
+            perimeters: print.perimeters,
+            extrusion_width: print.extrusion_width,
+            layer_height: print.layer_height,
+            first_layer_height: print.first_layer_height,
+            top_solid_layers: print.top_solid_layers,
+            bottom_solid_layers: print.bottom_solid_layers,
+            solid_infill_below_area: print.solid_infill_below_area,
+            surface_margin: print.surface_margin,
+            perimeter_thickness: print.perimeter_thickness(),
+            capsule_shell: capsule_shell(print),
+        }
+    }
 }
 
 /// The balls.
@@ -88,6 +137,10 @@ pub struct ComponentReport {
     pub volume: f64,
     /// Centroid of the enclosed volume, rest frame.
     pub centroid: [f64; 3],
+    /// Volume printed solid before capsules are cut, cubic project units (0 under `uniform`).
+    pub solid_volume: f64,
+    /// Volume printed at the infill fraction before capsules are cut, cubic project units.
+    pub sparse_volume: f64,
 }
 
 /// One capsule.
@@ -148,7 +201,8 @@ impl<'a> Report<'a> {
             .iter()
             .zip(&compilation.meshes)
             .zip(&compilation.mass)
-            .map(|((component, mesh), mass)| ComponentReport {
+            .zip(&compilation.prints)
+            .map(|(((component, mesh), mass), print)| ComponentReport {
                 name: component.name.value.clone(),
                 mesh: relative_path(&component.mesh.value, folder),
                 part: component.selector.part_name().map(str::to_owned),
@@ -156,6 +210,8 @@ impl<'a> Report<'a> {
                 triangles: mesh.triangles.len(),
                 volume: mass.volume,
                 centroid: mass.centroid.coords.into(),
+                solid_volume: print.solid.volume,
+                sparse_volume: print.sparse.volume,
             })
             .collect();
         let capsules = compilation
@@ -198,6 +254,7 @@ impl<'a> Report<'a> {
                 diameters: &project.ball.diameters,
             },
             infill: compilation.design.infill,
+            print: PrintReport::new(&project.print),
             wall: project.wall,
             components,
             capsules,

@@ -1,7 +1,8 @@
 //! What one process keeps from build to build, and how it steers the build in flight: the
-//! precompute cache, the cancel flag, and where progress goes.
+//! precompute and print caches, the cancel flag, and where progress goes.
 
 use super::mesh_cache::MeshCache;
+use super::print_cache::PrintCache;
 use crate::cancel::Cancel;
 use crate::diagnostic::Problem;
 use crate::optimize::PrecomputeCache;
@@ -14,6 +15,8 @@ pub struct Workspace {
     pub meshes: MeshCache,
     /// Distance grids and skeletons already built.
     pub cache: PrecomputeCache,
+    /// Print volumes already computed.
+    pub prints: PrintCache,
     /// Set from another thread to stop the build in flight (watch mode: a newer save).
     pub cancel: Cancel,
     /// Told as each long stage starts; silent when `None`.
@@ -26,17 +29,19 @@ impl Workspace {
         Workspace::default()
     }
 
-    /// Marks the start of a build for both caches (see [`prune`](Self::prune)).
+    /// Marks the start of a build for every cache (see [`prune`](Self::prune)).
     pub fn start_build(&mut self) {
         self.meshes.start_build();
         self.cache.start_build();
+        self.prints.start_build();
     }
 
-    /// Drops from both caches what the build since [`start_build`](Self::start_build) did not
+    /// Drops from every cache what the build since [`start_build`](Self::start_build) did not
     /// use: call it after a good build, so a long session holds one version of each mesh.
     pub fn prune(&mut self) {
         self.meshes.prune();
         self.cache.prune();
+        self.prints.prune();
     }
 
     /// Tells the progress sink that `stage` starts.

@@ -7,6 +7,7 @@
 //! - [`convex_hull`]: the exact convex hull of points, its coplanar triangles merged into
 //!   convex polygon facets with outward normals.
 //! - [`mass_properties`]: volume, centroid and second moment of the enclosed solid.
+//! - [`print_volumes`]: the solid and the sparse part of an FDM print of the solid.
 //! - [`winding_number`]: inside/outside test that tolerates small holes.
 //! - [`distance_to_point`], [`distance_to_segment`] and the primitive distances they use.
 //! - [`TriangleTree`]: the same distances, fast, for many queries against one mesh.
@@ -23,6 +24,7 @@ mod load_obj;
 mod mass;
 mod mesh;
 pub(crate) mod polygon;
+mod print;
 mod skeleton;
 mod tree;
 mod validate;
@@ -38,6 +40,7 @@ pub(crate) use gltf_buffers::external_buffer_paths;
 pub use load::{load_mesh, LoadError, MeshSelector};
 pub use mass::{mass_properties, MassProperties};
 pub use mesh::TriMesh;
+pub use print::{print_volumes, PrintVolumes, Region, Slicing};
 pub use skeleton::{Skeleton, SkeletonSegment};
 pub use tree::TriangleTree;
 pub use validate::{check_mesh, MeshCheck};

@@ -14,8 +14,8 @@ pub(crate) struct Limits {
     pub min_radius: f64,
     /// Per component: the largest radius, project units.
     pub max_radius: Vec<f64>,
-    /// `sin²` of the minimum axis elevation.
-    pub min_elevation_sine_squared: f64,
+    /// Per pose: `sin²` of the minimum axis elevation.
+    pub min_elevation_sine_squared: Vec<f64>,
     /// Material between two capsules, project units.
     pub wall: f64,
     /// Sample positions along an axis, in [0, 1].
@@ -41,9 +41,9 @@ pub(crate) fn capsule_constraints<D: Scalar>(
             .copied()
             .unwrap_or(0.0);
         out.push(-r.clone() + max);
-        for pose in poses {
+        for (pose, bound) in poses.iter().zip(&limits.min_elevation_sine_squared) {
             let z = axis_cosine(capsule, &pose.gravity_in(capsule.component));
-            out.push(z.clone() * z - limits.min_elevation_sine_squared);
+            out.push(z.clone() * z - *bound);
         }
     }
 }

@@ -31,7 +31,9 @@ pub(crate) fn goal_objective<D: Scalar>(
         GoalSetup::Imbalance { margin } => {
             smooth_tilt(setup, &totals.centre, edge_sharpness) + *margin
         }
-        GoalSetup::Suspend { point, tolerance } => {
+        GoalSetup::Suspend {
+            point, tolerance, ..
+        } => {
             let string = totals.centre.sub_constant(point);
             angle_to(&string, &-setup.up, setup.epsilon) - *tolerance
         }

@@ -1,6 +1,6 @@
 //! Smooth mass properties of a posed design (paper eq. 7-13 with the ball of eq. 19-21).
 
-use nalgebra::Vector3;
+use nalgebra::{Isometry3, Vector3};
 
 use super::layout::{DesignLayout, CAPSULE_STRIDE, P, Q, R};
 use super::scalar::{Scalar, V3};
@@ -47,6 +47,9 @@ pub(crate) struct Densities {
     pub ball: f64,
     /// Ball clearance, project units.
     pub clearance: f64,
+    /// Thickness of the solid shell printed around every capsule, project units
+    /// ([`capsule_shell`](crate::balance::capsule_shell)).
+    pub shell: f64,
 }
 
 /// Mass (grams) and centre of mass (world) of a posed design.
@@ -101,10 +104,13 @@ pub(crate) fn ball_radius<D: Scalar>(r: &D, clearance: f64) -> D {
     }
 }
 
-/// Mass and centre of mass (eq. 12-13): material of density `infill × material` over every
-/// body, less each capsule's void (`πr²(|q − p| + 4/3 r)` at the axis midpoint), plus each ball
-/// (`4/3 πb³` of ball density at [`ball_centre`]). Capsules whose component has no body are left
-/// out, as in the exact evaluation. When the mass cancels, the centre is the setup's fallback.
+/// Mass and centre of mass (eq. 12-13), as the exact evaluation sums them: each body's solid
+/// part at the material's density and its sparse part at `infill ×` that; per capsule, the
+/// capsule dilated by the shell thickness `t` loses its sparse material and gains its shell solid,
+/// `(1 − infill) πR²(L + 4/3 R) − πr²(L + 4/3 r)` with `R = r + t` and `L = |q − p|`, at the axis
+/// midpoint, and the ball (`4/3 πb³` of ball density at [`ball_centre`]) is added. Capsules
+/// whose component has no body are left out. When the mass cancels, the centre is the setup's
+/// fallback.
 pub(crate) fn totals<D: Scalar>(
     setup: &PoseSetup,
     capsules: &[CapsuleVars<D>],
@@ -112,43 +118,118 @@ pub(crate) fn totals<D: Scalar>(
     densities: Densities,
     sharpness: f64,
 ) -> SmoothTotals<D> {
-    let pi = std::f64::consts::PI;
-    let material = infill.clone() * densities.material;
-    let mut mass = D::from(0.0);
-    let mut moment = V3::constant(&Vector3::zeros());
-    let mut magnitude = 0.0;
-    for (volume, centroid) in &setup.bodies {
-        let m = material.clone() * *volume;
-        magnitude += m.re().abs();
-        moment = moment.add(&V3::constant(&centroid.coords).scale(&m));
-        mass += m;
-    }
+    let mut sums = material(setup, capsules, infill, densities);
     for capsule in capsules {
-        if capsule.component >= setup.bodies.len() {
+        if capsule.component >= setup.printed.len() {
             continue;
         }
         let frame = setup.frame(capsule.component);
-        let r = &capsule.r;
-        let length = capsule.q.sub(&capsule.p).norm();
-        let void = r.clone() * r * pi * (length + r.clone() * (4.0 / 3.0));
-        let void_mass = -(material.clone() * void);
-        let middle = capsule.p.add(&capsule.q).scale_by(0.5).transformed(&frame);
-        let b = ball_radius(r, densities.clearance);
-        let ball_mass = b.powi(3) * (4.0 / 3.0 * pi * densities.ball);
+        let ball_mass = ball_mass(&capsule.r, densities);
         let gravity = setup.gravity_in(capsule.component);
         let ball =
             ball_centre(capsule, &gravity, densities.clearance, sharpness).transformed(&frame);
-        magnitude += void_mass.re().abs() + ball_mass.re().abs();
-        moment = moment
-            .add(&middle.scale(&void_mass))
-            .add(&ball.scale(&ball_mass));
-        mass += void_mass + ball_mass;
+        sums.add(&ball_mass, &ball);
     }
-    let cancelled = mass.re().abs() <= 1e-12 * magnitude || mass.re() == 0.0;
-    let centre = if cancelled {
-        V3::constant(&setup.fallback_centre.coords)
-    } else {
-        moment.scale(&mass.recip())
+    SmoothTotals {
+        centre: sums.centre(setup),
+        mass: sums.mass,
+    }
+}
+
+/// Mass of the ball of a capsule of radius `r`, grams: `4/3 πb³` of ball density.
+pub(crate) fn ball_mass<D: Scalar>(r: &D, densities: Densities) -> D {
+    let pi = std::f64::consts::PI;
+    ball_radius(r, densities.clearance).powi(3) * (4.0 / 3.0 * pi * densities.ball)
+}
+
+/// The material of a posed design without its balls: every body's solid part at the material's
+/// density and its sparse part at `infill ×` that, changed by each capsule and its shell (see
+/// [`totals`]; capsules of components without a body left out).
+pub(crate) fn material<D: Scalar>(
+    setup: &PoseSetup,
+    capsules: &[CapsuleVars<D>],
+    infill: &D,
+    densities: Densities,
+) -> Sums<D> {
+    let mut sums = bodies(setup, infill, densities);
+    for capsule in capsules {
+        if capsule.component >= setup.printed.len() {
+            continue;
+        }
+        let (change, middle) = void(capsule, &setup.frame(capsule.component), infill, densities);
+        sums.add(&change, &middle);
+    }
+    sums
+}
+
+/// Every body of `setup`: its solid part at the material's density, its sparse part at
+/// `infill ×` that.
+fn bodies<D: Scalar>(setup: &PoseSetup, infill: &D, densities: Densities) -> Sums<D> {
+    let mut sums = Sums {
+        mass: D::from(0.0),
+        moment: V3::constant(&Vector3::zeros()),
+        magnitude: 0.0,
     };
-    SmoothTotals { mass, centre }
+    for [(solid, solid_centre), (sparse, sparse_centre)] in &setup.printed {
+        sums.add(
+            &D::from(densities.material * *solid),
+            &V3::constant(&solid_centre.coords),
+        );
+        sums.add(
+            &(infill.clone() * (densities.material * *sparse)),
+            &V3::constant(&sparse_centre.coords),
+        );
+    }
+    sums
+}
+
+/// The mass a capsule's void and its shell change, `((1 − infill) πR²(L + 4/3 R) − πr²(L + 4/3 r))`
+/// of material density with `R = r + t` (`t` the shell) and `L = |q − p|`, and where it acts (the
+/// axis midpoint), world.
+fn void<D: Scalar>(
+    capsule: &CapsuleVars<D>,
+    frame: &Isometry3<f64>,
+    infill: &D,
+    densities: Densities,
+) -> (D, V3<D>) {
+    let pi = std::f64::consts::PI;
+    let volume =
+        |length: &D, r: &D| r.clone() * r * pi * (length.clone() + r.clone() * (4.0 / 3.0));
+    let r = &capsule.r;
+    let length = capsule.q.sub(&capsule.p).norm();
+    let dilated = volume(&length, &(r.clone() + densities.shell));
+    let void = volume(&length, r);
+    let change = ((-infill.clone() + 1.0) * dilated - void) * densities.material;
+    let middle = capsule.p.add(&capsule.q).scale_by(0.5).transformed(frame);
+    (change, middle)
+}
+
+/// A running sum of masses at points, world.
+#[derive(Debug, Clone)]
+pub(crate) struct Sums<D> {
+    /// Σ m, grams.
+    pub mass: D,
+    /// Σ m·x.
+    pub moment: V3<D>,
+    /// Σ |m| of the values, to tell a total that cancelled from one that is merely small.
+    magnitude: f64,
+}
+
+impl<D: Scalar> Sums<D> {
+    /// Adds `mass` at `at`.
+    pub fn add(&mut self, mass: &D, at: &V3<D>) {
+        self.magnitude += mass.re().abs();
+        self.moment = self.moment.add(&at.scale(mass));
+        self.mass += mass.clone();
+    }
+
+    /// The centre of mass, or the setup's fallback when the mass cancels.
+    pub fn centre(&self, setup: &PoseSetup) -> V3<D> {
+        let cancelled = self.mass.re().abs() <= 1e-12 * self.magnitude || self.mass.re() == 0.0;
+        if cancelled {
+            V3::constant(&setup.fallback_centre.coords)
+        } else {
+            self.moment.scale(&self.mass.recip())
+        }
+    }
 }

@@ -26,6 +26,7 @@ mod parameters;
 mod scalar;
 mod setup;
 mod smooth;
+mod uniqueness;
 
 pub use grid_interior::GridInterior;
 pub use interior::InteriorDistance;
@@ -41,7 +42,7 @@ use self::constraints::Limits;
 use self::mass::{capsules, Densities, SmoothTotals};
 use crate::balance::ComponentBody;
 use crate::geometry::TriMesh;
-use crate::spec::model::Project;
+use crate::spec::model::{Goal, Project};
 
 /// Degrees added to the ball's minimum elevation in eq. 22.
 const ELEVATION_SLACK_DEGREES: f64 = 0.25;
@@ -53,6 +54,7 @@ pub struct Objective {
     poses: Vec<PoseSetup>,
     densities: Densities,
     fixed_infill: f64,
+    min_angle: f64,
     limits: Limits,
     interior: Option<Box<dyn InteriorDistance>>,
 }
@@ -74,13 +76,19 @@ impl Objective {
             .map(|pose| PoseSetup::new(project, bodies, pose, parameters.angle_smoothing))
             .collect();
         let cubic = project.units.cubic_in_cm3();
-        let sine = (project.ball.min_angle + ELEVATION_SLACK_DEGREES)
-            .to_radians()
-            .sin();
         let limits = Limits {
             min_radius: parameters.min_radius,
             max_radius: bodies.iter().map(|b| half_narrowest_side(b.mesh)).collect(),
-            min_elevation_sine_squared: sine * sine,
+            min_elevation_sine_squared: project
+                .poses
+                .iter()
+                .map(|pose| {
+                    let sine = (min_elevation(project, pose) + ELEVATION_SLACK_DEGREES)
+                        .to_radians()
+                        .sin();
+                    sine * sine
+                })
+                .collect(),
             wall: project.wall,
             samples: parameters.samples(),
         };
@@ -91,8 +99,10 @@ impl Objective {
                 material: project.material.density * cubic,
                 ball: project.ball.density * cubic,
                 clearance: project.ball.clearance,
+                shell: crate::balance::capsule_shell(&project.print),
             },
             fixed_infill: project.infill.value,
+            min_angle: project.ball.min_angle,
             limits,
             parameters,
             interior: None,
@@ -160,15 +170,21 @@ impl Objective {
     ///
     /// 1. per capsule: `|q − p|² − r² ≥ 0` (eq. 16, squared project units), `r − r_min ≥ 0`,
     ///    `r_max − r ≥ 0` (project units), then per pose `z² − sin² φ_min ≥ 0` (eq. 22, `z` the
-    ///    cosine between axis and gravity, `φ_min` = [`Ball::min_angle`](crate::spec::model::Ball::min_angle)
-    ///    plus a slack of 0.25°, so a solution on this constraint's boundary still has a determined ball);
+    ///    cosine between axis and gravity, `φ_min` = [`Ball::min_angle`](crate::spec::model::Ball::min_angle),
+    ///    or the largest `stand` or `imbalance` margin of the pose when more, plus a slack of
+    ///    0.25°, so a solution on this constraint's boundary still has a determined ball that does
+    ///    not roll within the required tilt);
     /// 2. per pair of capsules in one component, at the closest points of their axes:
     ///    `|x_i − x_j|² − (r_i + r_j + wall)² ≥ 0` (eq. 14);
     /// 3. when the infill is a variable: `w − lo ≥ 0`, `hi − w ≥ 0`;
     /// 4. per pose, per `immerse` goal: `|c − c_buo|² − d_min² ≥ 0` (eq. 5), then with a mass
     ///    tolerance `τ`: `τ − (m − ρ_F V) ≥ 0` and `τ + (m − ρ_F V) ≥ 0` (eq. 3, grams), once per
     ///    distinct fluid density and tolerance (mass and volume do not depend on the pose);
-    /// 5. with an [`InteriorDistance`] ([`with_interior`](Self::with_interior)), per capsule per
+    /// 5. per pose, per `suspend` or `immerse` goal with `unique=#true`, per assignment of ball
+    ///    ends other than the wanted one (all of them up to 6 capsules, those moving one or two
+    ///    balls beyond): some ball leaves its assigned end where that assignment settles,
+    ///    `smax(−σ_i â_i·g_A) − ln(n)/s − sin(φ_min + 1°) ≥ 0` (`docs/optimizer.md`, "Uniqueness");
+    /// 6. with an [`InteriorDistance`] ([`with_interior`](Self::with_interior)), per capsule per
     ///    axis sample: `d(x) − r − wall ≥ 0` (eq. 15).
     ///
     /// The count depends only on the layout, the project and the parameters, never on `x`.
@@ -221,6 +237,17 @@ impl Objective {
                 constraints::immersion_constraints(setup, &totals, &mut seen, &mut out);
             }
         }
+        let infill = self.infill(x);
+        for setup in &self.poses {
+            uniqueness::uniqueness_constraints(
+                setup,
+                &vars,
+                &infill,
+                self.densities,
+                self.min_angle,
+                &mut out,
+            );
+        }
         out
     }
 
@@ -272,17 +299,21 @@ impl Objective {
 
     /// The smooth mass totals of `x` in `setup`'s pose.
     fn totals<D: Scalar>(&self, setup: &PoseSetup, x: &[D]) -> SmoothTotals<D> {
-        let infill = match self.layout.infill_index() {
-            Some(i) => x[i].clone(),
-            None => D::from(self.fixed_infill),
-        };
         mass::totals(
             setup,
             &capsules(&self.layout, x),
-            &infill,
+            &self.infill(x),
             self.densities,
             self.parameters.ball_sharpness,
         )
+    }
+
+    /// The infill fraction of `x`: its variable, or the project's fixed value.
+    fn infill<D: Scalar>(&self, x: &[D]) -> D {
+        match self.layout.infill_index() {
+            Some(i) => x[i].clone(),
+            None => D::from(self.fixed_infill),
+        }
     }
 
     /// `x` cut or padded with zeros to the layout's length.
@@ -291,6 +322,20 @@ impl Objective {
         x.resize(self.layout.len(), 0.0);
         x
     }
+}
+
+/// The smallest elevation of a capsule axis in `pose`, degrees, before the slack of eq. 22: the
+/// ball's `min-angle`, or the largest margin a `stand` or `imbalance` goal of the pose asks for
+/// when that is more. No ball then rolls while the ground tilts by less than the required margin,
+/// so a design whose balls-held margin meets it meets it with the balls rolling too.
+fn min_elevation(project: &Project, pose: &crate::spec::model::Pose) -> f64 {
+    pose.goals
+        .iter()
+        .filter_map(|goal| match goal.value {
+            Goal::Stand { margin, .. } | Goal::Imbalance { margin, .. } => Some(margin),
+            Goal::Suspend { .. } | Goal::Immerse { .. } => None,
+        })
+        .fold(project.ball.min_angle, f64::max)
 }
 
 /// Half the shortest side of `mesh`'s bounding box; 0 without vertices.

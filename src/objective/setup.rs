@@ -25,6 +25,9 @@ pub struct PoseSetup {
     pub up: Vector3<f64>,
     /// Per body: outer volume (cubic project units) and its centroid in world.
     pub bodies: Vec<(f64, Point3<f64>)>,
+    /// Per body: the volume printed solid and its centroid in world, then the volume printed at
+    /// the infill fraction and its centroid ([`ComponentBody::print`]).
+    pub printed: Vec<[(f64, Point3<f64>); 2]>,
     /// Outer volume of all components, cubic project units.
     pub volume: f64,
     /// Centroid of the outer volume, world (the centre of buoyancy); the fallback centre when the
@@ -60,8 +63,13 @@ pub(crate) enum GoalSetup {
     Stand { margin: f64 },
     /// Topple by at least `margin` radians.
     Imbalance { margin: f64 },
-    /// Hang from `point` (world) within `tolerance` radians.
-    Suspend { point: Vector3<f64>, tolerance: f64 },
+    /// Hang from `point` (world) within `tolerance` radians; with `unique`, in no other stable
+    /// state.
+    Suspend {
+        point: Vector3<f64>,
+        tolerance: f64,
+        unique: bool,
+    },
     /// Right itself in a fluid.
     Immerse {
         /// g per cubic project unit.
@@ -69,6 +77,8 @@ pub(crate) enum GoalSetup {
         min_distance: f64,
         tolerance: f64,
         mass_tolerance: Option<f64>,
+        /// In no other stable state.
+        unique: bool,
     },
 }
 
@@ -95,6 +105,17 @@ impl PoseSetup {
             .iter()
             .zip(&frames)
             .map(|(body, frame)| (body.mass.volume, frame * body.mass.centroid))
+            .collect();
+        let printed = bodies
+            .iter()
+            .zip(&frames)
+            .map(|(body, frame)| {
+                let (solid, sparse) = (&body.print.solid, &body.print.sparse);
+                [
+                    (solid.volume, frame * solid.centroid),
+                    (sparse.volume, frame * sparse.centroid),
+                ]
+            })
             .collect();
         let fallback_centre = if placed.is_empty() {
             Point3::origin()
@@ -137,20 +158,24 @@ impl PoseSetup {
                     point,
                     component,
                     tolerance,
+                    unique,
                 } => GoalSetup::Suspend {
                     point: (pose.component_frame(component) * point).coords,
                     tolerance: tolerance.to_radians(),
+                    unique,
                 },
                 Goal::Immerse {
                     fluid_density,
                     min_distance,
                     tolerance,
                     mass_tolerance,
+                    unique,
                 } => GoalSetup::Immerse {
                     fluid_density: fluid_density * cubic,
                     min_distance,
                     tolerance: tolerance.to_radians(),
                     mass_tolerance,
+                    unique,
                 },
             })
             .collect();
@@ -163,6 +188,7 @@ impl PoseSetup {
             default_frame: pose.transform,
             up,
             bodies: placed,
+            printed,
             volume,
             buoyancy_centre,
             fallback_centre,

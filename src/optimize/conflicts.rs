@@ -8,7 +8,7 @@ use serde::Serialize;
 use super::problem::{Problem, StartCapsule};
 use super::solver::Method;
 use crate::cancel::Cancel;
-use crate::geometry::TriMesh;
+use crate::geometry::{PrintVolumes, TriMesh};
 use crate::objective::GridInterior;
 use crate::spec::model::Project;
 
@@ -39,6 +39,7 @@ pub struct Conflict {
 pub fn explain(
     project: &Project,
     meshes: &[TriMesh],
+    prints: &[PrintVolumes],
     interior: &Arc<GridInterior>,
     starts: &[Vec<StartCapsule>],
     unmet: &[GoalRef],
@@ -52,7 +53,7 @@ pub fn explain(
         .collect();
     let attempt = |goals: &[GoalRef]| -> (bool, f64) {
         let only = with_only(project, goals);
-        let problem = Problem::new(&only, meshes, interior.clone(), Method::Hybrid)
+        let problem = Problem::new(&only, meshes, prints, interior.clone(), Method::Hybrid)
             .with_cancel(cancel.clone());
         starts
             .iter()

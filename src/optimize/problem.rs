@@ -11,7 +11,7 @@ use crate::balance::{evaluate_pose, ComponentBody, GoalOutcome, PoseEvaluation};
 use crate::cancel::Cancel;
 use crate::design::{Design, PlacedCapsule};
 use crate::fabrication::{check_design, CapsuleIssue};
-use crate::geometry::TriMesh;
+use crate::geometry::{PrintVolumes, TriMesh};
 use crate::objective::{DesignLayout, GridInterior, Objective, Parameters, CAPSULE_STRIDE};
 use crate::spec::model::Project;
 
@@ -94,13 +94,18 @@ impl<'a> Problem<'a> {
     pub fn new(
         project: &'a Project,
         meshes: &'a [TriMesh],
+        prints: &[PrintVolumes],
         interior: Arc<GridInterior>,
         method: Method,
     ) -> Problem<'a> {
         Problem {
             project,
             meshes,
-            bodies: meshes.iter().map(ComponentBody::new).collect(),
+            bodies: meshes
+                .iter()
+                .zip(prints)
+                .map(|(mesh, print)| ComponentBody::with_print(mesh, *print))
+                .collect(),
             interior,
             parameters: Parameters::for_project(project),
             method,

@@ -148,6 +148,8 @@ pub struct Project {
     pub infill: Infill,
     /// Minimum material left between a capsule and the surface, and between two capsules.
     pub wall: f64,
+    /// How the parts are printed, and so where the material is.
+    pub print: Print,
     /// The printed parts, in file order.
     pub components: Vec<Component>,
     /// The named states of the model, in file order.
@@ -220,6 +222,85 @@ impl Ball {
             .map(|diameter| diameter / 2.0)
             .filter(|radius| *radius <= largest * (1.0 + 1e-9))
             .max_by(f64::total_cmp)
+    }
+}
+
+/// How the material of a printed part is laid out (the `print` node).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum MassModel {
+    /// As an FDM slicer deposits it: solid shells (perimeters, top and bottom layers, the walls of
+    /// every capsule, narrow regions) around sparse infill.
+    Fdm,
+    /// Material at the infill fraction everywhere: for materials that are not printed in layers.
+    Uniform,
+}
+
+impl MassModel {
+    /// The model a `print model=` keyword names.
+    pub fn from_keyword(keyword: &str) -> Option<MassModel> {
+        match keyword {
+            "fdm" => Some(MassModel::Fdm),
+            "uniform" => Some(MassModel::Uniform),
+            _ => None,
+        }
+    }
+}
+
+/// The slicer settings the mass model assumes (the `print` node). Lengths in project units; the
+/// defaults are PrusaSlicer 2.5's for a 0.4 mm nozzle (`prusa-slicer --help-fff`). The build
+/// direction is the project's `up` axis in every component's rest frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Print {
+    /// Where the material is.
+    pub model: MassModel,
+    /// Perimeter loops around every outline, the outside and every hole (PrusaSlicer: 3).
+    pub perimeters: u64,
+    /// Extrusion width (PrusaSlicer: 1.125 × the 0.4 mm nozzle, 0.45 mm).
+    pub extrusion_width: f64,
+    /// Layer height (PrusaSlicer: 0.3 mm).
+    pub layer_height: f64,
+    /// Height of the first layer (PrusaSlicer: 0.35 mm).
+    pub first_layer_height: f64,
+    /// Solid layers under every top surface (PrusaSlicer: 3).
+    pub top_solid_layers: u64,
+    /// Solid layers over every bottom surface (PrusaSlicer: 3).
+    pub bottom_solid_layers: u64,
+    /// Interior regions of a layer smaller than this area, square project units, are filled
+    /// solid (PrusaSlicer: 70 mm²).
+    pub solid_infill_below_area: f64,
+    /// How far the solid layers of a top or bottom surface reach past it into the sparse infill
+    /// (PrusaSlicer 2.5: a fixed 3 mm, `EXTERNAL_INFILL_MARGIN`; not a setting of the slicer, so
+    /// not of the project file either).
+    pub surface_margin: f64,
+}
+
+impl Print {
+    /// PrusaSlicer's defaults, in `units`.
+    pub fn defaults(units: Units) -> Print {
+        let mm = |value: f64| units.from_millimetres(value);
+        Print {
+            model: MassModel::Fdm,
+            perimeters: 3,
+            extrusion_width: mm(0.45),
+            layer_height: mm(0.3),
+            first_layer_height: mm(0.35),
+            top_solid_layers: 3,
+            bottom_solid_layers: 3,
+            solid_infill_below_area: mm(mm(70.0)),
+            surface_margin: mm(3.0),
+        }
+    }
+
+    /// The spacing of neighbouring extrusions: the width less the rounding of an extrusion's
+    /// sides, `w − h(1 − π/4)` (PrusaSlicer's `Flow::spacing`).
+    pub fn spacing(&self) -> f64 {
+        self.extrusion_width - self.layer_height * (1.0 - std::f64::consts::FRAC_PI_4)
+    }
+
+    /// Thickness of the perimeters, measured horizontally: `perimeters × spacing`.
+    pub fn perimeter_thickness(&self) -> f64 {
+        self.perimeters as f64 * self.spacing()
     }
 }
 
@@ -306,6 +387,8 @@ pub enum Goal {
         component: usize,
         /// Allowed angle between the string and gravity, degrees.
         tolerance: f64,
+        /// Met only when hanging as wanted is the model's only stable state (`unique=#true`).
+        unique: bool,
     },
     /// Float upright in a fluid: the centre of buoyancy straight above the centre of mass.
     Immerse {
@@ -317,6 +400,9 @@ pub enum Goal {
         tolerance: f64,
         /// When given, |mass − fluid density × volume| must be at most this many grams.
         mass_tolerance: Option<f64>,
+        /// Met only when floating as wanted is the model's only stable state: it rights itself
+        /// from any orientation (`unique=#true`).
+        unique: bool,
     },
 }
 

@@ -12,8 +12,8 @@ use nalgebra::{Isometry3, Point3, Vector3};
 
 use super::codes;
 use super::model::{
-    Axis, Ball, Capsule, Component, Goal, Infill, Material, Optimize, Output, Pose, Project,
-    Spanned, Units,
+    Axis, Ball, Capsule, Component, Goal, Infill, MassModel, Material, Optimize, Output, Pose,
+    Print, Project, Spanned, Units,
 };
 use super::transform::{compose, Step};
 use super::tree::Node;
@@ -49,6 +49,7 @@ pub fn resolve(
         ball: resolver.ball(),
         infill: resolver.infill(),
         wall: wall.unwrap_or(units.from_millimetres(1.0)),
+        print: resolver.print(),
         output: output(resolver.top("output"), folder, project_path),
         components: resolver.components,
         poses,
@@ -129,6 +130,33 @@ impl<'a> Resolver<'a> {
                 .and_then(|node| node.child("diameters"))
                 .and_then(Node::numbers)
                 .unwrap_or_default(),
+        }
+    }
+
+    /// The print settings: PrusaSlicer's defaults where the `print` node says nothing.
+    fn print(&self) -> Print {
+        let defaults = Print::defaults(self.units);
+        let Some(node) = self.top("print") else {
+            return defaults;
+        };
+        let count = |name, default| node.count(name).unwrap_or(default);
+        let number = |name, default| node.number(name).unwrap_or(default);
+        Print {
+            model: node
+                .text("model")
+                .and_then(|model| MassModel::from_keyword(&model.value))
+                .unwrap_or(defaults.model),
+            perimeters: count("perimeters", defaults.perimeters),
+            extrusion_width: number("extrusion-width", defaults.extrusion_width),
+            layer_height: number("layer-height", defaults.layer_height),
+            first_layer_height: number("first-layer-height", defaults.first_layer_height),
+            top_solid_layers: count("top-solid-layers", defaults.top_solid_layers),
+            bottom_solid_layers: count("bottom-solid-layers", defaults.bottom_solid_layers),
+            solid_infill_below_area: number(
+                "solid-infill-below-area",
+                defaults.solid_infill_below_area,
+            ),
+            surface_margin: defaults.surface_margin,
         }
     }
 
@@ -348,12 +376,14 @@ impl<'a> Resolver<'a> {
                     .and_then(|name| self.component_index(&name))
                     .unwrap_or(0),
                 tolerance: number("tolerance", 2.0),
+                unique: node.flag("unique").unwrap_or(false),
             },
             "immerse" => Goal::Immerse {
                 fluid_density: number("fluid-density", 1.0),
                 min_distance: number("min-distance", 0.0),
                 tolerance: number("tolerance", 2.0),
                 mass_tolerance: node.number("mass-tolerance"),
+                unique: node.flag("unique").unwrap_or(false),
             },
             _ => return None,
         };

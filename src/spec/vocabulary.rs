@@ -149,6 +149,9 @@ pub const UNITS: &[&str] = &["mm", "cm", "m", "in"];
 /// Axes that can point up.
 pub const AXES: &[&str] = &["x", "y", "z"];
 
+/// The mass models a `print` node can name.
+pub const MASS_MODELS: &[&str] = &["fdm", "uniform"];
+
 /// The steps of a rigid transform, in a pose or in a pose's component block.
 const TRANSFORM_STEPS: [NodeSpec; 3] = [
     repeated(leaf("rotate", ANGLES, &[])),
@@ -158,6 +161,7 @@ const TRANSFORM_STEPS: [NodeSpec; 3] = [
 
 const CONTACT: PropSpec = length_prop("contact-tolerance", ValueKind::Positive);
 const TOLERANCE: PropSpec = prop("tolerance", ValueKind::NonNegative);
+const UNIQUE: PropSpec = prop("unique", ValueKind::Bool);
 
 /// The `capsule` node, in a project file and in a solution file.
 const CAPSULE: NodeSpec = NodeSpec {
@@ -202,7 +206,7 @@ const POSE_CHILDREN: &[NodeSpec] = &[
     repeated(leaf(
         "suspend",
         POINT,
-        &[prop("component", ValueKind::String), TOLERANCE],
+        &[prop("component", ValueKind::String), TOLERANCE, UNIQUE],
     )),
     repeated(leaf(
         "immerse",
@@ -212,6 +216,7 @@ const POSE_CHILDREN: &[NodeSpec] = &[
             length_prop("min-distance", ValueKind::NonNegative),
             TOLERANCE,
             prop("mass-tolerance", ValueKind::NonNegative),
+            UNIQUE,
         ],
     )),
 ];
@@ -250,6 +255,20 @@ pub const DOCUMENT: &[NodeSpec] = &[
         ],
     ),
     leaf("wall", length_args(ValueKind::NonNegative, 1, 1), &[]),
+    leaf(
+        "print",
+        NO_ARGS,
+        &[
+            prop("model", ValueKind::Enum(MASS_MODELS)),
+            prop("perimeters", ValueKind::Count),
+            length_prop("extrusion-width", ValueKind::Positive),
+            length_prop("layer-height", ValueKind::Positive),
+            length_prop("first-layer-height", ValueKind::Positive),
+            prop("top-solid-layers", ValueKind::Count),
+            prop("bottom-solid-layers", ValueKind::Count),
+            prop("solid-infill-below-area", ValueKind::NonNegative),
+        ],
+    ),
     mandatory(repeated(leaf(
         "component",
         NAME_ARG,

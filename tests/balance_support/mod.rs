@@ -7,7 +7,8 @@ use ballast::balance::{evaluate_pose, ComponentBody, PoseEvaluation};
 use ballast::design::{Design, PlacedCapsule};
 use ballast::geometry::{MeshSelector, TriMesh};
 use ballast::spec::model::{
-    Axis, Ball, Component, Goal, Infill, Material, Output, Pose, Project, Spanned, Units,
+    Axis, Ball, Component, Goal, Infill, MassModel, Material, Output, Pose, Print, Project,
+    Spanned, Units,
 };
 use miette::SourceSpan;
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
@@ -45,6 +46,11 @@ pub fn project(components: &[&str]) -> Project {
             range: None,
         },
         wall: 1.0,
+        // The hand computations here are of uniform material at the infill fraction.
+        print: Print {
+            model: MassModel::Uniform,
+            ..Print::defaults(Units::Millimetre)
+        },
         components: components
             .iter()
             .map(|name| Component {
@@ -150,7 +156,10 @@ pub fn evaluate(
     design: &Design,
     pose: &Pose,
 ) -> PoseEvaluation {
-    let bodies: Vec<ComponentBody> = meshes.iter().map(ComponentBody::new).collect();
+    let bodies: Vec<ComponentBody> = meshes
+        .iter()
+        .map(|mesh| ComponentBody::for_project(mesh, project))
+        .collect();
     evaluate_pose(project, &bodies, design, pose)
 }
 

@@ -81,6 +81,7 @@ pub fn immerse(fluid_density: f64, min_distance: f64, mass_tolerance: Option<f64
         min_distance,
         tolerance: 10.0,
         mass_tolerance,
+        unique: false,
     }
 }
 
@@ -90,7 +91,16 @@ pub fn suspend(point: Point3<f64>, component: usize) -> Goal {
         point,
         component,
         tolerance: 5.0,
+        unique: false,
     }
+}
+
+/// `goal` with `unique=#true` (a `suspend` or `immerse` goal; others are returned as they are).
+pub fn unique(mut goal: Goal) -> Goal {
+    if let Goal::Suspend { unique, .. } | Goal::Immerse { unique, .. } = &mut goal {
+        *unique = true;
+    }
+    goal
 }
 
 /// A capsule of component `component` with random ends inside `[lo, hi]` (shrunk by 8 mm) and a
@@ -142,7 +152,10 @@ pub fn objective(
     design: &Design,
     parameters: Parameters,
 ) -> Objective {
-    let bodies: Vec<ComponentBody> = meshes.iter().map(ComponentBody::new).collect();
+    let bodies: Vec<ComponentBody> = meshes
+        .iter()
+        .map(|mesh| ComponentBody::for_project(mesh, project))
+        .collect();
     Objective::new(
         project,
         &bodies,

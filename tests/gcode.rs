@@ -1,0 +1,68 @@
+//! The G-code reader on hand-written programs whose deposit is known.
+
+use ballast::gcode::read_deposit;
+
+const AREA: f64 = std::f64::consts::PI * 1.75 * 1.75 / 4.0;
+
+#[test]
+fn absolute_extrusion_with_a_retraction_and_a_reset() {
+    let program = "\
+G90 ; absolute positions
+M82 ; absolute extrusion
+G92 E0
+G1 Z0.2 F3000
+G1 X0 Y0
+G1 X10 Y0 E1.0 ; 1 mm of filament along y = 0, centre (5, 0)
+G1 E0.2 F2400 ; retract: no motion, no deposit
+G1 X10 Y10 ; travel
+G1 E1.0 ; unretract
+G1 X0 Y10 E3.0 ; 2 mm along y = 10, centre (5, 10)
+G92 E0
+G1 X0 Y0 Z0.4 E0.5 ; 0.5 mm from (0, 10, 0.2) to (0, 0, 0.4), centre (0, 5, 0.3)
+";
+    let deposit = read_deposit(program, 1.75).unwrap();
+    assert!((deposit.filament - 3.5).abs() < 1e-12, "{deposit:?}");
+    assert!((deposit.volume - 3.5 * AREA).abs() < 1e-12);
+    let expected = [
+        (1.0 * 5.0 + 2.0 * 5.0) / 3.5,
+        (2.0 * 10.0 + 0.5 * 5.0) / 3.5,
+        (3.0 * 0.2 + 0.5 * 0.3) / 3.5,
+    ];
+    for (axis, want) in expected.iter().enumerate() {
+        assert!((deposit.centroid[axis] - want).abs() < 1e-12, "{deposit:?}");
+    }
+    assert!((deposit.mass(1.24) - 3.5 * AREA * 1.24 / 1000.0).abs() < 1e-15);
+}
+
+#[test]
+fn relative_extrusion_and_relative_positions() {
+    let program = "\
+M83
+G1 X0 Y0 Z0.3
+G1 X4 E0.4
+G1 E-0.8
+G1 Y4 E0.8 ; moves while it undoes the retraction: deposits 0.8 along x = 4
+G91
+G1 X-4 E0.4 ; relative: to (0, 4), 0.4 mm
+";
+    let deposit = read_deposit(program, 1.75).unwrap();
+    assert!((deposit.filament - 1.6).abs() < 1e-12, "{deposit:?}");
+    let x = (0.4 * 2.0 + 0.8 * 4.0 + 0.4 * 2.0) / 1.6;
+    let y = (0.4 * 0.0 + 0.8 * 2.0 + 0.4 * 4.0) / 1.6;
+    assert!((deposit.centroid.x - x).abs() < 1e-12, "{deposit:?}");
+    assert!((deposit.centroid.y - y).abs() < 1e-12, "{deposit:?}");
+    assert!((deposit.centroid.z - 0.3).abs() < 1e-12, "{deposit:?}");
+}
+
+#[test]
+fn a_bad_number_names_its_line_and_nothing_deposited_is_the_origin() {
+    let error = read_deposit("G1 X0\nG1 X1 Efoo\n", 1.75).unwrap_err();
+    assert_eq!(error.line, 2);
+    assert_eq!(error.word, "Efoo");
+    assert!(error.to_string().contains("line 2"));
+    let error = read_deposit("G1 Xinf\n", 1.75).unwrap_err();
+    assert_eq!(error.line, 1);
+    let empty = read_deposit("; nothing\nM104 S200\n", 1.75).unwrap();
+    assert_eq!(empty.filament, 0.0);
+    assert_eq!(empty.centroid, nalgebra::Point3::origin());
+}

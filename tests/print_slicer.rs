@@ -1,0 +1,290 @@
+//! ballast's print mass model against the G-code PrusaSlicer writes at its defaults: a box, a
+//! box with a capsule void, and the t_shape example with its design. Skipped, with a message,
+//! when `prusa-slicer` is not on the PATH (`.ci/run` installs it).
+//!
+//! G-code positions are the nozzle's, at the top of the layer being printed: the material lies
+//! half a layer lower, so the G-code's centre is lowered by half a layer height before comparing.
+
+mod print_support;
+
+use std::path::Path;
+
+use ballast::balance::{capsule_shell, slicing, PoseEvaluation};
+use ballast::compile::compile;
+use ballast::design::Design;
+use ballast::gcode::read_deposit;
+use ballast::geometry::{print_volumes, TriMesh};
+use ballast::spec::model::{Axis, Print, Project, Units};
+use nalgebra::{Point3, Vector3};
+use print_support::*;
+
+/// PrusaSlicer's default filament, mm.
+const FILAMENT: f64 = 1.75;
+/// Where `slice` centres the model's bounding box.
+const BED_CENTRE: (f64, f64) = (100.0, 100.0);
+
+/// Mass (g) and centre (rest frame) of the plastic ballast models for `body` with `capsules`
+/// (from, to, radius) cut, at `infill`, PLA.
+fn modelled(
+    body: &TriMesh,
+    capsules: &[(Point3<f64>, Point3<f64>, f64)],
+    infill: f64,
+) -> (f64, Point3<f64>) {
+    let print = Print::defaults(Units::Millimetre);
+    let volumes = print_volumes(body, &slicing(&print, Axis::Z));
+    let t = capsule_shell(&print);
+    let mut volume = volumes.solid.volume + infill * volumes.sparse.volume;
+    let mut moment = volumes.solid.centroid.coords * volumes.solid.volume
+        + volumes.sparse.centroid.coords * (infill * volumes.sparse.volume);
+    for (p, q, r) in capsules {
+        let length = (q - p).norm();
+        let capsule = |r: f64| std::f64::consts::PI * r * r * (length + 4.0 / 3.0 * r);
+        let change = (1.0 - infill) * capsule(r + t) - capsule(*r);
+        volume += change;
+        moment += nalgebra::center(p, q).coords * change;
+    }
+    (volume * 1.24 / 1000.0, Point3::from(moment / volume))
+}
+
+/// Mass (g) and centre (rest frame of `body`) of the plastic in PrusaSlicer's G-code for `mesh`
+/// (`body` with its voids), PLA.
+fn sliced(
+    dir: &Path,
+    name: &str,
+    body: &TriMesh,
+    mesh: &TriMesh,
+    infill: f64,
+) -> (f64, Point3<f64>) {
+    let path = dir.join(format!("{name}.stl"));
+    write_stl(mesh, &path);
+    let deposit =
+        read_deposit(&slice(&path, infill), FILAMENT).expect("PrusaSlicer's G-code reads");
+    let (low, high) = bounds(body);
+    let print = Print::defaults(Units::Millimetre);
+    let offset = Vector3::new(
+        (low.x + high.x) / 2.0 - BED_CENTRE.0,
+        (low.y + high.y) / 2.0 - BED_CENTRE.1,
+        low.z - print.layer_height / 2.0,
+    );
+    (deposit.mass(1.24), deposit.centroid + offset)
+}
+
+fn bounds(mesh: &TriMesh) -> (Point3<f64>, Point3<f64>) {
+    mesh.positions
+        .iter()
+        .fold((mesh.positions[0], mesh.positions[0]), |(lo, hi), p| {
+            (lo.inf(p), hi.sup(p))
+        })
+}
+
+/// Asserts the modelled mass within `mass_tolerance` (a fraction) of the G-code's and the
+/// centres within `centre_tolerance` mm; prints both.
+fn compare(
+    what: &str,
+    model: (f64, Point3<f64>),
+    gcode: (f64, Point3<f64>),
+    mass_tolerance: f64,
+    centre_tolerance: f64,
+) {
+    let error = (model.0 - gcode.0) / gcode.0;
+    let distance = (model.1 - gcode.1).norm();
+    println!(
+        "{what}: model {:.2} g at ({:.2}, {:.2}, {:.2}), G-code {:.2} g at ({:.2}, {:.2}, {:.2}): \
+         mass {:+.1}%, centres {distance:.2} mm apart",
+        model.0,
+        model.1.x,
+        model.1.y,
+        model.1.z,
+        gcode.0,
+        gcode.1.x,
+        gcode.1.y,
+        gcode.1.z,
+        100.0 * error
+    );
+    assert!(
+        error.abs() <= mass_tolerance,
+        "{what}: mass off by {:.1}%",
+        100.0 * error
+    );
+    assert!(
+        distance <= centre_tolerance,
+        "{what}: centres {distance} mm apart"
+    );
+}
+
+fn skip() -> bool {
+    if slicer_available() {
+        return false;
+    }
+    eprintln!("skipped: prusa-slicer is not on the PATH (apt-get install prusa-slicer)");
+    true
+}
+
+#[test]
+fn a_box_weighs_what_prusaslicer_deposits() {
+    if skip() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let body = box_mesh(40.0, 30.0, 20.0);
+    for infill in [0.15, 0.5] {
+        let gcode = sliced(dir.path(), "box", &body, &body, infill);
+        compare(
+            &format!("box at {infill}"),
+            modelled(&body, &[], infill),
+            gcode,
+            0.05,
+            0.2,
+        );
+    }
+}
+
+#[test]
+fn a_capsule_void_weighs_what_prusaslicer_deposits() {
+    if skip() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let body = box_mesh(40.0, 30.0, 20.0);
+    let cases = [
+        (
+            Point3::new(10.0, 15.0, 10.0),
+            Point3::new(30.0, 15.0, 10.0),
+            4.0,
+        ),
+        (
+            Point3::new(8.0, 12.0, 8.0),
+            Point3::new(32.0, 16.0, 12.0),
+            3.0,
+        ),
+    ];
+    for (i, capsule) in cases.iter().enumerate() {
+        let (p, q, r) = *capsule;
+        let mesh = with_voids(&body, &[capsule_mesh(p, q, r, 64)]);
+        let gcode = sliced(dir.path(), &format!("void{i}"), &body, &mesh, 0.15);
+        let model = modelled(&body, &[*capsule], 0.15);
+        compare(&format!("box with capsule {i}"), model, gcode, 0.05, 0.2);
+    }
+}
+
+/// The tilt margin (degrees) of a centre of mass `c` over the support of `vertices` (world, z
+/// up): the smallest angle, over the support polygon's edges, that tips `c` over the edge.
+/// Written here from scratch (contacts within `CONTACT` of the lowest vertex, ballast's default
+/// contact tolerance; gift wrapping), so it shares no code with ballast's support.
+const CONTACT: f64 = 0.05;
+
+fn margin(vertices: &[Point3<f64>], c: &Point3<f64>) -> f64 {
+    let ground = vertices.iter().map(|p| p.z).fold(f64::INFINITY, f64::min);
+    let contacts: Vec<(f64, f64)> = vertices
+        .iter()
+        .filter(|p| p.z - ground <= CONTACT)
+        .map(|p| (p.x, p.y))
+        .collect();
+    let start = contacts
+        .iter()
+        .copied()
+        .fold((f64::INFINITY, 0.0), |a, b| if b.0 < a.0 { b } else { a });
+    let mut hull = vec![start];
+    loop {
+        let here = *hull.last().unwrap();
+        let mut next = contacts[0];
+        for &candidate in &contacts {
+            let cross = (next.0 - here.0) * (candidate.1 - here.1)
+                - (next.1 - here.1) * (candidate.0 - here.0);
+            let farther = (candidate.0 - here.0).hypot(candidate.1 - here.1)
+                > (next.0 - here.0).hypot(next.1 - here.1);
+            if next == here || cross < -1e-12 || (cross.abs() <= 1e-12 && farther) {
+                next = candidate;
+            }
+        }
+        if next == start || hull.len() > contacts.len() {
+            break;
+        }
+        hull.push(next);
+    }
+    let height = c.z - ground;
+    (0..hull.len())
+        .map(|i| {
+            let (a, b) = (hull[i], hull[(i + 1) % hull.len()]);
+            let (ex, ey) = (b.0 - a.0, b.1 - a.1);
+            // Counter-clockwise hull: the inside is on the left of each edge.
+            let inside = (ex * (c.y - a.1) - ey * (c.x - a.0)) / ex.hypot(ey);
+            inside.atan2(height).to_degrees()
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The centre of mass of `pose` with the plastic replaced by `plastic` (grams, rest-frame
+/// centre) and the balls where ballast put them.
+fn centre_with(
+    project: &Project,
+    pose: usize,
+    evaluation: &PoseEvaluation,
+    plastic: (f64, Point3<f64>),
+) -> Point3<f64> {
+    let frame = project.poses[pose].component_frame(0);
+    let mut mass = plastic.0;
+    let mut moment = (frame * plastic.1).coords * plastic.0;
+    for ball in &evaluation.balls {
+        mass += ball.mass;
+        moment += Vector3::from(ball.centre_world) * ball.mass;
+    }
+    Point3::from(moment / mass)
+}
+
+#[test]
+fn the_t_shape_with_its_design_weighs_and_stands_as_prusaslicer_prints_it() {
+    if skip() {
+        return;
+    }
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let path = root.join("examples/t_shape.kdl");
+    let source = std::fs::read_to_string(&path).unwrap();
+    let compilation = compile(&source, &path).expect("the example compiles");
+    let project = &compilation.project;
+    let body = &compilation.meshes[0];
+    let design: &Design = &compilation.design;
+    let capsules: Vec<_> = design
+        .capsules
+        .iter()
+        .map(|c| (c.from, c.to, c.radius))
+        .collect();
+    let voids: Vec<TriMesh> = capsules
+        .iter()
+        .map(|&(p, q, r)| capsule_mesh(p, q, r, 64))
+        .collect();
+    let dir = tempfile::tempdir().unwrap();
+    let gcode = sliced(
+        dir.path(),
+        "t_shape",
+        body,
+        &with_voids(body, &voids),
+        design.infill,
+    );
+    let model = modelled(body, &capsules, design.infill);
+    compare("t_shape", model, gcode, 0.05, 1.0);
+
+    // The plastic ballast's physics sums is the plastic modelled here.
+    let upright = &compilation.poses[0];
+    let balls: f64 = upright.balls.iter().map(|b| b.mass).sum();
+    assert!((upright.mass - balls - model.0).abs() < 1e-6 * model.0);
+
+    for (i, evaluation) in compilation.poses.iter().enumerate() {
+        let frame = project.poses[i].component_frame(0);
+        let vertices: Vec<Point3<f64>> = body.positions.iter().map(|p| frame * p).collect();
+        let ballast = margin(&vertices, &centre_with(project, i, evaluation, model));
+        let printed = margin(&vertices, &centre_with(project, i, evaluation, gcode));
+        println!(
+            "t_shape {:?}: margin {ballast:.2}° with ballast's mass model, {printed:.2}° with the \
+             G-code's (ballast reports {:.2}° with its balls held)",
+            evaluation.pose, evaluation.support.fixed_ball_margin
+        );
+        // The margin computed here holds the balls still, as the balls-held margin does.
+        assert!((ballast - evaluation.support.fixed_ball_margin).abs() < 1e-6);
+        assert!(
+            (ballast - printed).abs() <= 1.0,
+            "{}: margins differ by more than 1°",
+            evaluation.pose
+        );
+    }
+}
