@@ -125,11 +125,11 @@ fn poses(suspension: Point3<f64>) -> Vec<(&'static str, Pose)> {
     let goals = [
         Goal::Stand {
             margin: 2.0,
-            contact_tolerance: 0.005,
+            contact_tolerance: Some(0.005),
         },
         Goal::Imbalance {
             margin: 2.0,
-            contact_tolerance: 0.005,
+            contact_tolerance: Some(0.005),
         },
         Goal::Suspend {
             point: suspension,
@@ -165,6 +165,7 @@ fn poses(suspension: Point3<f64>) -> Vec<(&'static str, Pose)> {
         let pose = Pose {
             name: Spanned::new(name.to_string(), span),
             transform,
+            down: None,
             component_transforms: vec![Isometry3::identity()],
             goals: goals
                 .iter()

@@ -254,7 +254,7 @@ fn a_negative_contact_tolerance_counts_as_zero() {
             1,
             vec![Goal::Stand {
                 margin: 0.0,
-                contact_tolerance: -1.0,
+                contact_tolerance: Some(-1.0),
             }],
         ),
     );

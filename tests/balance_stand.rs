@@ -130,11 +130,10 @@ fn an_off_centre_ball_shifts_the_margin_as_by_hand() {
 }
 
 #[test]
-fn a_box_tilted_onto_its_edge_topples() {
-    // 10° about y: the edge x = 40, z = 0 goes lowest, to height −40 sin θ; the centre
-    // (20, 30, 50) goes to (20 cos θ + 50 sin θ, 30, −20 sin θ + 50 cos θ).
-    let theta = 10f64.to_radians();
-    let (s, c) = theta.sin_cos();
+fn a_box_tilted_onto_its_edge_settles_back_onto_its_base() {
+    // 10° about y: the box touches along the edge x = 40, z = 0; its centre (20, 30, 50) goes to
+    // x = 20 cos θ + 50 sin θ, 11 short of the edge at 40 cos θ, so it rolls back by 10° onto its
+    // base, where the centre is 20 from the nearest edge and 50 high.
     let result = evaluate(
         &project(&["box"]),
         &[box_mesh(40.0, 60.0, 100.0)],
@@ -145,25 +144,21 @@ fn a_box_tilted_onto_its_edge_topples() {
             vec![imbalance(5.0), imbalance(12.0), stand(0.0)],
         ),
     );
+    let resting = result.resting.as_ref().expect("settles");
+    assert_close("correction", resting.correction, 10.0, 1e-9);
+    assert_point("down", resting.down, [0.0, 0.0, -1.0], 1e-12);
+    assert_close("area", resting.area, 40.0 * 60.0, 1e-9);
     let support = &result.support;
-    assert_close("ground", support.ground_height, -40.0 * s, 1e-9);
-    assert_eq!(support.contacts.len(), 2);
-    assert_eq!(support.polygon.len(), 2);
-    let height = 20.0 * s + 50.0 * c;
-    let beyond = 40.0 * c - (20.0 * c + 50.0 * s);
-    assert_close("height", support.centre_height, height, 1e-9);
-    assert_eq!(support.edges.len(), 4);
-    // Both sides of the line count the centre as outside; the end caps see it 30 inside.
-    for edge in &support.edges[..2] {
-        assert_close("side distance", edge.distance, beyond, 1e-9);
-    }
-    for edge in &support.edges[2..] {
-        assert_close("cap distance", edge.distance, -30.0, 1e-9);
-    }
-    let expected = -degrees_atan(beyond, height);
-    assert_close("tilt margin", support.tilt_margin, expected, 1e-9);
-    assert!(expected < -11.0 && expected > -12.0);
-    assert_eq!(met(&result), vec![true, false, false]);
+    assert_eq!(support.contacts.len(), 4);
+    assert_eq!(support.polygon.len(), 4);
+    assert_close("height", support.centre_height, 50.0, 1e-9);
+    assert_close(
+        "tilt margin",
+        support.tilt_margin,
+        degrees_atan(20.0, 50.0),
+        1e-9,
+    );
+    assert_eq!(met(&result), vec![false, false, true]);
 }
 
 /// A 20 mm cube base and a 10 × 10 × 60 arm standing on it, rest frame.
@@ -220,7 +215,7 @@ fn an_arm_swung_out_topples_the_model() {
 }
 
 #[test]
-fn a_sphere_touches_at_a_point_and_cannot_stand() {
+fn a_sphere_balanced_on_a_vertex_cannot_stand() {
     let sphere = icosphere(2, 10.0, Point3::new(0.0, 0.0, 10.0));
     let result = evaluate(
         &project(&["ball"]),
@@ -228,6 +223,8 @@ fn a_sphere_touches_at_a_point_and_cannot_stand() {
         &design(vec![]),
         &rest_pose(1, vec![stand(0.0)]),
     );
+    // The centre is straight above the lowest vertex: no way to roll, evaluated as written.
+    assert_eq!(result.resting, None);
     let support = &result.support;
     assert_eq!(support.contacts.len(), 1);
     assert_eq!(support.polygon.len(), 1);
@@ -236,7 +233,8 @@ fn a_sphere_touches_at_a_point_and_cannot_stand() {
     assert!(support.tilt_margin > -1e-6);
     assert!(!result.goals[0].met);
 
-    // A ball off the axis moves the centre off the contact point: it rolls.
+    // A ball off the axis moves the centre off the vertex: the sphere rolls onto a triangle of
+    // the vertex's fan and stays there (an icosphere's triangle spans about 15° at this level).
     let c = capsule(
         0,
         Point3::new(3.0, 0.0, 5.0),
@@ -248,25 +246,28 @@ fn a_sphere_touches_at_a_point_and_cannot_stand() {
         &project(&["ball"]),
         &[sphere],
         &design(vec![c]),
-        &rest_pose(1, vec![imbalance(0.0)]),
+        &rest_pose(1, vec![stand(0.0)]),
     );
-    let [x, y, z] = result.centre_of_mass;
-    let foot = Point3::from(result.support.polygon[0]);
-    let distance = ((x - foot.x).powi(2) + (y - foot.y).powi(2)).sqrt();
-    assert!(distance > 0.01);
+    let resting = result.resting.as_ref().expect("settles");
+    assert_eq!(resting.corners, 3);
+    assert!(resting.correction > 1.0 && resting.correction < 20.0);
+    // The correction is the angle between the facet's normal and the written down, −z.
     assert_close(
-        "rolling margin",
-        result.support.tilt_margin,
-        -degrees_atan(distance, z - foot.z),
+        "correction",
+        resting.correction,
+        (-resting.down[2]).acos().to_degrees(),
         1e-9,
     );
+    assert_eq!(result.support.polygon.len(), 3);
+    assert!(result.support.tilt_margin > 0.0);
     assert!(result.goals[0].met);
 }
 
 #[test]
-fn a_lying_cylinder_touches_along_a_line_and_cannot_stand() {
+fn a_lying_cylinder_rolls_onto_a_side_when_its_centre_is_off_the_line() {
     // A 32-sided prism of radius 10 and length 50 turned onto its side: (x, y, z) → (x, −z, y).
-    // It touches along the line x = 0, z = −10.
+    // It touches along the line x = 0, z = −10, right below the solid centre: balanced, so it is
+    // evaluated as written and cannot stand.
     let lying = rotation(Vector3::x(), 90.0);
     let cylinder = prism(32, 10.0, 50.0);
     let result = evaluate(
@@ -276,16 +277,17 @@ fn a_lying_cylinder_touches_along_a_line_and_cannot_stand() {
         &pose(lying, vec![Isometry3::identity()], vec![stand(0.0)]),
     );
     let support = &result.support;
+    assert_eq!(result.resting, None);
     assert_eq!(support.contacts.len(), 2);
     assert_eq!(support.polygon.len(), 2);
-    assert_eq!(support.edges.len(), 4);
     assert!(support.tilt_margin <= 0.0, "{}", support.tilt_margin);
-    assert!(support.tilt_margin > -1e-6);
     assert!(!result.goals[0].met);
 
     // A capsule along the cylinder's axis, 4 off it: horizontal, so its ball sits at the
-    // midpoint (4, 0, 25), world (4, −25, 0), where the void is too. The void weighs more than
-    // the ball, so the centre moves to −x: by 0.15, 0.83° past the line.
+    // midpoint, where the void is too. The void weighs more than the ball, so the centre moves
+    // by |x| to −x and the prism rolls by φ = 180°/32 onto the side face left of the line. On it
+    // the centre is a − |x| sin φ high (a = 10 cos φ, the apothem) and |x| cos φ from the face's
+    // middle line, whose long edges are w = 10 sin φ away.
     let c = capsule(
         0,
         Point3::new(4.0, 0.0, 10.0),
@@ -301,22 +303,28 @@ fn a_lying_cylinder_touches_along_a_line_and_cannot_stand() {
         &pose(
             lying,
             vec![Isometry3::identity()],
-            vec![imbalance(0.5), imbalance(1.0)],
+            vec![imbalance(0.5), stand(1.0)],
         ),
     );
     let volume = 16.0 * 100.0 * (2.0 * PI / 32.0).sin() * 50.0;
     let ball = STEEL * ball_volume(2.5) / 1000.0;
     let mass = PLA * (volume - void) / 1000.0 + ball;
-    let x = (ball * 4.0 - PLA / 1000.0 * void * 4.0) / mass;
-    assert_close("centre x", result.centre_of_mass[0], x, 1e-9);
+    let x = ((ball * 4.0 - PLA / 1000.0 * void * 4.0) / mass).abs();
+    assert!(x > 0.1);
+    let phi = PI / 32.0;
+    let resting = result.resting.as_ref().expect("settles");
+    assert_close("correction", resting.correction, phi.to_degrees(), 1e-9);
+    assert_eq!(resting.corners, 4);
     assert_close(
         "tilt margin",
         result.support.tilt_margin,
-        -degrees_atan(x.abs(), 10.0),
+        degrees_atan(
+            10.0 * phi.sin() - x * phi.cos(),
+            10.0 * phi.cos() - x * phi.sin(),
+        ),
         1e-9,
     );
-    assert!(x < -0.1);
-    assert_eq!(met(&result), vec![true, false]);
+    assert_eq!(met(&result), vec![false, true]);
 }
 
 #[test]
@@ -375,14 +383,21 @@ fn the_contact_tolerance_decides_which_vertices_touch() {
     );
     assert_eq!(loose.support.contacts.len(), 4);
     assert_close("tolerance", loose.support.contact_tolerance, 0.05, 0.0);
-    // Without a stand goal the default 0.05 mm applies.
+    // Without a stand goal the hull's tolerance applies, 1e-6 of the extent: three corners.
     let default = evaluate(
         &project,
         std::slice::from_ref(&mesh),
         &design(vec![]),
         &rest_pose(1, vec![]),
     );
-    assert_eq!(default.support.contacts.len(), 4);
+    assert_eq!(default.support.contacts.len(), 3);
+    let extent = (40.0f64 * 40.0 + 60.0 * 60.0 + 100.0 * 100.0).sqrt();
+    assert_close(
+        "default tolerance",
+        default.support.contact_tolerance,
+        1e-6 * extent,
+        1e-12,
+    );
     // A tight tolerance leaves three corners; the centre lies near their diagonal.
     let tight = evaluate(
         &project,
@@ -392,7 +407,7 @@ fn the_contact_tolerance_decides_which_vertices_touch() {
             1,
             vec![Goal::Stand {
                 margin: 0.0,
-                contact_tolerance: 0.001,
+                contact_tolerance: Some(0.001),
             }],
         ),
     );

@@ -136,9 +136,17 @@ fn the_solid_cow_fails_rearing_up_rolling_off_its_back_and_hanging_level() {
     // It still stands on its hind legs and tail, but only just (3.9 degrees printed, 5 needed).
     let rearing = goal(1)["tilt_margin"].as_f64().unwrap();
     assert!((2.0..4.0).contains(&rearing), "{rearing}");
-    // It stays on its back (3.2 degrees printed; 5.8 in uniform material) instead of rolling off.
+    // It stays on its back instead of rolling off, if only just (0.3 degrees printed, resting on
+    // the three hull vertices that touch; a 0.05 mm contact tolerance counted six and said 3.2).
     let back = goal(4)["tilt_margin"].as_f64().unwrap();
-    assert!(back > 2.0, "{back}");
+    assert!((0.0..4.0).contains(&back), "{back}");
+    assert_eq!(
+        report["poses"][4]["support"]["contacts"]
+            .as_array()
+            .unwrap()
+            .len(),
+        3
+    );
     // Hung from its back it tips head down, the string some 30 degrees off vertical.
     let angle = goal(5)["angle"].as_f64().unwrap();
     assert!(angle > 20.0, "{angle}");

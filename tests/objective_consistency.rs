@@ -68,8 +68,6 @@ fn the_box_with_steep_capsules_has_the_exact_centre_and_verdict() {
     let project = box_project(vec![
         ("upright", Isometry3::identity()),
         ("upside down", rotation(Vector3::x(), 180.0)),
-        ("leaning", rotation(Vector3::new(1.0, 1.0, 0.0), 40.0)),
-        ("on its side", rotation(Vector3::y(), 60.0)),
     ]);
     for seed in 1..=6 {
         // Even seeds print the box as a slicer does (solid shells, a shell per capsule).
@@ -93,7 +91,8 @@ fn the_box_with_steep_capsules_has_the_exact_centre_and_verdict() {
             infill: 0.3,
         };
         let verdicts = compare(&project, &[tall_box()], &design, 100.0);
-        // Upright and upside down it stands; on a corner or an edge it topples.
+        // Both poses put a face on the ground, so both formulations evaluate the same frames (a
+        // face turned to the side would lay the steep capsules flat).
         for (pose, (tilt, stand_objective)) in project.poses.iter().zip(verdicts) {
             assert_eq!(
                 stand_objective < 0.0,
@@ -107,8 +106,10 @@ fn the_box_with_steep_capsules_has_the_exact_centre_and_verdict() {
 
 #[test]
 fn the_two_part_model_has_the_exact_centre_and_verdict() {
-    // Within 60° of upright or of upside down, so no capsule comes near horizontal.
-    let angles = [0.0, 20.0, 45.0, 60.0, -30.0, -60.0, 150.0, -160.0];
+    // Within 72° of upright, so no capsule comes within 3.5° of horizontal, and the base's
+    // bottom stays the facet on the ground (swung much further, the arm would reach below it and
+    // the model would roll); swung past 69°, the solid model's centre passes the base's edge.
+    let angles = [0.0, 20.0, 45.0, 60.0, 72.0, -30.0, -60.0, -72.0];
     let project = project_with(
         &["base", "arm"],
         angles
@@ -125,16 +126,22 @@ fn the_two_part_model_has_the_exact_centre_and_verdict() {
     );
     let mut stands = 0;
     let mut topples = 0;
-    for seed in 1..=4 {
+    // Seed 0: the solid model, which topples with the arm swung 72° either way.
+    for seed in 0..=4 {
         let mut rng = Seeded::new(seed);
         let design = Design {
-            capsules: vec![random_capsule(
-                &mut rng,
-                1,
-                Point3::new(-3.0, -3.0, 20.0),
-                Point3::new(23.0, 23.0, 80.0),
-                true,
-            )],
+            capsules: (seed > 0)
+                .then(|| {
+                    random_capsule(
+                        &mut rng,
+                        1,
+                        Point3::new(-3.0, -3.0, 20.0),
+                        Point3::new(23.0, 23.0, 80.0),
+                        true,
+                    )
+                })
+                .into_iter()
+                .collect(),
             infill: 1.0,
         };
         for (tilt, stand_objective) in compare(&project, &two_parts(), &design, 80.0) {
@@ -158,8 +165,9 @@ fn the_two_part_model_has_the_exact_centre_and_verdict() {
 }
 
 #[test]
-fn a_box_on_an_edge_topples_in_both_formulations() {
-    // Resting on an edge: the support is a segment, so the exact margin is negative.
+fn a_box_on_an_edge_settles_onto_the_same_face_in_both_formulations() {
+    // Resting on an edge, the solid box rolls onto a face: the objective (settled with the solid
+    // centre) and the exact evaluation (the design's, here the same) put the same face down.
     let project = box_project(vec![("on an edge", rotation(Vector3::x(), 30.0))]);
     let verdicts = compare(
         &project,
@@ -170,6 +178,6 @@ fn a_box_on_an_edge_topples_in_both_formulations() {
         },
         100.0,
     );
-    assert!(verdicts[0].0 < 0.0);
-    assert!(verdicts[0].1 > 0.0);
+    assert!(verdicts[0].0 > 0.0);
+    assert!(verdicts[0].1 < 0.0);
 }

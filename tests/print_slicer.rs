@@ -279,8 +279,11 @@ fn the_t_shape_with_its_design_weighs_and_stands_as_prusaslicer_prints_it() {
              G-code's (ballast reports {:.2}° with its balls held)",
             evaluation.pose, evaluation.support.fixed_ball_margin
         );
-        // The margin computed here holds the balls still, as the balls-held margin does.
-        assert!((ballast - evaluation.support.fixed_ball_margin).abs() < 1e-6);
+        // The margin computed here holds the balls still, as the balls-held margin does, in the
+        // written rotation; ballast settles the pose onto its hull facet first, which turns the
+        // side poses by the written angles' rounding (2e-6°), and the margin by no more.
+        let settled = evaluation.resting.as_ref().map_or(0.0, |r| r.correction);
+        assert!((ballast - evaluation.support.fixed_ball_margin).abs() < 1e-6 + 2.0 * settled);
         assert!(
             (ballast - printed).abs() <= 1.0,
             "{}: margins differ by more than 1°",

@@ -56,6 +56,7 @@ fn pose(called: &str, transform: Isometry3<f64>, components: usize, goals: Vec<G
     Pose {
         name: name(called),
         transform,
+        down: None,
         component_transforms: vec![Isometry3::identity(); components],
         goals: goals.into_iter().map(goal).collect(),
         span: any_span(),
@@ -65,14 +66,13 @@ fn pose(called: &str, transform: Isometry3<f64>, components: usize, goals: Vec<G
 #[test]
 fn full_project() {
     let mm = Units::Millimetre;
-    let contact = mm.from_millimetres(0.05);
     let mut waving = pose(
         "waving",
         Isometry3::identity(),
         3,
         vec![Goal::Imbalance {
             margin: 2.0,
-            contact_tolerance: contact,
+            contact_tolerance: None,
         }],
     );
     waving.component_transforms[1] = compose([
@@ -118,7 +118,7 @@ fn full_project() {
                 3,
                 vec![Goal::Stand {
                     margin: 5.0,
-                    contact_tolerance: 0.1,
+                    contact_tolerance: Some(0.1),
                 }],
             ),
             pose(
@@ -130,7 +130,7 @@ fn full_project() {
                 3,
                 vec![Goal::Stand {
                     margin: 0.0,
-                    contact_tolerance: contact,
+                    contact_tolerance: None,
                 }],
             ),
             waving,
@@ -213,7 +213,7 @@ fn defaults() {
             1,
             vec![Goal::Stand {
                 margin: 0.0,
-                contact_tolerance: mm.from_millimetres(0.05),
+                contact_tolerance: None,
             }],
         )],
         capsules: Vec::new(),
@@ -250,7 +250,7 @@ fn goal_defaults() {
         vec![
             Goal::Imbalance {
                 margin: 0.0,
-                contact_tolerance: Units::Millimetre.from_millimetres(0.05),
+                contact_tolerance: None,
             },
             Goal::Suspend {
                 point: point(1.0, 2.0, 3.0),
@@ -364,7 +364,7 @@ fn lengths_convert_to_the_project_units() {
     match upright.goals[0].value {
         Goal::Stand {
             contact_tolerance, ..
-        } => assert!(close(contact_tolerance, 0.1)),
+        } => assert!(close(contact_tolerance.unwrap(), 0.1)),
         ref other => panic!("expected stand, found {other:?}"),
     }
     match project.poses[1].goals[0].value {
@@ -383,7 +383,7 @@ fn defaults_follow_the_project_units() {
         project.poses[0].goals[0].value,
         Goal::Stand {
             margin: 0.0,
-            contact_tolerance: inch.from_millimetres(0.05),
+            contact_tolerance: None,
         }
     );
 }

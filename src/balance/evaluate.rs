@@ -4,8 +4,8 @@ use nalgebra::Point3;
 
 use super::support::GroundPlane;
 use super::tilt::{RollingBall, TiltedModel};
-use super::{ball, equilibria, goals, mass, support, BallMove, BallPlacement, ComponentBody};
-use super::{mass::MassTotals, PoseEvaluation, Support};
+use super::{ball, equilibria, goals, mass, rest, support, BallMove, BallPlacement};
+use super::{mass::MassTotals, ComponentBody, PoseEvaluation, Support};
 use crate::design::Design;
 use crate::spec::model::{Pose, Project};
 
@@ -13,12 +13,34 @@ use crate::spec::model::{Pose, Project};
 /// the ground with its toppling angles, and the outcome of each of the pose's goals (with every
 /// stable state of a hanging or floating goal).
 ///
+/// A pose with a `stand` or `imbalance` goal is first settled onto its hull
+/// ([`rest`](super::rest)) with the design's centre of mass in the written pose, and everything is
+/// evaluated in the settled pose; [`PoseEvaluation::resting`] says which facet and how far the
+/// written rotation was from it.
+///
 /// `bodies` is indexed like [`Project::components`]. Component `i` is placed in world by
 /// `pose.transform * pose.component_transforms[i]`, or by `pose.transform` alone when the pose has
 /// no transform for it. A capsule naming a component without a body is placed but left out of the
 /// mass (see [`BallPlacement::mass`](super::BallPlacement::mass)). The design's infill is used,
 /// not the project's. Never panics; finite inputs give finite outputs.
 pub fn evaluate_pose(
+    project: &Project,
+    bodies: &[ComponentBody],
+    design: &Design,
+    pose: &Pose,
+) -> PoseEvaluation {
+    let written = evaluate_placed(project, bodies, design, pose);
+    let settled = rest::settle_pose(project, bodies, pose, &written.centre_of_mass.into());
+    let mut evaluation = match settled.resting {
+        Some(_) => evaluate_placed(project, bodies, design, &settled.pose),
+        None => written,
+    };
+    evaluation.resting = settled.resting;
+    evaluation
+}
+
+/// What `design` does in `pose` exactly as placed, without settling on the hull.
+fn evaluate_placed(
     project: &Project,
     bodies: &[ComponentBody],
     design: &Design,
@@ -39,7 +61,8 @@ pub fn evaluate_pose(
     let mut support = support::support(
         &vertices,
         project.up,
-        support::contact_tolerance(project, pose),
+        support::contact_tolerance(pose)
+            .unwrap_or_else(|| rest::default_contact_tolerance(&vertices)),
         &totals.centre_of_mass,
     );
     with_rolling_balls(
@@ -74,6 +97,7 @@ pub fn evaluate_pose(
         centre_of_mass: totals.centre_of_mass.into(),
         balls,
         support,
+        resting: None,
         goals,
     }
 }

@@ -7,6 +7,8 @@
 //! - where each ball rests: at the end of its capsule that gravity sends it to (eq. 19-20), touching
 //!   the capsule's spherical cap, or on the axis midpoint when the axis is too close to horizontal
 //!   to say;
+//! - for a pose that stands on the ground, the facet of the model's convex hull it rests on: the
+//!   written rotation corrected to put that facet flat on the ground (see `rest`);
 //! - the support polygon on the ground and the toppling angle about each of its edges (the angles
 //!   eq. 1 takes a smooth maximum of, balls held still), and the tilt margin with the balls
 //!   rolling as the ground tilts, over every direction;
@@ -33,15 +35,18 @@
 mod ball;
 pub(crate) mod equilibria;
 pub(crate) mod evaluate;
+pub(crate) mod facets;
 mod goals;
-mod hull;
 mod mass;
+pub(crate) mod rest;
 pub(crate) mod support;
 pub(crate) mod tilt;
 
 pub use equilibria::{CUT_FLIPS, MAX_ENUMERATED_BALLS};
 pub use evaluate::evaluate_pose;
+pub use facets::{facet_rotation, resting_facets, RestingFacet};
 pub use mass::capsule_shell;
+pub use rest::{Resting, SNAP_WARNING};
 
 use serde::Serialize;
 
@@ -140,6 +145,11 @@ pub struct PoseEvaluation {
     pub balls: Vec<BallPlacement>,
     /// Where and how the model rests on the ground in this pose.
     pub support: Support,
+    /// The facet of the hull the pose rests on, for a pose with a `stand` or `imbalance` goal
+    /// whose model has a volume (`null` otherwise, and when it is balanced exactly on an edge or
+    /// a vertex, where it is evaluated as written; then left out of the JSON).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub resting: Option<Resting>,
     /// One per goal of the pose, in the pose's order.
     pub goals: Vec<GoalEvaluation>,
 }
@@ -181,8 +191,8 @@ pub enum BallRest {
 
 /// How the model rests on a horizontal ground in a pose.
 ///
-/// The ground touches the lowest posed vertex. The vertices within the contact tolerance of it
-/// are the contact points; their convex hull, seen from above, is the support polygon. Tilting the
+/// The ground touches the lowest posed vertex (in the pose settled on its hull). The vertices
+/// within the contact tolerance of it are the contact points; their convex hull, seen from above, is the support polygon. Tilting the
 /// ground about one of the polygon's edges topples the model once the centre of mass passes over
 /// that edge: the angle at which that happens is the edge's toppling angle.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -191,8 +201,9 @@ pub struct Support {
     /// vertices.
     pub ground_height: f64,
     /// Vertices at most this far above the ground touch it, project units: the tolerance of the
-    /// pose's first `stand` or `imbalance` goal (0 if that is negative), else 0.05 mm. Every
-    /// `stand` and `imbalance` goal of the pose is judged on this one support.
+    /// pose's first `stand` or `imbalance` goal (0 if that is negative), else the hull's
+    /// coplanarity tolerance (1e-6 of the posed model's extent). Every `stand` and `imbalance`
+    /// goal of the pose is judged on this one support.
     pub contact_tolerance: f64,
     /// Height of the centre of mass above the ground, project units.
     pub centre_height: f64,

@@ -2,16 +2,16 @@
 
 use nalgebra::{Point3, Vector2, Vector3};
 
-use super::hull::convex_hull;
 use super::{Support, SupportEdge};
-use crate::spec::model::{Axis, Goal, Pose, Project};
+use crate::geometry::polygon::convex_hull;
+use crate::spec::model::{Axis, Goal, Pose};
 
 /// Toppling angle reported when nothing touches the ground: the model falls whichever way.
 pub(crate) const NO_SUPPORT: f64 = -90.0;
 
-/// The contact tolerance of `pose`: that of its first `stand` or `imbalance` goal, else 0.05 mm in
-/// the project's units.
-pub(crate) fn contact_tolerance(project: &Project, pose: &Pose) -> f64 {
+/// The contact tolerance `pose` writes: that of its first `stand` or `imbalance` goal, if it gives
+/// one (else the hull's, [`default_contact_tolerance`](super::rest::default_contact_tolerance)).
+pub(crate) fn contact_tolerance(pose: &Pose) -> Option<f64> {
     pose.goals
         .iter()
         .find_map(|goal| match goal.value {
@@ -23,7 +23,7 @@ pub(crate) fn contact_tolerance(project: &Project, pose: &Pose) -> f64 {
             } => Some(contact_tolerance),
             Goal::Suspend { .. } | Goal::Immerse { .. } => None,
         })
-        .unwrap_or_else(|| project.units.from_millimetres(0.05))
+        .flatten()
 }
 
 /// How the model with world vertices `vertices` and centre of mass `centre` rests on the ground

@@ -45,6 +45,24 @@ pub enum Command {
         #[command(flatten)]
         optimize: OptimizeArgs,
     },
+    /// List the facets of the model's convex hull it rests on stably, most stable first, with
+    /// each one's tilt margin, area and the `pose` lines to paste into the project.
+    ///
+    /// The margin is the solid model's (no capsules) and, when the project has capsules (written,
+    /// or the solution file of an `optimize` project), the design's too. A facet is listed when
+    /// either rests on it stably. Exit status 0, or 2 for an invalid project.
+    Poses {
+        /// The project file (.kdl).
+        project: PathBuf,
+        /// Place the components as this pose does (default: the first pose), for a project whose
+        /// poses move components.
+        #[arg(long, value_name = "NAME")]
+        pose: Option<String>,
+        /// Read the solution file from this folder (where `build --out-dir` wrote it) instead of
+        /// the path the project names.
+        #[arg(long, value_name = "DIR")]
+        out_dir: Option<PathBuf>,
+    },
     /// Build the project, then rebuild it whenever the project file or one of its meshes changes,
     /// until Ctrl-C.
     ///

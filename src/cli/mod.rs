@@ -7,6 +7,7 @@ mod args;
 mod build;
 mod check;
 mod diagnostics;
+mod poses;
 mod progress;
 mod table;
 mod watch;
@@ -64,6 +65,18 @@ pub fn run() -> i32 {
             &project,
             &optimize_options(out_dir, &optimize),
             precompute_cache(&optimize),
+        ),
+        Command::Poses {
+            project,
+            pose,
+            out_dir,
+        } => poses::run(
+            &project,
+            pose.as_deref(),
+            &CompileOptions {
+                out_dir,
+                optimize: None,
+            },
         ),
         Command::Watch {
             project,

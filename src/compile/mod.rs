@@ -14,6 +14,7 @@
 //! where progress goes.
 
 mod design;
+mod down;
 mod mesh_cache;
 mod meshes;
 mod optimize;
@@ -41,6 +42,7 @@ pub use workspace::{Failure, Stage, Workspace};
 
 use crate::balance::{
     evaluate_pose, BallRest, ComponentBody, GoalOutcome, PoseEvaluation, MAX_ENUMERATED_BALLS,
+    SNAP_WARNING,
 };
 use crate::design::Design;
 use crate::diagnostic::Problem;
@@ -125,11 +127,26 @@ pub fn compile_with(
 ) -> Result<Compilation, Failure> {
     let parsed = parse_project(source, project_path);
     let mut problems = parsed.problems;
-    let Some(project) = parsed.project else {
+    let Some(mut project) = parsed.project else {
         return Err(Failure::Invalid(problems));
     };
     let (meshes, mesh_problems) = load_components(&project, &mut workspace.meshes);
     problems.extend(mesh_problems);
+    if let Some(meshes) = meshes
+        .as_ref()
+        .filter(|_| project.poses.iter().any(|pose| pose.down.is_some()))
+    {
+        let prints: Vec<PrintVolumes> = meshes
+            .iter()
+            .map(|mesh| workspace.prints.volumes(&project, mesh))
+            .collect();
+        let bodies: Vec<ComponentBody> = meshes
+            .iter()
+            .zip(&prints)
+            .map(|(mesh, print)| ComponentBody::with_print(mesh, *print))
+            .collect();
+        problems.extend(down::place_down_poses(&mut project, &bodies));
+    }
     let (written, design_problems) = hand_placed_design(&project);
     problems.extend(design_problems);
     if let Some(meshes) = &meshes {
@@ -178,6 +195,7 @@ pub fn compile_with(
         .map(|pose| evaluate_pose(&project, &bodies, &design, pose))
         .collect();
     problems.extend(undetermined_balls(&project, &design, &poses));
+    problems.extend(settled_poses(&project, &poses));
     problems.extend(other_states(&project, &poses));
     Ok(Compilation {
         project,
@@ -198,6 +216,33 @@ pub fn output_path(path: &Path, out_dir: Option<&Path>) -> PathBuf {
         (Some(folder), Some(name)) => folder.join(name),
         _ => path.to_path_buf(),
     }
+}
+
+/// A warning for every pose that settling on the hull turned by more than [`SNAP_WARNING`]: the
+/// written rotation puts no facet on the ground.
+fn settled_poses(project: &Project, poses: &[PoseEvaluation]) -> Vec<Problem> {
+    let mut warnings = Vec::new();
+    for (pose, evaluation) in project.poses.iter().zip(poses) {
+        let Some(resting) = &evaluation.resting else {
+            continue;
+        };
+        if resting.correction <= SNAP_WARNING {
+            continue;
+        }
+        let [x, y, z] = resting.down;
+        warnings.push(
+            Problem::warning(
+                "ballast::pose::settles",
+                format!(
+                    "pose `{}` puts no facet of the model's hull on the ground: it settles {:.2}° away, onto the facet facing {x:.6} {y:.6} {z:.6} ({} corners, area {:.4})",
+                    pose.name.value, resting.correction, resting.corners, resting.area
+                ),
+            )
+            .with_label(pose.name.span, "this pose is evaluated as it settles")
+            .with_help(format!("to rest on that facet exactly, write `down {x:.6} {y:.6} {z:.6}` instead of the rotation; `ballast poses` lists the facets")),
+        );
+    }
+    warnings
 }
 
 /// A warning for every ball whose rest end cannot be trusted in a pose, pointing at the capsule's

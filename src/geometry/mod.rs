@@ -4,6 +4,8 @@
 //! - [`load_mesh`]: `.obj`, `.gltf` and `.glb` files, whole or one named part; the external
 //!   buffer files a `.gltf` file reads, without loading them (`external_buffer_paths`).
 //! - [`check_mesh`]: holes, non-manifold and misoriented edges, degenerate triangles, inversion.
+//! - [`convex_hull`]: the exact convex hull of points, its coplanar triangles merged into
+//!   convex polygon facets with outward normals.
 //! - [`mass_properties`]: volume, centroid and second moment of the enclosed solid.
 //! - [`print_volumes`]: the solid and the sparse part of an FDM print of the solid.
 //! - [`winding_number`]: inside/outside test that tolerates small holes.
@@ -12,6 +14,7 @@
 //! - [`DistanceGrid`]: signed distance sampled on a grid, with a smooth interpolant.
 //! - [`Skeleton`]: a curve skeleton as straight segments, whose midpoints seed capsules.
 
+mod convex_hull;
 mod distance;
 mod field;
 mod gltf_buffers;
@@ -20,12 +23,14 @@ mod load_gltf;
 mod load_obj;
 mod mass;
 mod mesh;
+pub(crate) mod polygon;
 mod print;
 mod skeleton;
 mod tree;
 mod validate;
 mod winding;
 
+pub use convex_hull::{convex_hull, ConvexHull, HullFacet, COPLANAR};
 pub use distance::{
     distance_to_point, distance_to_segment, point_triangle_distance, segment_segment_distance,
     segment_triangle_distance,

@@ -3,6 +3,7 @@
 use nalgebra::{Isometry3, Point3, Vector3};
 
 use crate::balance::evaluate::{extent, posed_vertices};
+use crate::balance::rest::{default_contact_tolerance, settle_pose, solid_centre};
 use crate::balance::support::{
     contact_tolerance, footprint, ground_height, support_lines, GroundPlane, SupportLine,
 };
@@ -84,12 +85,18 @@ pub(crate) enum GoalSetup {
 impl PoseSetup {
     /// Precomputes `pose` of the model made of `bodies` (indexed like `project.components`);
     /// `angle_smoothing` as in [`Parameters`](super::Parameters).
+    ///
+    /// A pose that stands on the ground is first settled onto its hull with the solid model's
+    /// centre of mass (the design is not known yet), as `balance::evaluate_pose` does with the
+    /// design's.
     pub fn new(
         project: &Project,
         bodies: &[ComponentBody],
         pose: &Pose,
         angle_smoothing: f64,
     ) -> PoseSetup {
+        let settled = settle_pose(project, bodies, pose, &solid_centre(bodies, pose));
+        let pose = &settled.pose;
         let up = project.up.unit_vector();
         let count = bodies.len().max(project.components.len());
         let frames: Vec<Isometry3<f64>> = (0..count).map(|i| pose.component_frame(i)).collect();
@@ -118,16 +125,12 @@ impl PoseSetup {
             )
         };
         let volume: f64 = placed.iter().map(|(v, _)| v).sum();
-        let magnitude: f64 = placed.iter().map(|(v, _)| v.abs()).sum();
-        let moment: Vector3<f64> = placed.iter().map(|(v, c)| c.coords * *v).sum();
-        let buoyancy_centre = if volume.abs() > 1e-12 * magnitude && volume != 0.0 {
-            Point3::from(moment / volume)
-        } else {
-            fallback_centre
-        };
+        let buoyancy_centre = solid_centre(bodies, pose);
         let vertices = posed_vertices(bodies, pose);
         let plane = GroundPlane::new(project.up);
-        let tolerance = contact_tolerance(project, pose).max(0.0);
+        let tolerance = contact_tolerance(pose)
+            .unwrap_or_else(|| default_contact_tolerance(&vertices))
+            .max(0.0);
         let support = ground_height(&vertices, &plane).map(|ground| {
             let (_, polygon) = footprint(&vertices, &plane, ground, tolerance);
             Footing {

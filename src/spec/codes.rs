@@ -37,6 +37,10 @@ pub const DUPLICATE_NAME: &str = "ballast::duplicate_name";
 pub const UNKNOWN_COMPONENT: &str = "ballast::unknown_component";
 /// Two properties that exclude each other (`object=` and `node=`).
 pub const CONFLICTING_PROPERTIES: &str = "ballast::conflicting_properties";
+/// `down 0 0 0` in a pose: a direction of length zero.
+pub const ZERO_DOWN: &str = "ballast::pose::zero_down";
+/// `down` beside `rotate`, `translate` or `pivot` in one pose.
+pub const DOWN_WITH_STEPS: &str = "ballast::pose::down_with_steps";
 /// `optimize capsules=N` asks for fewer capsules than the project pins.
 pub const TOO_FEW_CAPSULES: &str = "ballast::optimize::too_few_capsules";
 /// A solution file's `infill` that the project does not leave open: outside the project's

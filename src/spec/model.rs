@@ -332,8 +332,14 @@ pub struct Component {
 pub struct Pose {
     /// Unique among poses.
     pub name: Spanned<String>,
-    /// Rest frame to world, applied after each component's own transform.
+    /// Rest frame to world, applied after each component's own transform. For a pose with
+    /// [`down`](Pose::down), the identity until the driver, once the meshes are loaded, sets it
+    /// to the rotation that puts the chosen facet on the ground.
     pub transform: Isometry3<f64>,
+    /// The `down x y z` direction, model frame (components placed by the pose), when the pose
+    /// names its resting facet instead of writing a rotation: the facet of the hull that the ray
+    /// from the solid model's centre of mass along it meets goes on the ground. Never zero.
+    pub down: Option<Spanned<Vector3<f64>>>,
     /// Per component (same order as [`Project::components`]): component rest frame to model
     /// frame; the identity unless the pose moves that component. A component's world transform
     /// is `transform * component_transforms[i]`.
@@ -362,15 +368,16 @@ pub enum Goal {
     Stand {
         /// Degrees of tilt the pose must survive.
         margin: f64,
-        /// Vertices within this height of the lowest one touch the ground (project units).
-        contact_tolerance: f64,
+        /// Vertices within this height of the lowest one touch the ground once the pose rests on
+        /// its hull (project units); `None`: the hull's coplanarity tolerance.
+        contact_tolerance: Option<f64>,
     },
     /// Fall over when put down: the centre of mass is at least `margin` degrees outside the support.
     Imbalance {
         /// Degrees by which the centre of mass must lie outside the support polygon.
         margin: f64,
         /// As for [`Goal::Stand`].
-        contact_tolerance: f64,
+        contact_tolerance: Option<f64>,
     },
     /// Hang from a string tied at `point` with the centre of mass straight below it.
     Suspend {
@@ -450,14 +457,16 @@ impl PartialEq for Pose {
         let Pose {
             name,
             transform,
+            down,
             component_transforms,
             goals,
             span: _,
         } = self;
-        (name, transform, component_transforms, goals)
+        (name, transform, down, component_transforms, goals)
             == (
                 &other.name,
                 &other.transform,
+                &other.down,
                 &other.component_transforms,
                 &other.goals,
             )

@@ -8,7 +8,7 @@
 use std::path::{Path, PathBuf};
 
 use miette::SourceSpan;
-use nalgebra::{Isometry3, Point3};
+use nalgebra::{Isometry3, Point3, Vector3};
 
 use super::codes;
 use super::model::{
@@ -313,9 +313,11 @@ impl<'a> Resolver<'a> {
                 .iter()
                 .filter_map(|child| self.goal(child))
                 .collect();
+            let down = self.down(node);
             poses.push(Pose {
                 name,
                 transform: compose(steps(node)),
+                down,
                 component_transforms,
                 goals,
                 span: node.span,
@@ -324,18 +326,48 @@ impl<'a> Resolver<'a> {
         poses
     }
 
+    /// The `down` direction of a pose node, if it has one; reports a zero direction and a `down`
+    /// beside pose-level transform steps.
+    fn down(&mut self, node: &Node) -> Option<Spanned<Vector3<f64>>> {
+        let child = node.child("down")?;
+        let direction = child.vector()?;
+        if let Some(step) = ["rotate", "translate", "pivot"]
+            .iter()
+            .find_map(|name| node.child(name))
+        {
+            self.problems.push(
+                Problem::error(
+                    codes::DOWN_WITH_STEPS,
+                    format!("`down` sets the whole pose's placement; `{}` cannot go with it", step.name),
+                )
+                .with_label(step.span, "this step")
+                .with_label(child.span, "the pose is placed by `down`")
+                .with_help("remove the step, or write the pose's rotation instead of `down`; `component` blocks may still move components"),
+            );
+            return None;
+        }
+        if direction.norm() == 0.0 {
+            self.problems.push(
+                Problem::error(codes::ZERO_DOWN, "`down` is the zero vector: it points nowhere")
+                    .with_label(child.span, "this direction")
+                    .with_help("give the direction, in the rest frame, that points to the ground, e.g. `down 0 0 -1`; `ballast poses` lists the facets"),
+            );
+            return None;
+        }
+        Some(Spanned::new(direction, child.span))
+    }
+
     /// The goal a child of a pose states, if it is a goal node.
     fn goal(&mut self, node: &Node) -> Option<Spanned<Goal>> {
         let number = |name, default: f64| node.number(name).unwrap_or(default);
-        let contact = self.units.from_millimetres(0.05);
         let goal = match node.name {
             "stand" => Goal::Stand {
                 margin: number("margin", 0.0),
-                contact_tolerance: number("contact-tolerance", contact),
+                contact_tolerance: node.number("contact-tolerance"),
             },
             "imbalance" => Goal::Imbalance {
                 margin: number("margin", 0.0),
-                contact_tolerance: number("contact-tolerance", contact),
+                contact_tolerance: node.number("contact-tolerance"),
             },
             "suspend" => Goal::Suspend {
                 point: node.point().unwrap_or(Point3::origin()),

@@ -91,6 +91,8 @@ const NAME_ARG: ArgsSpec = args(ValueKind::String, 1, 1);
 const PATH_ARG: ArgsSpec = args(ValueKind::Path, 1, 1);
 /// Three angles in degrees.
 const ANGLES: ArgsSpec = args(ValueKind::Number, 3, 3);
+/// The three components of a direction, without unit.
+const DIRECTION: ArgsSpec = args(ValueKind::Number, 3, 3);
 /// The three coordinates of a point or a displacement.
 const POINT: ArgsSpec = length_args(ValueKind::Number, 3, 3);
 
@@ -182,6 +184,7 @@ const POSE_CHILDREN: &[NodeSpec] = &[
     TRANSFORM_STEPS[0],
     TRANSFORM_STEPS[1],
     TRANSFORM_STEPS[2],
+    leaf("down", DIRECTION, &[]),
     NodeSpec {
         name: "component",
         args: NAME_ARG,

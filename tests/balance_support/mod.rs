@@ -76,6 +76,7 @@ pub fn pose(transform: Isometry3<f64>, components: Vec<Isometry3<f64>>, goals: V
     Pose {
         name: Spanned::new("pose".to_string(), span()),
         transform,
+        down: None,
         component_transforms: components,
         goals: goals.into_iter().map(|g| Spanned::new(g, span())).collect(),
         span: span(),
@@ -136,7 +137,7 @@ pub fn design(capsules: Vec<PlacedCapsule>) -> Design {
 pub fn stand(margin: f64) -> Goal {
     Goal::Stand {
         margin,
-        contact_tolerance: 0.05,
+        contact_tolerance: Some(0.05),
     }
 }
 
@@ -144,7 +145,7 @@ pub fn stand(margin: f64) -> Goal {
 pub fn imbalance(margin: f64) -> Goal {
     Goal::Imbalance {
         margin,
-        contact_tolerance: 0.05,
+        contact_tolerance: Some(0.05),
     }
 }
 

@@ -8,24 +8,34 @@
 /// empty, one point, the two ends of a segment (when all points are collinear), or a polygon with
 /// strictly left turns. Deterministic: the points are sorted with a total order first.
 pub(crate) fn convex_hull(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
-    let mut sorted: Vec<[f64; 2]> = points
-        .iter()
-        .copied()
-        .filter(|p| p.iter().all(|x| x.is_finite()))
+    convex_hull_indices(points)
+        .into_iter()
+        .map(|i| points[i])
+        .collect()
+}
+
+/// [`convex_hull`] as indices into `points`: of repeated points, the first.
+pub(crate) fn convex_hull_indices(points: &[[f64; 2]]) -> Vec<usize> {
+    let mut sorted: Vec<usize> = (0..points.len())
+        .filter(|&i| points[i].iter().all(|x| x.is_finite()))
         .collect();
-    sorted.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
-    sorted.dedup();
+    let order = |a: &usize, b: &usize| {
+        let (p, q) = (points[*a], points[*b]);
+        p[0].total_cmp(&q[0]).then(p[1].total_cmp(&q[1]))
+    };
+    sorted.sort_by(|a, b| order(a, b).then(a.cmp(b)));
+    sorted.dedup_by(|later, earlier| points[*later] == points[*earlier]);
     if sorted.len() < 3 {
         return sorted;
     }
-    let mut hull: Vec<[f64; 2]> = Vec::with_capacity(sorted.len() + 1);
+    let mut hull: Vec<usize> = Vec::with_capacity(sorted.len() + 1);
     for &p in &sorted {
-        pop_right_turns(&mut hull, 2, p);
+        pop_right_turns(points, &mut hull, 2, p);
         hull.push(p);
     }
     let lower_len = hull.len();
     for &p in sorted.iter().rev().skip(1) {
-        pop_right_turns(&mut hull, lower_len + 1, p);
+        pop_right_turns(points, &mut hull, lower_len + 1, p);
         hull.push(p);
     }
     // The upper chain ends where the lower one started.
@@ -33,12 +43,13 @@ pub(crate) fn convex_hull(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
     hull
 }
 
-/// Pops the last point of `hull` while it has at least `keep` points and the last two do not
-/// turn strictly left towards `next`.
-fn pop_right_turns(hull: &mut Vec<[f64; 2]>, keep: usize, next: [f64; 2]) {
+/// Pops the last point of `hull` (indices into `points`) while it has at least `keep` points and
+/// the last two do not turn strictly left towards `points[next]`.
+fn pop_right_turns(points: &[[f64; 2]], hull: &mut Vec<usize>, keep: usize, next: usize) {
+    let next = points[next];
     while hull.len() >= keep {
-        let a = hull[hull.len() - 2];
-        let b = hull[hull.len() - 1];
+        let a = points[hull[hull.len() - 2]];
+        let b = points[hull[hull.len() - 1]];
         let cross = (b[0] - a[0]) * (next[1] - a[1]) - (b[1] - a[1]) * (next[0] - a[0]);
         if cross > 0.0 {
             break;
