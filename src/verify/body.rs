@@ -46,8 +46,6 @@ pub(crate) struct Model {
     pub hulls: Vec<Vec<Vector>>,
     /// The balls, in the design's order.
     pub balls: Vec<BallSpec>,
-    /// Outer volume of all components, m³.
-    pub volume: f64,
     /// Centroid of the outer volume, body frame: where buoyancy acts.
     pub buoyancy_centre: Vector,
     /// Up, against gravity, in the world (and the pose's body frame).
@@ -107,17 +105,11 @@ impl Model {
             material,
             hulls,
             balls,
-            volume: outer.mass(),
             buoyancy_centre: outer.local_com,
             up: Vector::new(up.x, up.y, up.z),
             size: (high - low).length().max(1e-6),
             scale,
         }
-    }
-
-    /// Total mass, kg: material plus balls.
-    pub fn mass(&self) -> f64 {
-        self.material.mass() + self.balls.iter().map(|b| b.mass.mass()).sum::<f64>()
     }
 
     /// Two horizontal unit vectors that, with `up`, make a right-handed frame.
@@ -369,17 +361,20 @@ impl World {
             .collect()
     }
 
-    /// How fast the model turns and the balls move in it, m/s: the model's angular speed times
-    /// its size, or a ball's speed relative to the model, whichever is largest. Translation is
-    /// left out: only the orientation and the balls matter to the goals.
-    pub fn motion(&self, size: f64) -> f64 {
+    /// How fast the model tilts and the balls move in it, m/s: the model's angular speed about
+    /// horizontal axes times its size, or a ball's speed relative to the model, whichever is
+    /// largest. Translation and turning about `up` are left out: neither changes a hanging or
+    /// floating goal's angle.
+    pub fn motion(&self, size: f64, up: Vector) -> f64 {
         let body = self.model_body();
+        let spin = body.angvel();
+        let tilting = spin - up * spin.dot(up);
         self.balls
             .iter()
             .map(|handle| {
                 let ball = &self.bodies[*handle];
                 (ball.linvel() - body.velocity_at_point(ball.translation())).length()
             })
-            .fold(body.angvel().length() * size, f64::max)
+            .fold(tilting.length() * size, f64::max)
     }
 }

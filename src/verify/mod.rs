@@ -169,7 +169,8 @@ fn check_goal(
         }
         (Goal::Suspend { .. }, GoalOutcome::Suspend { angle, point, .. }) => {
             let point = to_si(*point, model.scale);
-            let releases = suspend::hang(model, point);
+            let damping = (suspend::LINEAR_DAMPING, suspend::ANGULAR_DAMPING);
+            let releases = suspend::hang(model, point, damping);
             let states = release::distinct_states(&releases);
             let (measured, disagreement) = compare_release(*angle, &releases, evaluation);
             GoalCheck {
@@ -180,8 +181,8 @@ fn check_goal(
                 detail: Detail::Suspend { releases, states },
             }
         }
-        (Goal::Immerse { fluid_density, .. }, GoalOutcome::Immerse { angle, .. }) => {
-            let releases = immerse::float(model, fluid_density * 1000.0);
+        (Goal::Immerse { .. }, GoalOutcome::Immerse { angle, .. }) => {
+            let releases = immerse::float(model);
             let states = release::distinct_states(&releases);
             let (measured, disagreement) = compare_release(*angle, &releases, evaluation);
             GoalCheck {

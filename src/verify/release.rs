@@ -86,23 +86,14 @@ pub(crate) fn turned_about(centre: Vector, rotation: Rotation) -> Pose3 {
         * Pose3::from_translation(-centre)
 }
 
-/// Runs `world` until it has settled or [`MAX_TIME`] has passed, calling `before_step` before
-/// every step but the first (to apply forces: rapier knows a body's world centre of mass, about
-/// which a force at a point turns it, only after a step). Returns whether it settled.
-pub(crate) fn run_until_settled(
-    world: &mut World,
-    model: &Model,
-    mut before_step: impl FnMut(&mut World),
-) -> bool {
+/// Runs `world` until it has settled or [`MAX_TIME`] has passed. Returns whether it settled.
+pub(crate) fn run_until_settled(world: &mut World, model: &Model) -> bool {
     let steps = (MAX_TIME / world.time_step()).ceil() as usize;
     let quiet_steps = (QUIET_TIME / world.time_step()).ceil() as usize;
     let mut quiet = 0;
-    for step in 0..steps {
-        if step > 0 {
-            before_step(world);
-        }
+    for _ in 0..steps {
         world.step();
-        if world.motion(model.size) < QUIET_SPEED * model.size {
+        if world.motion(model.size, model.up) < QUIET_SPEED * model.size {
             quiet += 1;
             if quiet >= quiet_steps {
                 return true;

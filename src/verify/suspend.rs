@@ -12,18 +12,24 @@ pub(crate) const ANGULAR_DAMPING: f64 = 2.0;
 /// Linear damping of the hanging model and its balls, 1/s.
 pub(crate) const LINEAR_DAMPING: f64 = 0.5;
 
-/// Hangs the model from `point` (body frame, metres) and lets it go from every start of
-/// [`starts`]. Each release's angle is the one between the final string (point to centre of
+/// Hangs the model from `point` (body frame, metres), every body damped by `damping` (linear,
+/// angular, 1/s), and lets it go from every start of [`starts`]. Each release's angle is the one between the final string (point to centre of
 /// mass, balls where they ended) and the pose's gravity, both in the model's frame: how far the
 /// hanging model has turned off its pose.
-pub(crate) fn hang(model: &Model, point: Vector) -> Vec<Release> {
+pub(crate) fn hang(model: &Model, point: Vector, damping: (f64, f64)) -> Vec<Release> {
     starts(model)
         .into_iter()
-        .map(|(start, rotation)| hang_from(model, point, start, rotation))
+        .map(|(start, rotation)| hang_from(model, point, damping, start, rotation))
         .collect()
 }
 
-fn hang_from(model: &Model, point: Vector, start: String, rotation: Rotation) -> Release {
+fn hang_from(
+    model: &Model,
+    point: Vector,
+    damping: (f64, f64),
+    start: String,
+    rotation: Rotation,
+) -> Release {
     let pose = turned_about(point, rotation);
     let mut world = World::new(
         model,
@@ -31,7 +37,7 @@ fn hang_from(model: &Model, point: Vector, start: String, rotation: Rotation) ->
             start: pose,
             colliders: false,
             fused_balls: false,
-            damping: (LINEAR_DAMPING, ANGULAR_DAMPING),
+            damping,
             time_step: TIME_STEP,
         },
     );
@@ -46,7 +52,7 @@ fn hang_from(model: &Model, point: Vector, start: String, rotation: Rotation) ->
         .build();
     joint.data.local_frame1.rotation = rotation;
     world.joints.insert(anchor, world.model, joint, true);
-    let settled = run_until_settled(&mut world, model, |_| {});
+    let settled = run_until_settled(&mut world, model);
     let frame = *world.model_body().position();
     let string = frame.inverse_transform_point(world.centre_of_mass()) - point;
     let direction = string.normalize_or_zero();
