@@ -14,7 +14,12 @@ use geometry_support::{box_mesh, prism};
 fn obj(mesh: &TriMesh, offset: [f64; 3]) -> String {
     let mut text = String::new();
     for p in &mesh.positions {
-        text += &format!("v {} {} {}\n", p.x + offset[0], p.y + offset[1], p.z + offset[2]);
+        text += &format!(
+            "v {} {} {}\n",
+            p.x + offset[0],
+            p.y + offset[1],
+            p.z + offset[2]
+        );
     }
     for [a, b, c] in &mesh.triangles {
         text += &format!("f {} {} {}\n", a + 1, b + 1, c + 1);
@@ -47,7 +52,10 @@ pose "up" {
     stand margin=1
 }
 "#;
-    let compilation = compiled(project, &obj(&box_mesh(40.0, 60.0, 100.0), [-20.0, -30.0, 0.0]));
+    let compilation = compiled(
+        project,
+        &obj(&box_mesh(40.0, 60.0, 100.0), [-20.0, -30.0, 0.0]),
+    );
     let verification = verify(&compilation);
     let goal = only_goal(&verification);
     let by_hand = (20.0f64 / 50.0).atan().to_degrees();

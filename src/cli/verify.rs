@@ -112,7 +112,11 @@ fn goal_lines(out: &mut String, goal: &GoalCheck, capsules: &[&str]) {
                 let _ = writeln!(
                     out,
                     "    {} {}",
-                    if index == 0 { "settles at" } else { "also at   " },
+                    if index == 0 {
+                        "settles at"
+                    } else {
+                        "also at   "
+                    },
                     state_line(state, capsules)
                 );
             }

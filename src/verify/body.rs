@@ -41,8 +41,8 @@ pub(crate) struct Model {
     /// Printed material: every component's mesh at material density × infill, minus the capsule
     /// voids. Body frame.
     pub material: MassProperties,
-    /// The points of each component's mesh, body frame: their convex hull is what touches the
-    /// ground.
+    /// The points of each component's mesh, body frame: the vertices of their convex hull are
+    /// what touches the ground.
     pub hulls: Vec<Vec<Vector>>,
     /// The balls, in the design's order.
     pub balls: Vec<BallSpec>,
@@ -92,8 +92,7 @@ impl Model {
             let frame = pose.component_frame(capsule.component);
             let from = to_vector(&(frame * capsule.from), scale);
             let to = to_vector(&(frame * capsule.to), scale);
-            material -=
-                MassProperties::from_capsule(density, from, to, capsule.radius * scale);
+            material -= MassProperties::from_capsule(density, from, to, capsule.radius * scale);
             balls.push(BallSpec {
                 from,
                 to,
@@ -167,7 +166,7 @@ pub(crate) struct World {
 pub(crate) struct Build {
     /// Where the model's body frame is at the start.
     pub start: Pose3,
-    /// Whether the model gets its convex-hull colliders (only needed with a ground).
+    /// Whether the model gets its contact colliders (only needed with a ground).
     pub colliders: bool,
     /// Whether the balls are part of the model's own body (placed with
     /// [`World::place_balls`]) instead of bodies of their own on prismatic joints.
@@ -181,6 +180,8 @@ pub(crate) struct Build {
 /// Friction coefficient of the hulls and the ground: high enough that nothing slides below a
 /// 60° tilt.
 pub(crate) const FRICTION: f64 = 2.0;
+/// Radius of the contact spheres at the hull's vertices, as a fraction of the model's size.
+pub(crate) const CONTACT_RADIUS: f64 = 1e-4;
 /// Natural frequency of the contacts' springs, Hz: stiff, so that a model sinks into the ground
 /// by `g / (2π f)²`, a quarter of a micrometre, and does not lean on a soft contact.
 pub(crate) const CONTACT_FREQUENCY: f64 = 1000.0;
@@ -211,12 +212,17 @@ impl World {
         let handle = bodies.insert(body);
         if build.colliders {
             for points in &model.hulls {
-                if let Some(hull) = ColliderBuilder::convex_hull(points) {
-                    let hull = hull
+                // Only the vertices of the convex hull can touch a flat ground: a tiny sphere at
+                // each gives exact point contacts. (A convex-polyhedron collider did the same on
+                // boxes, but rocked on the many facets of a round base.)
+                let (vertices, _) = rapier3d_f64::parry::transformation::convex_hull(points);
+                for vertex in vertices {
+                    let contact = ColliderBuilder::ball(CONTACT_RADIUS * model.size)
+                        .translation(vertex)
                         .density(0.0)
                         .friction(FRICTION)
                         .restitution(RESTITUTION);
-                    colliders.insert_with_parent(hull, handle, &mut bodies);
+                    colliders.insert_with_parent(contact, handle, &mut bodies);
                 }
             }
         }

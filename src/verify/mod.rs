@@ -130,7 +130,9 @@ pub fn verify(compilation: &Compilation) -> Verification {
                 .goals
                 .iter()
                 .zip(&evaluation.goals)
-                .map(|(goal, computed)| check_goal(&model, &goal.value, &computed.outcome, evaluation))
+                .map(|(goal, computed)| {
+                    check_goal(&model, &goal.value, &computed.outcome, evaluation)
+                })
                 .collect();
             PoseCheck {
                 pose: evaluation.pose.clone(),
@@ -155,7 +157,11 @@ fn check_goal(
             let disagreement = (topples != (*tilt_margin < 0.0)).then(|| {
                 format!(
                     "computed {}, simulated {}",
-                    if *tilt_margin < 0.0 { "topples" } else { "stands" },
+                    if *tilt_margin < 0.0 {
+                        "topples"
+                    } else {
+                        "stands"
+                    },
                     if topples { "topples" } else { "stands" }
                 )
             });
@@ -230,9 +236,7 @@ fn check_stand(model: &Model, tilt_margin: f64, evaluation: &PoseEvaluation) -> 
             Some("computed stands, simulated topples when set down".to_string())
         }
         None => None,
-        Some(_) if tilt_margin <= 0.0 => {
-            Some("computed topples, simulated stands".to_string())
-        }
+        Some(_) if tilt_margin <= 0.0 => Some("computed topples, simulated stands".to_string()),
         Some(value) if (value - tilt_margin).abs() > AGREEMENT_DEGREES => Some(format!(
             "tilt margin computed {tilt_margin:.1}°, simulated {value:.1}°"
         )),

@@ -124,10 +124,10 @@ fn set_down(model: &Model) -> (World, Ground, Balls, f64) {
         world.step();
         balls.roll(model, &mut world);
     }
-    let turned = world
-        .model_body()
-        .rotation()
-        .angle_between(start.rotation)
+    // How far the model has tilted: the angle its pose's up has turned through (turning about
+    // up is no toppling).
+    let turned = (*world.model_body().rotation() * model.up)
+        .angle_between(start.rotation * model.up)
         .to_degrees();
     (world, Ground { handle, base }, balls, turned)
 }
@@ -150,8 +150,7 @@ pub(crate) fn tilt(model: &Model, direction: Vector) -> Option<TiltRun> {
     let axis = model.up.cross(direction).normalize();
     let centre = world.centre_of_mass();
     let pivot = centre - model.up * centre.dot(model.up);
-    let settled =
-        ground_rotation(&world, &ground).inverse() * *world.model_body().rotation();
+    let settled = ground_rotation(&world, &ground).inverse() * *world.model_body().rotation();
     let step = TILT_RATE.to_radians() * world.time_step();
     let mut tilt: f64 = 0.0;
     let mut onset = 0.0;
@@ -161,18 +160,19 @@ pub(crate) fn tilt(model: &Model, direction: Vector) -> Option<TiltRun> {
         }
         tilt += step;
         let turn = Pose3::from_rotation(Rotation::from_axis_angle(axis, tilt));
-        let pose = Pose3::from_translation(pivot)
-            * turn
-            * Pose3::from_translation(-pivot)
-            * ground.base;
+        let pose =
+            Pose3::from_translation(pivot) * turn * Pose3::from_translation(-pivot) * ground.base;
         if let Some(body) = world.bodies.get_mut(ground.handle) {
             body.set_next_kinematic_position(pose);
         }
         world.step();
         balls.roll(model, &mut world);
-        let relative =
-            ground_rotation(&world, &ground).inverse() * *world.model_body().rotation();
-        let turned = relative.angle_between(settled).to_degrees();
+        let relative = ground_rotation(&world, &ground).inverse() * *world.model_body().rotation();
+        // Turning about the ground's normal is no toppling: only how far the ground's normal
+        // (the ground body's z axis) has moved in the model's frame counts.
+        let turned = (relative.inverse() * Vector::Z)
+            .angle_between(settled.inverse() * Vector::Z)
+            .to_degrees();
         if turned <= ONSET_DEGREES {
             onset = tilt.to_degrees();
         } else if turned > TOPPLE_DEGREES {
