@@ -36,7 +36,7 @@ pub enum Command {
     ///
     /// The design is the one `check` evaluates (the written capsules, or the solution file). A
     /// stand goal is set down and the ground tilted slowly until the model topples (in the worst
-    /// direction ballast computed and eight others); imbalance is set down; suspend hangs from a
+    /// direction ballast computed and eleven others); imbalance is set down; suspend hangs from a
     /// spherical joint and immerse floats, each let go from ten orientations, and the distinct
     /// final states are listed.
     ///

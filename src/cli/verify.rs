@@ -101,7 +101,7 @@ fn goal_lines(out: &mut String, goal: &GoalCheck, capsules: &[&str]) {
             if !tilts.is_empty() {
                 let _ = writeln!(
                     out,
-                    "    toppled at (worst direction first, then 8 around) {}",
+                    "    toppled at (worst direction first, then every 30° around) {}",
                     tilts.join(" ")
                 );
             }

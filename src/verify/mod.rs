@@ -7,7 +7,7 @@
 //! capsule; a convex-hull collider per component), then:
 //!
 //! - `stand`: sets it down on a ground and tilts the ground slowly, in the worst direction ballast
-//!   computed and eight others, until it topples ([`stand`]);
+//!   computed and eleven others around it, until it topples ([`stand`]);
 //! - `imbalance`: sets it down and sees whether it topples;
 //! - `suspend`: hangs it from a spherical joint and lets it go from several orientations
 //!   ([`suspend`]);
@@ -277,12 +277,16 @@ fn worst_direction(support: &Support, centre_of_mass: [f64; 3], up: Vector) -> V
         .unwrap_or_else(|| body::horizontal_axes(up).0)
 }
 
-/// The directions the ground is tilted in: `worst` first, then eight more, 45° apart, starting
-/// 22.5° from it.
+/// How many directions the ground is tilted in: the worst one and the others around it, evenly
+/// spaced (so the opposite and the two perpendicular ones are among them).
+pub const TILT_DIRECTIONS: usize = 12;
+
+/// The directions the ground is tilted in: `worst` first, then the others, turned about `up` in
+/// equal steps.
 fn tilt_directions(worst: Vector, up: Vector) -> Vec<Vector> {
     let mut directions = vec![worst];
-    for k in 0..8 {
-        let angle = (22.5 + 45.0 * k as f64).to_radians();
+    for k in 1..TILT_DIRECTIONS {
+        let angle = (360.0 * k as f64 / TILT_DIRECTIONS as f64).to_radians();
         directions.push(Rotation::from_axis_angle(up, angle) * worst);
     }
     directions

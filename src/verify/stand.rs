@@ -11,14 +11,14 @@ pub(crate) const TIME_STEP: f64 = 1.0 / 120.0;
 /// How long the model settles after it is set down, seconds.
 pub(crate) const SETTLE_TIME: f64 = 1.5;
 /// How fast the ground tilts, degrees per second.
-pub(crate) const TILT_RATE: f64 = 2.0;
+pub(crate) const TILT_RATE: f64 = 1.0;
 /// The steepest ground tried, degrees.
 pub(crate) const MAX_TILT: f64 = 75.0;
 /// The model has toppled once it has turned this far relative to the ground, degrees.
 pub(crate) const TOPPLE_DEGREES: f64 = 3.0;
 /// The toppling angle is the ground's tilt when the model last sat within this many degrees of
 /// its settled orientation on the ground, before it toppled.
-pub(crate) const ONSET_DEGREES: f64 = 0.5;
+pub(crate) const ONSET_DEGREES: f64 = 0.05;
 /// How far above the ground the model's lowest point is set down, as a fraction of its size.
 const DROP: f64 = 1e-4;
 
