@@ -14,6 +14,7 @@
 //! - [`emit`]: glTF scenes (one per pose) and atomic file writes.
 //! - [`gcode`]: what a slicer's G-code deposits, to check the mass model against.
 //! - [`cancel`]: a flag another thread sets to stop a long build early.
+//! - [`verify`]: every goal re-measured by a rigid-body simulation, independent of [`balance`].
 //! - [`watch`]: watch mode's loop: rebuild once per burst of changes to a project's files.
 //!
 //! `docs/architecture.md` describes the whole pipeline, including the stages still to come.
@@ -32,4 +33,5 @@ pub mod geometry;
 pub mod objective;
 pub mod optimize;
 pub mod spec;
+pub mod verify;
 pub mod watch;

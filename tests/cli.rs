@@ -427,3 +427,21 @@ fn a_damaged_cache_file_is_ignored_and_the_build_writes_the_same_bytes() {
     // Sampled again and stored again, whole.
     assert!(fs::metadata(&files[0]).unwrap().len() > 1000);
 }
+
+#[test]
+fn verify_prints_simulated_beside_computed_and_exits_zero_when_all_agree() {
+    let hammer = examples().join("hammer.kdl");
+    let output = ballast(&["verify", hammer.to_str().expect("a UTF-8 path")]);
+    let text = stdout(&output);
+    assert_eq!(output.status.code(), Some(0), "{text}{}", stderr(&output));
+    assert!(text.contains("pose \"level\""), "{text}");
+    assert!(
+        text.contains("2 of 2 goals agree with the simulation."),
+        "{text}"
+    );
+
+    let json = ballast(&["verify", hammer.to_str().expect("a UTF-8 path"), "--json"]);
+    let value: serde_json::Value = serde_json::from_str(&stdout(&json)).expect("JSON");
+    assert_eq!(value["poses"][0]["goals"][0]["kind"], "suspend");
+    assert_eq!(value["poses"][0]["goals"][0]["agrees"], true);
+}

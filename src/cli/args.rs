@@ -31,6 +31,28 @@ pub enum Command {
         #[arg(long, value_name = "DIR")]
         out_dir: Option<PathBuf>,
     },
+    /// Re-check every goal with a rigid-body simulation (rapier) instead of ballast's own physics,
+    /// and print the simulated value beside the computed one. Writes nothing.
+    ///
+    /// The design is the one `check` evaluates (the written capsules, or the solution file). A
+    /// stand goal is set down and the ground tilted slowly until the model topples (in the worst
+    /// direction ballast computed and eleven others); imbalance is set down; suspend hangs from a
+    /// spherical joint and immerse floats, each let go from ten orientations, and the distinct
+    /// final states are listed.
+    ///
+    /// Exit status: 0 every goal agrees (within 1°, same state), 1 the project is valid but some
+    /// goal disagrees, 2 invalid project or failure.
+    Verify {
+        /// The project file (.kdl).
+        project: PathBuf,
+        /// Print the verification as JSON on standard output instead of the table.
+        #[arg(long)]
+        json: bool,
+        /// Read the solution file from this folder (where `build --out-dir` wrote it) instead of
+        /// the path the project names.
+        #[arg(long, value_name = "DIR")]
+        out_dir: Option<PathBuf>,
+    },
     /// Check a project, optimize its capsules when it has an `optimize` node, then write its
     /// glTF file, JSON report and (when optimized) solution file.
     ///

@@ -2,6 +2,7 @@
 //!
 //! Exit status, for every subcommand: [`EXIT_MET`] when every goal is met, [`EXIT_UNMET`] when the
 //! project is valid but some goal is not, [`EXIT_INVALID`] for an invalid project or any failure.
+//! For `verify`, "met" reads "the simulation agrees with the computed value".
 
 mod args;
 mod build;
@@ -10,6 +11,7 @@ mod diagnostics;
 mod poses;
 mod progress;
 mod table;
+mod verify;
 mod watch;
 
 use std::path::Path;
@@ -50,6 +52,18 @@ pub fn run() -> i32 {
             json,
             out_dir,
         } => check::run(
+            &project,
+            json,
+            &CompileOptions {
+                out_dir,
+                optimize: None,
+            },
+        ),
+        Command::Verify {
+            project,
+            json,
+            out_dir,
+        } => verify::run(
             &project,
             json,
             &CompileOptions {

@@ -1,0 +1,358 @@
+//! The independent check: every goal of a compiled project re-measured by a rigid-body simulation
+//! (rapier), not by ballast's own physics.
+//!
+//! [`verify`] takes a [`Compilation`] and, pose by pose, builds the model as the simulation sees
+//! it (one rigid body for all components, placed by the pose; mass from parry's mass properties of
+//! the meshes minus the capsule voids; one sphere body per ball on a prismatic joint along its
+//! capsule; a convex-hull collider per component), then:
+//!
+//! - `stand`: sets it down on a ground and tilts the ground slowly, in the worst direction ballast
+//!   computed and eleven others around it, until it topples ([`stand`]);
+//! - `imbalance`: sets it down and sees whether it topples;
+//! - `suspend`: hangs it from a spherical joint and lets it go from several orientations
+//!   ([`suspend`]);
+//! - `immerse`: floats it with buoyancy at its centre of buoyancy and lets it go from several
+//!   orientations ([`immerse`]).
+//!
+//! Each goal's measured value is put beside the computed one; they agree when they are within
+//! [`AGREEMENT_DEGREES`] and the state (stands or topples, where each ball ends) is the same.
+//! `docs/physics.md` ("The independent check") says what is simulated and what is not.
+
+mod body;
+mod immerse;
+mod release;
+mod stand;
+mod suspend;
+
+use serde::Serialize;
+
+pub use body::BallEnd;
+pub use release::{FinalState, Release};
+pub use stand::TiltRun;
+
+use crate::balance::{BallRest, Equilibria, GoalOutcome, PoseEvaluation, Support};
+use crate::compile::Compilation;
+use crate::spec::model::Goal;
+use body::Model;
+use rapier3d_f64::prelude::{Rotation, Vector};
+
+/// Measured and computed agree when they differ by at most this many degrees.
+pub const AGREEMENT_DEGREES: f64 = 1.0;
+
+/// Every goal of a project, simulated.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Verification {
+    /// One per pose, in project order.
+    pub poses: Vec<PoseCheck>,
+}
+
+impl Verification {
+    /// Whether every goal's measured value agrees with the computed one.
+    pub fn agrees(&self) -> bool {
+        self.poses
+            .iter()
+            .all(|pose| pose.goals.iter().all(|goal| goal.agrees))
+    }
+}
+
+/// The goals of one pose, simulated.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PoseCheck {
+    /// The pose's name.
+    pub pose: String,
+    /// One per goal of the pose, in the pose's order.
+    pub goals: Vec<GoalCheck>,
+}
+
+/// One goal: the value ballast computed beside the one the simulation measured.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GoalCheck {
+    /// The computed value, degrees: the tilt margin for `stand` and `imbalance`, the goal's angle
+    /// for `suspend` and `immerse`.
+    pub computed: f64,
+    /// The measured value, degrees: the smallest ground tilt that toppled the model for `stand`,
+    /// the angle after release from the pose for `suspend` and `immerse`. `None` when there is
+    /// no such number: `imbalance`, a `stand` whose model toppled as it was set down, or one that
+    /// still stood at the steepest tilt tried.
+    pub measured: Option<f64>,
+    /// Whether measured and computed agree: same state, values within [`AGREEMENT_DEGREES`].
+    pub agrees: bool,
+    /// What disagrees, in words, when something does.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub disagreement: Option<String>,
+    /// What was simulated, by goal kind.
+    #[serde(flatten)]
+    pub detail: Detail,
+}
+
+/// What was simulated for one goal. Serialised with a `kind` field naming the goal.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "lowercase")]
+pub enum Detail {
+    /// Set down, then the ground tilted in several directions.
+    Stand {
+        /// The worst tilt direction ballast computed (horizontal, world, downhill).
+        worst_direction: [f64; 3],
+        /// One per direction, the worst first; empty when the model toppled as it was set down.
+        runs: Vec<TiltRun>,
+    },
+    /// Set down.
+    Imbalance {
+        /// Whether the model toppled by itself.
+        topples: bool,
+    },
+    /// Hung and let go from several orientations.
+    Suspend {
+        /// One per starting orientation, the pose's own first.
+        releases: Vec<Release>,
+        /// The distinct final states the releases reached.
+        states: Vec<FinalState>,
+    },
+    /// Floated and let go from several orientations.
+    Immerse {
+        /// One per starting orientation, the pose's own first.
+        releases: Vec<Release>,
+        /// The distinct final states the releases reached.
+        states: Vec<FinalState>,
+    },
+}
+
+/// Simulates every goal of every pose of `compilation`.
+pub fn verify(compilation: &Compilation) -> Verification {
+    let poses = compilation
+        .project
+        .poses
+        .iter()
+        .zip(&compilation.poses)
+        .map(|(pose, evaluation)| {
+            let model = Model::new(compilation, pose);
+            let goals = pose
+                .goals
+                .iter()
+                .zip(&evaluation.goals)
+                .map(|(goal, computed)| {
+                    check_goal(&model, &goal.value, &computed.outcome, evaluation)
+                })
+                .collect();
+            PoseCheck {
+                pose: evaluation.pose.clone(),
+                goals,
+            }
+        })
+        .collect();
+    Verification { poses }
+}
+
+/// One goal, simulated and compared.
+fn check_goal(
+    model: &Model,
+    goal: &Goal,
+    outcome: &GoalOutcome,
+    evaluation: &PoseEvaluation,
+) -> GoalCheck {
+    match (goal, outcome) {
+        (_, GoalOutcome::Stand { tilt_margin, .. }) => check_stand(model, *tilt_margin, evaluation),
+        (_, GoalOutcome::Imbalance { tilt_margin, .. }) => {
+            let topples = stand::topples_when_set_down(model);
+            let disagreement = (topples != (*tilt_margin < 0.0)).then(|| {
+                format!(
+                    "computed {}, simulated {}",
+                    if *tilt_margin < 0.0 {
+                        "topples"
+                    } else {
+                        "stands"
+                    },
+                    if topples { "topples" } else { "stands" }
+                )
+            });
+            GoalCheck {
+                computed: *tilt_margin,
+                measured: None,
+                agrees: disagreement.is_none(),
+                disagreement,
+                detail: Detail::Imbalance { topples },
+            }
+        }
+        (
+            Goal::Suspend { .. },
+            GoalOutcome::Suspend {
+                angle,
+                point,
+                equilibria,
+                ..
+            },
+        ) => {
+            let point = to_si(*point, model.scale);
+            let damping = (suspend::LINEAR_DAMPING, suspend::ANGULAR_DAMPING);
+            let releases = suspend::hang(model, point, damping);
+            let states = release::distinct_states(&releases);
+            let (measured, disagreement) =
+                compare_release(*angle, &releases, &states, equilibria, evaluation);
+            GoalCheck {
+                computed: *angle,
+                measured,
+                agrees: disagreement.is_none(),
+                disagreement,
+                detail: Detail::Suspend { releases, states },
+            }
+        }
+        (
+            Goal::Immerse { .. },
+            GoalOutcome::Immerse {
+                angle, equilibria, ..
+            },
+        ) => {
+            let releases = immerse::float(model);
+            let states = release::distinct_states(&releases);
+            let (measured, disagreement) =
+                compare_release(*angle, &releases, &states, equilibria, evaluation);
+            GoalCheck {
+                computed: *angle,
+                measured,
+                agrees: disagreement.is_none(),
+                disagreement,
+                detail: Detail::Immerse { releases, states },
+            }
+        }
+        (_, GoalOutcome::Suspend { angle, .. } | GoalOutcome::Immerse { angle, .. }) => GoalCheck {
+            computed: *angle,
+            measured: None,
+            agrees: false,
+            disagreement: Some("the goal and its evaluation differ in kind".to_string()),
+            detail: Detail::Imbalance { topples: false },
+        },
+    }
+}
+
+/// A stand goal: the smallest toppling tilt over every direction tried.
+fn check_stand(model: &Model, tilt_margin: f64, evaluation: &PoseEvaluation) -> GoalCheck {
+    let worst = worst_direction(&evaluation.support, model.up);
+    let mut runs = Vec::new();
+    for direction in tilt_directions(worst, model.up) {
+        match stand::tilt(model, direction) {
+            Some(run) => runs.push(run),
+            None => {
+                runs.clear();
+                break;
+            }
+        }
+    }
+    let measured = if runs.is_empty() {
+        None
+    } else {
+        Some(
+            runs.iter()
+                .map(|run| run.topples_at.unwrap_or(stand::MAX_TILT))
+                .fold(f64::INFINITY, f64::min),
+        )
+    };
+    let disagreement = match measured {
+        None if tilt_margin > 0.0 => {
+            Some("computed stands, simulated topples when set down".to_string())
+        }
+        None => None,
+        Some(_) if tilt_margin <= 0.0 => Some("computed topples, simulated stands".to_string()),
+        Some(value) if (value - tilt_margin).abs() > AGREEMENT_DEGREES => Some(format!(
+            "tilt margin computed {tilt_margin:.1}°, simulated {value:.1}°"
+        )),
+        Some(_) => None,
+    };
+    let measured = measured.filter(|value| *value < stand::MAX_TILT);
+    GoalCheck {
+        computed: tilt_margin,
+        measured,
+        agrees: disagreement.is_none(),
+        disagreement,
+        detail: Detail::Stand {
+            worst_direction: worst.to_array(),
+            runs,
+        },
+    }
+}
+
+/// The horizontal direction (world, unit, downhill) in which ballast computed the model topples
+/// first: the support's `tilt_direction`, made horizontal; any horizontal direction when it has
+/// none.
+fn worst_direction(support: &Support, up: Vector) -> Vector {
+    support
+        .tilt_direction
+        .map(Vector::from_array)
+        .map(|v| v - up * v.dot(up))
+        .filter(|flat| flat.length() > 1e-12)
+        .map(|flat| flat.normalize())
+        .unwrap_or_else(|| body::horizontal_axes(up).0)
+}
+
+/// How many directions the ground is tilted in: the worst one and the others around it, evenly
+/// spaced (so the opposite and the two perpendicular ones are among them).
+pub const TILT_DIRECTIONS: usize = 12;
+
+/// The directions the ground is tilted in: `worst` first, then the others, turned about `up` in
+/// equal steps.
+fn tilt_directions(worst: Vector, up: Vector) -> Vec<Vector> {
+    let mut directions = vec![worst];
+    for k in 1..TILT_DIRECTIONS {
+        let angle = (360.0 * k as f64 / TILT_DIRECTIONS as f64).to_radians();
+        directions.push(Rotation::from_axis_angle(up, angle) * worst);
+    }
+    directions
+}
+
+/// The release from the pose's own orientation against the computed angle, the balls' ends
+/// against the computed ones, and every state the releases came to rest in against the stable
+/// states ballast lists (`equilibria`, angles off the goal's orientation): the measured angle and
+/// what disagrees.
+fn compare_release(
+    computed: f64,
+    releases: &[Release],
+    states: &[FinalState],
+    equilibria: &Equilibria,
+    evaluation: &PoseEvaluation,
+) -> (Option<f64>, Option<String>) {
+    let Some(first) = releases.first() else {
+        return (None, Some("nothing was simulated".to_string()));
+    };
+    let mut problems = Vec::new();
+    if !first.settled {
+        problems.push("the model did not come to rest".to_string());
+    }
+    if (first.angle - computed).abs() > AGREEMENT_DEGREES {
+        problems.push(format!(
+            "angle computed {computed:.1}°, simulated {:.1}°",
+            first.angle
+        ));
+    }
+    for (ball, end) in evaluation.balls.iter().zip(&first.balls) {
+        let same = matches!(
+            (ball.rest, end),
+            (BallRest::Undetermined, _)
+                | (BallRest::From, BallEnd::From)
+                | (BallRest::To, BallEnd::To)
+        );
+        if !same {
+            problems.push(format!("ball `{}` ends elsewhere", ball.capsule));
+        }
+    }
+    // Only a complete list can be checked for what it leaves out.
+    if equilibria.complete {
+        for state in states {
+            let listed = equilibria
+                .states
+                .iter()
+                .any(|known| (known.angle - state.angle).abs() <= AGREEMENT_DEGREES);
+            if !listed {
+                problems.push(format!(
+                    "the simulation also comes to rest {:.1}° off, a state ballast does not list",
+                    state.angle
+                ));
+            }
+        }
+    }
+    let disagreement = (!problems.is_empty()).then(|| problems.join("; "));
+    (Some(first.angle), disagreement)
+}
+
+/// A point of the report, project units, in metres.
+fn to_si(point: [f64; 3], scale: f64) -> Vector {
+    Vector::from_array(point) * scale
+}
