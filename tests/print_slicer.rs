@@ -5,6 +5,7 @@
 //! G-code positions are the nozzle's, at the top of the layer being printed: the material lies
 //! half a layer lower, so the G-code's centre is lowered by half a layer height before comparing.
 
+mod geometry_support;
 mod print_support;
 
 use std::path::Path;
@@ -15,6 +16,7 @@ use ballast::design::Design;
 use ballast::gcode::read_deposit;
 use ballast::geometry::{print_volumes, TriMesh};
 use ballast::spec::model::{Axis, Print, Project, Units};
+use geometry_support::box_mesh;
 use nalgebra::{Point3, Vector3};
 use print_support::*;
 

@@ -1,4 +1,4 @@
-//! Meshes for print tests (boxes, capsules, bodies with capsule voids), binary STL, and the
+//! Meshes for print tests (capsules, bodies with capsule voids), binary STL, and the
 //! PrusaSlicer command line when it is installed.
 #![allow(dead_code)]
 
@@ -8,37 +8,6 @@ use std::process::Command;
 
 use ballast::geometry::TriMesh;
 use nalgebra::{Point3, UnitQuaternion, Vector3};
-
-/// The box [0,a]×[0,b]×[0,c], outward.
-pub fn box_mesh(a: f64, b: f64, c: f64) -> TriMesh {
-    let positions = (0..8)
-        .map(|i| {
-            Point3::new(
-                a * f64::from(i & 1),
-                b * f64::from((i >> 1) & 1),
-                c * f64::from((i >> 2) & 1),
-            )
-        })
-        .collect();
-    let triangles = vec![
-        [0, 2, 1],
-        [1, 2, 3],
-        [4, 5, 6],
-        [5, 7, 6],
-        [0, 1, 4],
-        [1, 5, 4],
-        [2, 6, 3],
-        [3, 6, 7],
-        [0, 4, 2],
-        [2, 4, 6],
-        [1, 3, 5],
-        [3, 7, 5],
-    ];
-    TriMesh {
-        positions,
-        triangles,
-    }
-}
 
 /// A capsule around `from`-`to` of radius `r`, `segments` around the axis and `segments / 4`
 /// bands per hemisphere, outward.
