@@ -185,16 +185,13 @@ fn check_goal(
             let point = to_si(*point, model.scale);
             let damping = (suspend::LINEAR_DAMPING, suspend::ANGULAR_DAMPING);
             let releases = suspend::hang(model, point, damping);
-            let states = release::distinct_states(&releases);
-            let (measured, disagreement) =
-                compare_release(*angle, &releases, &states, equilibria, evaluation);
-            GoalCheck {
-                computed: *angle,
-                measured,
-                agrees: disagreement.is_none(),
-                disagreement,
-                detail: Detail::Suspend { releases, states },
-            }
+            release_check(
+                *angle,
+                releases,
+                equilibria,
+                evaluation,
+                |releases, states| Detail::Suspend { releases, states },
+            )
         }
         (
             Goal::Immerse { .. },
@@ -203,16 +200,13 @@ fn check_goal(
             },
         ) => {
             let releases = immerse::float(model);
-            let states = release::distinct_states(&releases);
-            let (measured, disagreement) =
-                compare_release(*angle, &releases, &states, equilibria, evaluation);
-            GoalCheck {
-                computed: *angle,
-                measured,
-                agrees: disagreement.is_none(),
-                disagreement,
-                detail: Detail::Immerse { releases, states },
-            }
+            release_check(
+                *angle,
+                releases,
+                equilibria,
+                evaluation,
+                |releases, states| Detail::Immerse { releases, states },
+            )
         }
         (_, GoalOutcome::Suspend { angle, .. } | GoalOutcome::Immerse { angle, .. }) => GoalCheck {
             computed: *angle,
@@ -296,6 +290,28 @@ fn tilt_directions(worst: Vector, up: Vector) -> Vec<Vector> {
         directions.push(Rotation::from_axis_angle(up, angle) * worst);
     }
     directions
+}
+
+/// The check of a hanging or floating goal from its simulated `releases`: their distinct final
+/// states, compared with the computed angle and states ([`compare_release`]), kept in the detail
+/// `detail` makes of them.
+fn release_check(
+    computed: f64,
+    releases: Vec<Release>,
+    equilibria: &Equilibria,
+    evaluation: &PoseEvaluation,
+    detail: fn(Vec<Release>, Vec<FinalState>) -> Detail,
+) -> GoalCheck {
+    let states = release::distinct_states(&releases);
+    let (measured, disagreement) =
+        compare_release(computed, &releases, &states, equilibria, evaluation);
+    GoalCheck {
+        computed,
+        measured,
+        agrees: disagreement.is_none(),
+        disagreement,
+        detail: detail(releases, states),
+    }
 }
 
 /// The release from the pose's own orientation against the computed angle, the balls' ends
