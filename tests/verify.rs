@@ -240,6 +240,37 @@ fn the_fish_floats_upright_when_released_from_its_pose() {
 }
 
 #[test]
+fn the_unique_hangs_and_floats_right_themselves_from_every_release() {
+    // Spot hung level and the fish under water ask for `unique=#true`: released from each of
+    // the ten orientations, the simulated print must come to rest (a light print swings and
+    // settles within the simulated time) in the one state ballast computed.
+    for (name, pose) in [("spot", "hung level"), ("fish", "swimming")] {
+        let verification = example(name);
+        let check = verification
+            .poses
+            .iter()
+            .find(|check| check.pose == pose)
+            .unwrap_or_else(|| panic!("{name} has a pose {pose}"));
+        let goal = &check.goals[0];
+        assert!(goal.agrees, "{name}: {goal:#?}");
+        let (Detail::Suspend { releases, states } | Detail::Immerse { releases, states }) =
+            &goal.detail
+        else {
+            panic!("{name}: a hanging or floating goal");
+        };
+        assert_eq!(releases.len(), 10, "{name}");
+        for release in releases {
+            assert!(release.settled, "{name}: {release:#?}");
+            assert!(
+                (release.angle - goal.computed).abs() <= 1.0,
+                "{name}: {release:#?}"
+            );
+        }
+        assert_eq!(states.len(), 1, "{name}: {states:#?}");
+    }
+}
+
+#[test]
 fn the_t_shape_is_checked_on_every_side() {
     // Every stand goal gets a measured margin; the values are plausible (positive, below the
     // steepest tilt tried). Whether they agree depends on which margin ballast computes.

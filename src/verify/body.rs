@@ -316,6 +316,43 @@ impl World {
         }
     }
 
+    /// Gives every degree of freedom of the model's joints (the string's or the fluid's pivot,
+    /// the balls' slides) a viscous damping of `rates` (linear, angular, 1/s) times the inertia
+    /// it moves, so a model of a few grams and one of a kilogram settle alike. This replaces
+    /// rapier's default joint damping (0.1 N·m·s per rotational degree of freedom), which on a
+    /// small print is thousands of times its inertia and lets it creep, not swing, towards rest;
+    /// a body's own damping does not act on the links of a multibody.
+    pub fn damp_joints(&mut self, (linear, angular): (f64, f64)) {
+        for handle in std::iter::once(&self.model).chain(&self.balls) {
+            self.bodies[*handle].recompute_mass_properties_from_colliders(&self.colliders);
+        }
+        let Some(link) = self.joints.rigid_body_link(self.model).copied() else {
+            return;
+        };
+        let Some(multibody) = self.joints.get_multibody_mut(link.multibody) else {
+            return;
+        };
+        let inverse_inertia = multibody.dof_inverse_inertia(&self.bodies);
+        let dofs: Vec<(usize, usize, usize)> = multibody
+            .links()
+            .map(|link| {
+                let data = &link.joint().data;
+                let locked = data.locked_axes.bits();
+                let free_linear = 3 - (locked & 0b111).count_ones() as usize;
+                (link.assembly_id(), link.joint().ndofs(), free_linear)
+            })
+            .collect();
+        let damping = multibody.damping_mut();
+        for (first, count, free_linear) in dofs {
+            for k in 0..count {
+                let dof = first + k;
+                let rate = if k < free_linear { linear } else { angular };
+                let inverse = inverse_inertia[dof];
+                damping[dof] = if inverse > 0.0 { rate / inverse } else { 0.0 };
+            }
+        }
+    }
+
     /// With fused balls: makes the model's mass the material plus each ball at the end of its
     /// capsule `ends` says (`true`: the `to` end).
     pub fn place_balls(&mut self, model: &Model, ends: &[bool]) {

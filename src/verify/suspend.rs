@@ -52,6 +52,7 @@ fn hang_from(
         .build();
     joint.data.local_frame1.rotation = rotation;
     world.joints.insert(anchor, world.model, joint, true);
+    world.damp_joints(damping);
     let settled = run_until_settled(&mut world, model);
     let frame = *world.model_body().position();
     let string = frame.inverse_transform_point(world.centre_of_mass()) - point;
