@@ -6,14 +6,17 @@
 //! then turns the facet's longest edge along +x (its first such edge, counter-clockwise seen from
 //! outside, on a tie).
 //!
-//! Without a declaration, [`choose`] ranks the facets the part stands on stably (its centroid
-//! above the facet, [`facet_margin`] positive), by, in order:
+//! Without a declaration, [`choose`] ranks the hull's facets by, in order:
 //! 1. the capsules' insertion, when the caller's [`InsertionRank`] hook gives one: more capsules
 //!    insertable, then fewer pauses;
-//! 2. the facet's area (adhesion, no support under the part): every facet within
-//!    [`AREA_TIE`] of the largest counts as largest;
-//! 3. the part's height on the bed, lowest first;
-//! 4. the hull's facet order (largest first).
+//! 2. the facet's area (adhesion to the bed; the largest flat facet of a part is where a slicer
+//!    needs no support under it): every facet within [`AREA_TIE`] of the largest counts as
+//!    largest;
+//! 3. stability: a facet the part stands on by itself (its centroid above the facet,
+//!    [`facet_margin`] positive) before one it leans off, held only by the bed's adhesion;
+//! 4. the part's height on the bed, lowest first (heights within the hull's tolerance equal);
+//! 5. the facet facing most nearly the project's down (the part printed the way it is modelled
+//!    standing), then the hull's facet order.
 
 use nalgebra::{Point3, Rotation3, Unit, Vector3};
 
@@ -98,61 +101,69 @@ pub fn declared_rotation(
 }
 
 /// The orientation ballast chooses for the part of hull `hull` over `points` with centroid
-/// `centre` (see the module documentation); `rank` says how each candidate rotation suits the
+/// `centre`, `down` the project's down in its rest frame (see the module documentation); `rank` says how each candidate rotation suits the
 /// capsules' insertion, `None` when it has nothing to say.
 pub fn choose(
     hull: &ConvexHull,
     points: &[Point3<f64>],
     centre: &Point3<f64>,
+    down: &Vector3<f64>,
     rank: &dyn Fn(&Rotation3<f64>) -> Option<InsertionRank>,
 ) -> Orientation {
-    let stable: Vec<usize> = (0..hull.facets.len())
-        .filter(|&i| facet_margin(&hull.facets[i], points, centre) > 0.0)
-        .collect();
-    // A centroid inside the hull always has a facet below it; keep every facet if rounding says
-    // otherwise.
-    let candidates = if stable.is_empty() {
-        (0..hull.facets.len()).collect()
-    } else {
-        stable
-    };
-    let placed: Vec<(usize, Rotation3<f64>, Option<InsertionRank>)> = candidates
-        .iter()
-        .map(|&i| {
-            let rotation = facet_rotation(&hull.facets[i], points);
-            (i, rotation, rank(&rotation))
+    let placed: Vec<Candidate> = (0..hull.facets.len())
+        .map(|facet| {
+            let rotation = facet_rotation(&hull.facets[facet], points);
+            Candidate {
+                facet,
+                rank: rank(&rotation),
+                stable: facet_margin(&hull.facets[facet], points, centre) > 0.0,
+                height: height(points, &rotation),
+            }
         })
         .collect();
-    let best_rank = placed.iter().filter_map(|c| c.2).map(|r| r.key()).max();
-    let ranked: Vec<&(usize, Rotation3<f64>, Option<InsertionRank>)> = placed
+    let best_rank = placed.iter().filter_map(|c| c.rank).map(|r| r.key()).max();
+    let ranked: Vec<&Candidate> = placed
         .iter()
-        .filter(|c| c.2.map(|r| r.key()) == best_rank || best_rank.is_none())
+        .filter(|c| c.rank.map(|r| r.key()) == best_rank)
         .collect();
     let largest = ranked
         .iter()
-        .map(|c| hull.facets[c.0].area)
+        .map(|c| hull.facets[c.facet].area)
         .fold(0.0, f64::max);
-    let large: Vec<_> = ranked
-        .iter()
-        .filter(|c| hull.facets[c.0].area >= (1.0 - AREA_TIE) * largest)
+    let large: Vec<&Candidate> = ranked
+        .into_iter()
+        .filter(|c| hull.facets[c.facet].area >= (1.0 - AREA_TIE) * largest)
         .collect();
-    let lowest = large
+    let any_stable = large.iter().any(|c| c.stable);
+    let steady: Vec<&Candidate> = large
         .iter()
-        .map(|c| (c, height(points, &c.1)))
-        .min_by(|a, b| a.1.total_cmp(&b.1))
-        .map(|(c, _)| c)
+        .copied()
+        .filter(|c| c.stable == any_stable)
+        .collect();
+    let lowest = steady
+        .iter()
+        .map(|c| c.height)
+        .fold(f64::INFINITY, f64::min);
+    let facing = |c: &Candidate| -hull.facets[c.facet].normal.dot(down);
+    let best = steady
+        .iter()
+        .filter(|c| c.height <= lowest + hull.tolerance)
+        .min_by(|a, b| facing(a).total_cmp(&facing(b)))
         .expect("a hull has facets");
-    let facet = &hull.facets[lowest.0];
+    let facet = &hull.facets[best.facet];
     let overall = hull.facets.iter().map(|f| f.area).fold(0.0, f64::max);
     let mut reason = if facet.area >= (1.0 - AREA_TIE) * overall {
         "the largest flat facet".to_string()
     } else {
-        "the largest facet the part stands on stably".to_string()
+        "the largest flat facet that lets the capsules in".to_string()
     };
-    if large.len() > 1 {
-        reason.push_str(&format!(", the lowest of {} as large", large.len()));
+    if steady.len() > 1 {
+        reason.push_str(&format!(", one of {} as large", steady.len()));
     }
-    if let Some(rank) = lowest.2 {
+    if !best.stable {
+        reason.push_str(" (the part leans past its edge: the bed holds it)");
+    }
+    if let Some(rank) = best.rank {
         reason = format!(
             "{} insertable in {}; {reason}",
             counted(rank.insertable, "capsule"),
@@ -167,6 +178,18 @@ pub fn choose(
             reason,
         },
     )
+}
+
+/// One facet as [`choose`] ranks it.
+struct Candidate {
+    /// Index into the hull's facets.
+    facet: usize,
+    /// The insertion hook's rank of the orientation with this facet on the bed.
+    rank: Option<InsertionRank>,
+    /// Whether the part stands on the facet by itself.
+    stable: bool,
+    /// The part's height on the bed.
+    height: f64,
 }
 
 /// `n` and the noun, plural unless `n` is 1.
@@ -248,7 +271,7 @@ mod tests {
         let points = box_points(30.0, 20.0, 5.0);
         let hull = convex_hull(&points).unwrap();
         let centre = Point3::new(15.0, 10.0, 2.5);
-        let chosen = choose(&hull, &points, &centre, &|_| None);
+        let chosen = choose(&hull, &points, &centre, &-Vector3::z(), &|_| None);
         assert!(chosen.down.z.abs() > 0.999_999, "{:?}", chosen.down);
         assert!((chosen.height - 5.0).abs() < 1e-9);
         let x = chosen.to_print * Vector3::x();
@@ -275,7 +298,7 @@ mod tests {
                 pauses: 1,
             })
         };
-        let chosen = choose(&hull, &points, &centre, &rank);
+        let chosen = choose(&hull, &points, &centre, &-Vector3::z(), &rank);
         assert!(chosen.down.x.abs() > 0.999_999, "{:?}", chosen.down);
         assert!((chosen.height - 30.0).abs() < 1e-9);
         let OrientationChoice::Chosen { area, reason } = chosen.choice else {
