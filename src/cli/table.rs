@@ -46,7 +46,9 @@ fn print_section(out: &mut String, compilation: &Compilation) {
         .iter()
         .zip(&compilation.orientations)
     {
-        let d = orientation.down.map(|c| format_length(c, Units::Millimetre));
+        let d = orientation
+            .down
+            .map(|c| format_length(c, Units::Millimetre));
         let d = format!("({}, {}, {})", d.x, d.y, d.z);
         let placement = match orientation.facet_area {
             Some(area) => format!(

@@ -60,7 +60,9 @@ pub fn print_orientations(
                 Some(PrintOrientation::Rotate(rotation)) => {
                     declared_rotation(&hull, points, rotation.value.to_rotation_matrix())
                 }
-                None => choose(&hull, points, &centre, &-project.up.unit_vector(), &|_| None),
+                None => choose(&hull, points, &centre, &-project.up.unit_vector(), &|_| {
+                    None
+                }),
             }
         })
         .collect();

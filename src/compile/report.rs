@@ -250,19 +250,26 @@ impl<'a> Report<'a> {
             .zip(&compilation.meshes)
             .zip(&compilation.mass)
             .zip(&compilation.prints)
-            .zip(compilation.orientations.iter().zip(&compilation.print_plan.components))
-            .map(|((((component, mesh), mass), print), (orientation, plan))| ComponentReport {
-                name: component.name.value.clone(),
-                mesh: relative_path(&component.mesh.value, folder),
-                part: component.selector.part_name().map(str::to_owned),
-                vertices: mesh.positions.len(),
-                triangles: mesh.triangles.len(),
-                volume: mass.volume,
-                centroid: mass.centroid.coords.into(),
-                solid_volume: print.solid.volume,
-                sparse_volume: print.sparse.volume,
-                print: ComponentPrintReport::new(orientation, plan),
-            })
+            .zip(
+                compilation
+                    .orientations
+                    .iter()
+                    .zip(&compilation.print_plan.components),
+            )
+            .map(
+                |((((component, mesh), mass), print), (orientation, plan))| ComponentReport {
+                    name: component.name.value.clone(),
+                    mesh: relative_path(&component.mesh.value, folder),
+                    part: component.selector.part_name().map(str::to_owned),
+                    vertices: mesh.positions.len(),
+                    triangles: mesh.triangles.len(),
+                    volume: mass.volume,
+                    centroid: mass.centroid.coords.into(),
+                    solid_volume: print.solid.volume,
+                    sparse_volume: print.sparse.volume,
+                    print: ComponentPrintReport::new(orientation, plan),
+                },
+            )
             .collect();
         let capsules = compilation
             .design
