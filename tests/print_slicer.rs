@@ -221,9 +221,9 @@ fn a_box_with_a_void_printed_on_its_side_weighs_what_prusaslicer_deposits() {
         let model = modelled(&body, &[capsule], 0.15, to_print);
         let upright = modelled(&body, &[capsule], 0.15, Rotation3::identity());
         compare(&format!("box on its {name}"), model, gcode, 0.05, 0.2);
-        // The orientation changes the model: its centre moves away from the upright one.
         println!(
-            "box on its {name}: the model's centre is {:.2} mm from the upright model's",
+            "box on its {name}: the upright model would say {:.2} g at {:.2} mm from this centre",
+            upright.0,
             (model.1 - upright.1).norm()
         );
     }
