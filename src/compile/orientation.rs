@@ -1,12 +1,12 @@
 //! Each component's print orientation, once the meshes are loaded (the front end knows no
 //! meshes): its `print` block's, or the one ballast chooses; and the [`PrintPlan`] of a design.
 
-use nalgebra::Point3;
+use nalgebra::{Point3, Vector3};
 
 use crate::balance::up_to_print;
 use crate::diagnostic::Problem;
 use crate::fabrication::{
-    choose, declared_down, declared_rotation, lay_out, Bed, ComponentPlan, Orientation,
+    choose, declared_down, declared_rotation, height, lay_out, Bed, ComponentPlan, Orientation,
     OrientationChoice, PrintPlan,
 };
 use crate::geometry::{convex_hull, mass_properties, TriMesh};
@@ -89,18 +89,12 @@ fn flat(
             },
         ),
     };
-    let (low, high) = points
-        .iter()
-        .map(|p| (to_print * p).z)
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(low, high), z| {
-            (low.min(z), high.max(z))
-        });
     Orientation {
         to_print,
-        down: to_print.inverse() * -nalgebra::Vector3::z(),
+        down: to_print.inverse() * -Vector3::z(),
         choice,
         facet_area: None,
-        height: (high - low).max(0.0),
+        height: height(points, &to_print),
     }
 }
 

@@ -30,6 +30,6 @@ pub use bed::{lay_out, Bed};
 pub use check::check_design;
 pub use issue::CapsuleIssue;
 pub use orientation::{
-    choose, declared_down, declared_rotation, InsertionRank, Orientation, AREA_TIE,
+    choose, declared_down, declared_rotation, height, InsertionRank, Orientation, AREA_TIE,
 };
 pub use plan::{CapsuleInsertion, ComponentPlan, OrientationChoice, Pause, PrintPlan};

@@ -234,8 +234,9 @@ fn facet_rotation(facet: &HullFacet, points: &[Point3<f64>]) -> Rotation3<f64> {
     spin * tilt
 }
 
-/// The extent of `points` along the print frame's z under `to_print`.
-fn height(points: &[Point3<f64>], to_print: &Rotation3<f64>) -> f64 {
+/// The extent of `points` along the print frame's z under `to_print`: the part's height on the
+/// bed (0 without points).
+pub fn height(points: &[Point3<f64>], to_print: &Rotation3<f64>) -> f64 {
     let (low, high) = points
         .iter()
         .map(|p| (to_print * p).z)
