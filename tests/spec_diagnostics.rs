@@ -28,6 +28,13 @@ const CASES: &[(&str, &[&str])] = &[
         ],
     ),
     (
+        "print_orientation",
+        &[
+            "ballast::component::zero_down",
+            "ballast::component::down_with_rotate",
+        ],
+    ),
+    (
         "conflicting_properties",
         &["ballast::conflicting_properties"],
     ),
@@ -332,6 +339,8 @@ fn every_code_is_exercised() {
         DUPLICATE_NAME,
         UNKNOWN_COMPONENT,
         CONFLICTING_PROPERTIES,
+        ZERO_PRINT_DOWN,
+        PRINT_DOWN_WITH_ROTATE,
         TOO_FEW_CAPSULES,
         SOLUTION_INFILL,
     ] {

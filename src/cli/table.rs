@@ -5,6 +5,7 @@ use std::fmt::Write;
 
 use crate::balance::{BallRest, GoalOutcome, PoseEvaluation};
 use crate::compile::{Compilation, Optimization};
+use crate::fabrication::OrientationChoice;
 use crate::spec::model::Units;
 
 /// The summary of `compilation`, ending with a line counting the goals met.
@@ -23,6 +24,7 @@ pub fn summary(compilation: &Compilation, project_name: &str) -> String {
         plural(project.poses.len()),
         unit_name(units),
     );
+    print_section(&mut out, compilation);
     let (mut total, mut met) = (0, 0);
     for evaluation in &compilation.poses {
         out.push('\n');
@@ -32,6 +34,42 @@ pub fn summary(compilation: &Compilation, project_name: &str) -> String {
     }
     let _ = writeln!(out, "\n{met} of {total} goal{} met.", plural(total));
     out
+}
+
+/// One line per component: how it lies on the bed.
+fn print_section(out: &mut String, compilation: &Compilation) {
+    let units = compilation.project.units;
+    let _ = writeln!(out, "\nprint");
+    for (component, orientation) in compilation
+        .project
+        .components
+        .iter()
+        .zip(&compilation.orientations)
+    {
+        let d = orientation
+            .down
+            .map(|c| format_length(c, Units::Millimetre));
+        let d = format!("({}, {}, {})", d.x, d.y, d.z);
+        let placement = match orientation.facet_area {
+            Some(area) => format!(
+                "printed on facet {d}, {} {}²",
+                format_length(area, units),
+                units.keyword()
+            ),
+            None => format!("printed with {d} down, on an edge or a corner"),
+        };
+        let why = match &orientation.choice {
+            OrientationChoice::Declared => "as declared",
+            OrientationChoice::Chosen { reason, .. } => reason,
+        };
+        let _ = writeln!(
+            out,
+            "  {}: {placement}, {why}; {} {} high",
+            component.name.value,
+            format_length(orientation.height, units),
+            units.keyword()
+        );
+    }
 }
 
 fn pose_section(out: &mut String, evaluation: &PoseEvaluation, units: Units) {

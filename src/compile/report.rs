@@ -7,6 +7,7 @@ use serde::Serialize;
 
 use super::{Compilation, DesignSource, Optimization};
 use crate::balance::{capsule_shell, PoseEvaluation};
+use crate::fabrication::{ComponentPlan, Orientation, OrientationChoice};
 use crate::spec::model::{MassModel, Print};
 
 /// Version of the report's layout; raised when a field changes meaning or disappears.
@@ -141,6 +142,53 @@ pub struct ComponentReport {
     pub solid_volume: f64,
     /// Volume printed at the infill fraction before capsules are cut, cubic project units.
     pub sparse_volume: f64,
+    /// How it is printed.
+    pub print: ComponentPrintReport,
+}
+
+/// How one component is printed: its orientation and its place on the bed.
+#[derive(Debug, Clone, Serialize)]
+pub struct ComponentPrintReport {
+    /// `declared` (the component's `print` block) or `chosen` by ballast.
+    pub choice: &'static str,
+    /// The rest-frame unit direction that points to the bed.
+    pub down: [f64; 3],
+    /// Rest frame to print frame as a `print { rotate }` would write it: extrinsic X, Y, Z Euler
+    /// angles, degrees.
+    pub rotate: [f64; 3],
+    /// Area of the hull facet on the bed, square project units; `None` when the part stands on
+    /// an edge or a corner.
+    pub facet_area: Option<f64>,
+    /// Why ballast chose it; `None` when declared.
+    pub reason: Option<String>,
+    /// Height of the part on the bed, project units.
+    pub height: f64,
+    /// Where the rest frame's origin lands on the bed (the translation of the rest frame to bed
+    /// frame transform), project units.
+    pub bed_offset: [f64; 3],
+}
+
+impl ComponentPrintReport {
+    /// The report of a component printed in `orientation`, placed on the bed by `plan`.
+    pub fn new(orientation: &Orientation, plan: &ComponentPlan) -> ComponentPrintReport {
+        let (x, y, z) = orientation.to_print.euler_angles();
+        let tidy = |value: f64| value + 0.0;
+        ComponentPrintReport {
+            choice: match orientation.choice {
+                OrientationChoice::Declared => "declared",
+                OrientationChoice::Chosen { .. } => "chosen",
+            },
+            down: orientation.down.map(tidy).into(),
+            rotate: [x, y, z].map(|a| tidy(a.to_degrees())),
+            facet_area: orientation.facet_area,
+            reason: match &orientation.choice {
+                OrientationChoice::Declared => None,
+                OrientationChoice::Chosen { reason, .. } => Some(reason.clone()),
+            },
+            height: orientation.height,
+            bed_offset: plan.to_bed.translation.vector.map(tidy).into(),
+        }
+    }
 }
 
 /// One capsule.
@@ -202,17 +250,26 @@ impl<'a> Report<'a> {
             .zip(&compilation.meshes)
             .zip(&compilation.mass)
             .zip(&compilation.prints)
-            .map(|(((component, mesh), mass), print)| ComponentReport {
-                name: component.name.value.clone(),
-                mesh: relative_path(&component.mesh.value, folder),
-                part: component.selector.part_name().map(str::to_owned),
-                vertices: mesh.positions.len(),
-                triangles: mesh.triangles.len(),
-                volume: mass.volume,
-                centroid: mass.centroid.coords.into(),
-                solid_volume: print.solid.volume,
-                sparse_volume: print.sparse.volume,
-            })
+            .zip(
+                compilation
+                    .orientations
+                    .iter()
+                    .zip(&compilation.print_plan.components),
+            )
+            .map(
+                |((((component, mesh), mass), print), (orientation, plan))| ComponentReport {
+                    name: component.name.value.clone(),
+                    mesh: relative_path(&component.mesh.value, folder),
+                    part: component.selector.part_name().map(str::to_owned),
+                    vertices: mesh.positions.len(),
+                    triangles: mesh.triangles.len(),
+                    volume: mass.volume,
+                    centroid: mass.centroid.coords.into(),
+                    solid_volume: print.solid.volume,
+                    sparse_volume: print.sparse.volume,
+                    print: ComponentPrintReport::new(orientation, plan),
+                },
+            )
             .collect();
         let capsules = compilation
             .design
