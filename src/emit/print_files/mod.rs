@@ -8,6 +8,7 @@
 //! slicers read as a solid with a cavity as long as the capsule lies strictly inside the part.
 
 mod prusa;
+mod sheet;
 mod stl;
 mod xml;
 mod zip;
@@ -17,6 +18,7 @@ use nalgebra::Point3;
 use super::shapes::capsule;
 
 pub use prusa::write_prusa_3mf;
+pub use sheet::{write_sheet, Sheet};
 pub use stl::write_stl;
 
 /// A component as it lies on the bed.
