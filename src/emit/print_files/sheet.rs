@@ -274,7 +274,8 @@ fn silhouette(mesh: &BedMesh, low: [f64; 2], cell: f64) -> Vec<Vec<(usize, usize
             .fold(f64::NEG_INFINITY, f64::max);
         let first = (z_low - 0.5).ceil().max(0.0) as usize;
         let last = ((z_high - 0.5).floor().max(-1.0) + 1.0) as usize;
-        for row in first..last.min(rows) {
+        let last = last.min(rows).max(first);
+        for (row, cells) in covered.iter_mut().enumerate().take(last).skip(first) {
             let z = row as f64 + 0.5;
             let mut span = (f64::INFINITY, f64::NEG_INFINITY);
             for k in 0..3 {
@@ -289,7 +290,7 @@ fn silhouette(mesh: &BedMesh, low: [f64; 2], cell: f64) -> Vec<Vec<(usize, usize
             }
             let start = span.0.floor().max(0.0) as usize;
             let end = (span.1.ceil().max(0.0) as usize).min(rows);
-            for c in &mut covered[row][start..end.max(start)] {
+            for c in &mut cells[start..end.max(start)] {
                 *c = true;
             }
         }
