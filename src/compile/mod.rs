@@ -20,6 +20,7 @@ mod meshes;
 mod optimize;
 mod outputs;
 mod print_cache;
+mod print_files;
 mod report;
 mod scene;
 mod solution;
@@ -36,6 +37,7 @@ pub use optimize::{
 };
 pub use outputs::write_outputs;
 pub use print_cache::PrintCache;
+pub use print_files::{bed_parts, print_settings};
 pub use report::{Report, REPORT_FORMAT};
 pub use solution::{read_solution, solution_text};
 pub use workspace::{Failure, Stage, Workspace};
