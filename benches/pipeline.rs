@@ -63,6 +63,7 @@ fn project() -> Project {
             name: Spanned::new("hammer".to_string(), span),
             mesh: Spanned::new(PathBuf::from("hammer.obj"), span),
             selector: MeshSelector::Whole,
+            print: None,
             span,
         }],
         poses: Vec::new(),

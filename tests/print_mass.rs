@@ -11,13 +11,13 @@ use ballast::balance::capsule_shell;
 use ballast::geometry::{print_volumes, Slicing};
 use ballast::spec::model::{Print, Units};
 use geometry_support::box_mesh;
-use nalgebra::{Point3, Vector3};
+use nalgebra::{Point3, Rotation3, Vector3};
 
 /// Slicing with `perimeter` thickness, layers of `h` (the first too), `n` top and bottom layers,
 /// no small-region rule and no surface margin.
 fn slicing(perimeter: f64, h: f64, n: usize) -> Slicing {
     Slicing {
-        up: 2,
+        to_print: Rotation3::identity(),
         perimeter_thickness: perimeter,
         layer_height: h,
         first_layer_height: h,

@@ -1,9 +1,12 @@
 //! ballast's print mass model against the G-code PrusaSlicer writes at its defaults: a box, a
-//! box with a capsule void, and the t_shape example with its design. Skipped, with a message,
+//! box with a capsule void (upright and printed on its side), and the t_shape example with its
+//! design in the print orientation ballast gives it. Skipped, with a message,
 //! when `prusa-slicer` is not on the PATH (`.ci/run` installs it).
 //!
 //! G-code positions are the nozzle's, at the top of the layer being printed: the material lies
 //! half a layer lower, so the G-code's centre is lowered by half a layer height before comparing.
+//! A part printed turned is written to the STL turned into its print frame, and the G-code's
+//! centre turned back into the rest frame.
 
 mod geometry_support;
 mod print_support;
@@ -15,9 +18,9 @@ use ballast::compile::compile;
 use ballast::design::Design;
 use ballast::gcode::read_deposit;
 use ballast::geometry::{print_volumes, TriMesh};
-use ballast::spec::model::{Axis, Print, Project, Units};
+use ballast::spec::model::{Print, Project, Units};
 use geometry_support::box_mesh;
-use nalgebra::{Point3, Vector3};
+use nalgebra::{Point3, Rotation3, Vector3};
 use print_support::*;
 
 /// PrusaSlicer's default filament, mm.
@@ -26,14 +29,15 @@ const FILAMENT: f64 = 1.75;
 const BED_CENTRE: (f64, f64) = (100.0, 100.0);
 
 /// Mass (g) and centre (rest frame) of the plastic ballast models for `body` with `capsules`
-/// (from, to, radius) cut, at `infill`, PLA.
+/// (from, to, radius) cut, at `infill`, PLA, printed turned by `to_print`.
 fn modelled(
     body: &TriMesh,
     capsules: &[(Point3<f64>, Point3<f64>, f64)],
     infill: f64,
+    to_print: Rotation3<f64>,
 ) -> (f64, Point3<f64>) {
     let print = Print::defaults(Units::Millimetre);
-    let volumes = print_volumes(body, &slicing(&print, Axis::Z));
+    let volumes = print_volumes(body, &slicing(&print, to_print));
     let t = capsule_shell(&print);
     let mut volume = volumes.solid.volume + infill * volumes.sparse.volume;
     let mut moment = volumes.solid.centroid.coords * volumes.solid.volume
@@ -49,26 +53,33 @@ fn modelled(
 }
 
 /// Mass (g) and centre (rest frame of `body`) of the plastic in PrusaSlicer's G-code for `mesh`
-/// (`body` with its voids), PLA.
+/// (`body` with its voids), PLA, printed turned by `to_print`.
 fn sliced(
     dir: &Path,
     name: &str,
-    body: &TriMesh,
-    mesh: &TriMesh,
+    (body, mesh): (&TriMesh, &TriMesh),
     infill: f64,
+    to_print: Rotation3<f64>,
 ) -> (f64, Point3<f64>) {
+    let turn = |mesh: &TriMesh| TriMesh {
+        positions: mesh.positions.iter().map(|p| to_print * p).collect(),
+        triangles: mesh.triangles.clone(),
+    };
     let path = dir.join(format!("{name}.stl"));
-    write_stl(mesh, &path);
+    write_stl(&turn(mesh), &path);
     let deposit =
         read_deposit(&slice(&path, infill), FILAMENT).expect("PrusaSlicer's G-code reads");
-    let (low, high) = bounds(body);
+    let (low, high) = bounds(&turn(body));
     let print = Print::defaults(Units::Millimetre);
     let offset = Vector3::new(
         (low.x + high.x) / 2.0 - BED_CENTRE.0,
         (low.y + high.y) / 2.0 - BED_CENTRE.1,
         low.z - print.layer_height / 2.0,
     );
-    (deposit.mass(1.24), deposit.centroid + offset)
+    (
+        deposit.mass(1.24),
+        to_print.inverse() * (deposit.centroid + offset),
+    )
 }
 
 fn bounds(mesh: &TriMesh) -> (Point3<f64>, Point3<f64>) {
@@ -130,10 +141,16 @@ fn a_box_weighs_what_prusaslicer_deposits() {
     let dir = tempfile::tempdir().unwrap();
     let body = box_mesh(40.0, 30.0, 20.0);
     for infill in [0.15, 0.5] {
-        let gcode = sliced(dir.path(), "box", &body, &body, infill);
+        let gcode = sliced(
+            dir.path(),
+            "box",
+            (&body, &body),
+            infill,
+            Rotation3::identity(),
+        );
         compare(
             &format!("box at {infill}"),
-            modelled(&body, &[], infill),
+            modelled(&body, &[], infill, Rotation3::identity()),
             gcode,
             0.05,
             0.2,
@@ -163,9 +180,52 @@ fn a_capsule_void_weighs_what_prusaslicer_deposits() {
     for (i, capsule) in cases.iter().enumerate() {
         let (p, q, r) = *capsule;
         let mesh = with_voids(&body, &[capsule_mesh(p, q, r, 64)]);
-        let gcode = sliced(dir.path(), &format!("void{i}"), &body, &mesh, 0.15);
-        let model = modelled(&body, &[*capsule], 0.15);
+        let gcode = sliced(
+            dir.path(),
+            &format!("void{i}"),
+            (&body, &mesh),
+            0.15,
+            Rotation3::identity(),
+        );
+        let model = modelled(&body, &[*capsule], 0.15, Rotation3::identity());
         compare(&format!("box with capsule {i}"), model, gcode, 0.05, 0.2);
+    }
+}
+
+#[test]
+fn a_box_with_a_void_printed_on_its_side_weighs_what_prusaslicer_deposits() {
+    if skip() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let body = box_mesh(40.0, 30.0, 20.0);
+    let capsule = (
+        Point3::new(8.0, 12.0, 8.0),
+        Point3::new(32.0, 16.0, 12.0),
+        3.0,
+    );
+    let mesh = with_voids(&body, &[capsule_mesh(capsule.0, capsule.1, capsule.2, 64)]);
+    // On its 30 × 20 end (rest-frame x up), then on its 40 × 20 side (y down).
+    let turns = [
+        (
+            "end",
+            Rotation3::from_euler_angles(0.0, -std::f64::consts::FRAC_PI_2, 0.0),
+        ),
+        (
+            "side",
+            Rotation3::from_euler_angles(-std::f64::consts::FRAC_PI_2, 0.0, 0.0),
+        ),
+    ];
+    for (name, to_print) in turns {
+        let gcode = sliced(dir.path(), name, (&body, &mesh), 0.15, to_print);
+        let model = modelled(&body, &[capsule], 0.15, to_print);
+        let upright = modelled(&body, &[capsule], 0.15, Rotation3::identity());
+        compare(&format!("box on its {name}"), model, gcode, 0.05, 0.2);
+        // The orientation changes the model: its centre moves away from the upright one.
+        println!(
+            "box on its {name}: the model's centre is {:.2} mm from the upright model's",
+            (model.1 - upright.1).norm()
+        );
     }
 }
 
@@ -256,14 +316,15 @@ fn the_t_shape_with_its_design_weighs_and_stands_as_prusaslicer_prints_it() {
         .map(|&(p, q, r)| capsule_mesh(p, q, r, 64))
         .collect();
     let dir = tempfile::tempdir().unwrap();
+    let to_print = compilation.orientations[0].to_print;
     let gcode = sliced(
         dir.path(),
         "t_shape",
-        body,
-        &with_voids(body, &voids),
+        (body, &with_voids(body, &voids)),
         design.infill,
+        to_print,
     );
-    let model = modelled(body, &capsules, design.infill);
+    let model = modelled(body, &capsules, design.infill, to_print);
     compare("t_shape", model, gcode, 0.05, 1.0);
 
     // The plastic ballast's physics sums is the plastic modelled here.

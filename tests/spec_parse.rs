@@ -48,6 +48,7 @@ fn component(called: &str, mesh: &str, selector: MeshSelector) -> Component {
         name: name(called),
         mesh: Spanned::new(PathBuf::from(mesh), any_span()),
         selector,
+        print: None,
         span: any_span(),
     }
 }

@@ -48,6 +48,7 @@ pub use facets::{facet_rotation, resting_facets, RestingFacet};
 pub use mass::capsule_shell;
 pub use rest::{Resting, SNAP_WARNING};
 
+use nalgebra::{Matrix3, Rotation3};
 use serde::Serialize;
 
 use crate::geometry::{print_volumes, MassProperties, PrintVolumes, Slicing, TriMesh};
@@ -74,7 +75,8 @@ pub struct ComponentBody<'a> {
 
 impl<'a> ComponentBody<'a> {
     /// The body of `mesh`, with its mass properties and print volumes computed for `project`'s
-    /// [`print`](crate::spec::model::Project::print) settings.
+    /// [`print`](crate::spec::model::Project::print) settings, printed with the project's `up`
+    /// axis up ([`up_to_print`]).
     ///
     /// # Panics
     /// If a triangle indexes past the positions (as [`mass_properties`](crate::geometry::mass_properties)
@@ -84,7 +86,7 @@ impl<'a> ComponentBody<'a> {
         ComponentBody {
             mesh,
             mass,
-            print: component_print(project, mesh, &mass),
+            print: component_print(project, mesh, &mass, up_to_print(project.up)),
         }
     }
 
@@ -99,24 +101,37 @@ impl<'a> ComponentBody<'a> {
 }
 
 /// Where `mesh` (with mass properties `mass`) is printed solid and where sparse under
-/// `project`'s mass model: the slicer's layers for `fdm`, all sparse for `uniform`.
-pub fn component_print(project: &Project, mesh: &TriMesh, mass: &MassProperties) -> PrintVolumes {
+/// `project`'s mass model, printed turned by `to_print`: the slicer's layers for `fdm`, all
+/// sparse for `uniform`.
+pub fn component_print(
+    project: &Project,
+    mesh: &TriMesh,
+    mass: &MassProperties,
+    to_print: Rotation3<f64>,
+) -> PrintVolumes {
     match project.print.model {
         MassModel::Uniform => PrintVolumes::uniform(mass),
-        MassModel::Fdm => print_volumes(mesh, &slicing(&project.print, project.up)),
+        MassModel::Fdm => print_volumes(mesh, &slicing(&project.print, to_print)),
     }
 }
 
-/// The geometry stage's view of the print settings `print`: built along `up` in every
-/// component's rest frame.
-pub fn slicing(print: &Print, up: Axis) -> Slicing {
+/// The rotation that turns a rest frame with `up` pointing up into a print frame (+z up): the
+/// identity for z; exact quarter turns about the other axes.
+pub fn up_to_print(up: Axis) -> Rotation3<f64> {
+    let matrix = match up {
+        Axis::X => Matrix3::new(0.0, 0.0, -1.0, 0.0, 1.0, 0.0, 1.0, 0.0, 0.0),
+        Axis::Y => Matrix3::new(1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 1.0, 0.0),
+        Axis::Z => Matrix3::identity(),
+    };
+    Rotation3::from_matrix_unchecked(matrix)
+}
+
+/// The geometry stage's view of the print settings `print` for a component printed turned by
+/// `to_print` (rest frame to print frame, +z up).
+pub fn slicing(print: &Print, to_print: Rotation3<f64>) -> Slicing {
     let count = |n: u64| usize::try_from(n).unwrap_or(usize::MAX);
     Slicing {
-        up: match up {
-            Axis::X => 0,
-            Axis::Y => 1,
-            Axis::Z => 2,
-        },
+        to_print,
         perimeter_thickness: print.perimeter_thickness(),
         layer_height: print.layer_height,
         first_layer_height: print.first_layer_height,

@@ -18,6 +18,7 @@ mod down;
 mod mesh_cache;
 mod meshes;
 mod optimize;
+mod orientation;
 mod outputs;
 mod print_cache;
 mod print_files;
@@ -35,6 +36,7 @@ pub use optimize::{
     length_decimals, optimize_design, prepare, CandidateReport, Optimization, OptimizeOptions,
     Preparation, SeedReport, Timings, WarmStart,
 };
+pub use orientation::{print_orientations, print_plan, BED_CENTRE_MM, BED_GAP_MM};
 pub use outputs::write_outputs;
 pub use print_cache::PrintCache;
 pub use print_files::{bed_parts, print_settings};
@@ -48,6 +50,7 @@ use crate::balance::{
 };
 use crate::design::Design;
 use crate::diagnostic::Problem;
+use crate::fabrication::{Orientation, PrintPlan};
 use crate::geometry::{MassProperties, PrintVolumes, TriMesh};
 use crate::spec::model::Project;
 use crate::spec::parse_project;
@@ -83,8 +86,13 @@ pub struct Compilation {
     pub meshes: Vec<TriMesh>,
     /// Each component's volume, centroid and second moment, in project order.
     pub mass: Vec<MassProperties>,
-    /// Per component, where it is printed solid and where sparse (the project's mass model).
+    /// Per component, where it is printed solid and where sparse (the project's mass model), in
+    /// its print orientation.
     pub prints: Vec<PrintVolumes>,
+    /// Per component, how it is printed: declared or chosen, and why.
+    pub orientations: Vec<Orientation>,
+    /// How the design is printed: every component on the bed.
+    pub print_plan: PrintPlan,
     /// The capsules evaluated.
     pub design: Design,
     /// One per pose, in project order.
@@ -134,13 +142,21 @@ pub fn compile_with(
     };
     let (meshes, mesh_problems) = load_components(&project, &mut workspace.meshes);
     problems.extend(mesh_problems);
-    if let Some(meshes) = meshes
-        .as_ref()
-        .filter(|_| project.poses.iter().any(|pose| pose.down.is_some()))
-    {
+    let orientations = meshes.as_ref().map(|meshes| {
+        let (orientations, orientation_problems) = print_orientations(&project, meshes);
+        problems.extend(orientation_problems);
+        orientations
+    });
+    if let (Some(meshes), Some(orientations)) = (
+        meshes
+            .as_ref()
+            .filter(|_| project.poses.iter().any(|pose| pose.down.is_some())),
+        &orientations,
+    ) {
         let prints: Vec<PrintVolumes> = meshes
             .iter()
-            .map(|mesh| workspace.prints.volumes(&project, mesh))
+            .zip(orientations)
+            .map(|(mesh, o)| workspace.prints.volumes(&project, mesh, o.to_print))
             .collect();
         let bodies: Vec<ComponentBody> = meshes
             .iter()
@@ -154,13 +170,16 @@ pub fn compile_with(
     if let Some(meshes) = &meshes {
         problems.extend(design::fabrication_problems(&project, meshes, &written));
     }
-    let meshes = match meshes {
-        Some(meshes) if !problems.iter().any(Problem::is_error) => meshes,
+    let (meshes, orientations) = match (meshes, orientations) {
+        (Some(meshes), Some(orientations)) if !problems.iter().any(Problem::is_error) => {
+            (meshes, orientations)
+        }
         _ => return Err(Failure::Invalid(problems)),
     };
     let prints: Vec<PrintVolumes> = meshes
         .iter()
-        .map(|mesh| workspace.prints.volumes(&project, mesh))
+        .zip(&orientations)
+        .map(|(mesh, o)| workspace.prints.volumes(&project, mesh, o.to_print))
         .collect();
     let (design, source, optimization) = match (&project.optimize, &options.optimize) {
         (None, _) => (written, DesignSource::Written, None),
@@ -199,11 +218,14 @@ pub fn compile_with(
     problems.extend(undetermined_balls(&project, &design, &poses));
     problems.extend(settled_poses(&project, &poses));
     problems.extend(other_states(&project, &poses));
+    let print_plan = print_plan(&project, &meshes, &orientations);
     Ok(Compilation {
         project,
         meshes,
         mass,
         prints,
+        orientations,
+        print_plan,
         design,
         poses,
         warnings: problems,

@@ -1,5 +1,7 @@
 //! `PrintCache`: each component's print volumes kept between builds of one process, so a watch
-//! session slices an unchanged mesh with unchanged print settings once.
+//! session slices an unchanged mesh with unchanged print settings and orientation once.
+
+use nalgebra::Rotation3;
 
 use crate::balance::{component_print, slicing};
 use crate::geometry::{mass_properties, PrintVolumes, Slicing, TriMesh};
@@ -10,7 +12,7 @@ use crate::spec::model::{MassModel, Project};
 /// [`start_build`](Self::start_build) are dropped by [`prune`](Self::prune).
 #[derive(Debug, Default)]
 pub struct PrintCache {
-    /// (mesh content hash, slicing, volumes, asked for in this build), in insertion order.
+    /// (mesh content hash, slicing with the print orientation, volumes, asked for in this build), in insertion order.
     entries: Vec<(u64, Slicing, PrintVolumes, bool)>,
     /// Meshes sliced (not found) since the last `start_build`.
     sliced: usize,
@@ -22,13 +24,19 @@ impl PrintCache {
         PrintCache::default()
     }
 
-    /// `project`'s print volumes of `mesh`: from the cache under the `fdm` model when this mesh
-    /// was sliced with these settings before, else computed (and kept).
-    pub fn volumes(&mut self, project: &Project, mesh: &TriMesh) -> PrintVolumes {
+    /// `project`'s print volumes of `mesh` printed turned by `to_print`: from the cache under the
+    /// `fdm` model when this mesh was sliced with these settings and this orientation before,
+    /// else computed (and kept).
+    pub fn volumes(
+        &mut self,
+        project: &Project,
+        mesh: &TriMesh,
+        to_print: Rotation3<f64>,
+    ) -> PrintVolumes {
         if project.print.model == MassModel::Uniform {
-            return component_print(project, mesh, &mass_properties(mesh));
+            return component_print(project, mesh, &mass_properties(mesh), to_print);
         }
-        let key = (content_hash(mesh), slicing(&project.print, project.up));
+        let key = (content_hash(mesh), slicing(&project.print, to_print));
         if let Some(entry) = self
             .entries
             .iter_mut()
@@ -37,7 +45,7 @@ impl PrintCache {
             entry.3 = true;
             return entry.2;
         }
-        let volumes = component_print(project, mesh, &mass_properties(mesh));
+        let volumes = component_print(project, mesh, &mass_properties(mesh), to_print);
         self.sliced += 1;
         self.entries.push((key.0, key.1, volumes, true));
         volumes

@@ -9,20 +9,27 @@
 //!   to (eq. 15 with the wall added), and if not, which component it is in instead;
 //! - two capsules of one component keep a wall between them (eq. 14 with the wall added).
 //!
-//! [`PrintPlan`] is how the design is printed: each component's orientation on the bed, the
-//! pauses and the balls that go in at each.
+//! [`PrintPlan`] is how the design is printed: each component's orientation on the bed
+//! ([`choose`] or a declared one, `orientation.rs`; laid out by [`lay_out`], `bed.rs`), the pauses
+//! and the balls that go in at each.
 //!
 //! Issues are plain data without spans or messages: the driver knows which project node each
 //! capsule came from and turns an issue into a diagnostic there. Whether a ball clearly rolls to
 //! one end (eq. 22) depends on the pose and is left to the physics stage.
 
+mod bed;
 mod check;
 mod issue;
+mod orientation;
 mod overlap;
 mod placement;
 mod plan;
 mod tolerance;
 
+pub use bed::{lay_out, Bed};
 pub use check::check_design;
 pub use issue::CapsuleIssue;
+pub use orientation::{
+    choose, declared_down, declared_rotation, InsertionRank, Orientation, AREA_TIE,
+};
 pub use plan::{CapsuleInsertion, ComponentPlan, OrientationChoice, Pause, PrintPlan};

@@ -1,6 +1,7 @@
 //! Where an FDM slicer puts solid material and where sparse infill in a closed mesh.
 //!
-//! The mesh is cut into layers along the build direction, as a slicer does: the first layer
+//! The mesh is turned into its print frame (+z up, away from the bed) and cut into layers along
+//! z, as a slicer does: the first layer
 //! `first_layer_height` thick, the others `layer_height`, each sliced at its mid-height. Every
 //! slice is rasterised on a square grid (a cell is inside when its centre is, by the even-odd
 //! rule on the slice's segments) and each inside cell is classified:
@@ -16,10 +17,11 @@
 //!   `min_sparse_area`, which the slicer fills solid;
 //! - **sparse**: the rest, printed at the infill fraction.
 //!
-//! The first three are [`PrintVolumes::solid`]. The result does not depend on the design and is
-//! computed once per component.
+//! The first three are [`PrintVolumes::solid`]; their centroids are turned back into the rest
+//! frame. The result does not depend on the design and is computed once per component and print
+//! orientation.
 
-use nalgebra::{Point3, Vector3};
+use nalgebra::{Point3, Rotation3, Vector3};
 
 use super::mass::MassProperties;
 use super::mesh::TriMesh;
@@ -27,8 +29,8 @@ use super::mesh::TriMesh;
 /// How the slicer prints, in the mesh's units.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Slicing {
-    /// The build direction: index of the rest-frame axis that points up (0 x, 1 y, 2 z).
-    pub up: usize,
+    /// The print orientation: rest frame to print frame, whose +z is the build direction.
+    pub to_print: Rotation3<f64>,
     /// Horizontal thickness of the perimeters.
     pub perimeter_thickness: f64,
     /// Height of every layer but the first.
@@ -101,6 +103,15 @@ pub fn print_volumes(mesh: &TriMesh, slicing: &Slicing) -> PrintVolumes {
             centroid: Point3::origin(),
         },
     };
+    let printed = TriMesh {
+        positions: mesh
+            .positions
+            .iter()
+            .map(|p| slicing.to_print * p)
+            .collect(),
+        triangles: mesh.triangles.clone(),
+    };
+    let mesh = &printed;
     let Some(layout) = Layout::new(mesh, slicing) else {
         return empty;
     };
@@ -134,9 +145,13 @@ pub fn print_volumes(mesh: &TriMesh, slicing: &Slicing) -> PrintVolumes {
         }
     }
     let fallback = layout.centre();
+    let back = |region: Region| Region {
+        centroid: slicing.to_print.inverse() * region.centroid,
+        ..region
+    };
     PrintVolumes {
-        solid: solid.region(fallback),
-        sparse: sparse.region(fallback),
+        solid: back(solid.region(fallback)),
+        sparse: back(sparse.region(fallback)),
     }
 }
 
@@ -148,13 +163,15 @@ enum Cell {
     Sparse,
 }
 
-/// The layers and the raster of one mesh.
+/// The print frame's axes: up (the build direction), and the raster's columns and rows.
+const UP: usize = 2;
+const U: usize = 0;
+const V: usize = 1;
+
+/// The layers and the raster of one mesh, print frame.
 struct Layout {
     slicing: Slicing,
-    /// Horizontal axes (rest-frame indices) along the raster's columns and rows.
-    u: usize,
-    v: usize,
-    /// The mesh's lowest point along up.
+    /// The mesh's lowest point along z.
     bottom: f64,
     layers: usize,
     /// Raster origin (the corner of cell 0) and cell size.
@@ -169,8 +186,7 @@ type Segment = [(f64, f64); 2];
 
 impl Layout {
     fn new(mesh: &TriMesh, slicing: &Slicing) -> Option<Layout> {
-        let up = slicing.up.min(2);
-        let (u, v) = ((up + 1) % 3, (up + 2) % 3);
+        let (u, v) = (U, V);
         if mesh
             .positions
             .iter()
@@ -184,7 +200,7 @@ impl Layout {
             low = low.inf(&p.coords);
             high = high.sup(&p.coords);
         }
-        let height = high[up] - low[up];
+        let height = high[UP] - low[UP];
         let (h, h0) = (slicing.layer_height, slicing.first_layer_height);
         if !(h > 0.0 && h0 > 0.0 && height > 0.0 && height.is_finite()) {
             return None;
@@ -214,9 +230,7 @@ impl Layout {
         );
         Some(Layout {
             slicing: *slicing,
-            u,
-            v,
-            bottom: low[up],
+            bottom: low[UP],
             layers,
             origin,
             cell,
@@ -225,7 +239,7 @@ impl Layout {
         })
     }
 
-    /// Height of layer `k`'s slice plane (its middle), along up.
+    /// Height of layer `k`'s slice plane (its middle), along z.
     fn slice_height(&self, k: usize) -> f64 {
         let (h, h0) = (self.slicing.layer_height, self.slicing.first_layer_height);
         if k == 0 {
@@ -244,28 +258,28 @@ impl Layout {
         }
     }
 
-    /// The rest-frame point at cell `index`'s centre and height `z`.
+    /// The print-frame point at cell `index`'s centre and height `z`.
     fn point(&self, index: usize, z: f64) -> Point3<f64> {
         let (i, j) = (index % self.columns, index / self.columns);
-        let mut p = Point3::origin();
-        p[self.slicing.up.min(2)] = z;
-        p[self.u] = self.origin.0 + (i as f64 + 0.5) * self.cell;
-        p[self.v] = self.origin.1 + (j as f64 + 0.5) * self.cell;
-        p
+        Point3::new(
+            self.origin.0 + (i as f64 + 0.5) * self.cell,
+            self.origin.1 + (j as f64 + 0.5) * self.cell,
+            z,
+        )
     }
 
     /// The centre of the raster's box, for empty regions.
     fn centre(&self) -> Point3<f64> {
-        let mut p = Point3::origin();
-        p[self.slicing.up.min(2)] = self.slice_height(0);
-        p[self.u] = self.origin.0 + self.columns as f64 * self.cell / 2.0;
-        p[self.v] = self.origin.1 + self.rows as f64 * self.cell / 2.0;
-        p
+        Point3::new(
+            self.origin.0 + self.columns as f64 * self.cell / 2.0,
+            self.origin.1 + self.rows as f64 * self.cell / 2.0,
+            self.slice_height(0),
+        )
     }
 
     /// Each layer's slice of `mesh` as segments (u, v), triangles in order.
     fn slice(&self, mesh: &TriMesh) -> Vec<Vec<Segment>> {
-        let up = self.slicing.up.min(2);
+        let up = UP;
         let mut layers = vec![Vec::new(); self.layers];
         for triangle in &mesh.triangles {
             let corners = triangle.map(|i| mesh.positions.get(i as usize).map(|p| p.coords));
@@ -303,14 +317,14 @@ impl Layout {
     /// The segment where the plane at height `z` cuts a triangle: points at or above `z`
     /// count as above, so a plane through a vertex cuts consistently across neighbours.
     fn cut(&self, corners: &[Vector3<f64>; 3], z: f64) -> Option<Segment> {
-        let up = self.slicing.up.min(2);
+        let up = UP;
         let mut points = Vec::with_capacity(2);
         for e in 0..3 {
             let (p, q) = (corners[e], corners[(e + 1) % 3]);
             if (p[up] >= z) != (q[up] >= z) {
                 let t = (z - p[up]) / (q[up] - p[up]);
                 let x = p + (q - p) * t;
-                points.push((x[self.u], x[self.v]));
+                points.push((x[U], x[V]));
             }
         }
         (points.len() == 2).then(|| [points[0], points[1]])

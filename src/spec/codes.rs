@@ -41,6 +41,10 @@ pub const CONFLICTING_PROPERTIES: &str = "ballast::conflicting_properties";
 pub const ZERO_DOWN: &str = "ballast::pose::zero_down";
 /// `down` beside `rotate`, `translate` or `pivot` in one pose.
 pub const DOWN_WITH_STEPS: &str = "ballast::pose::down_with_steps";
+/// `down 0 0 0` in a component's `print` block.
+pub const ZERO_PRINT_DOWN: &str = "ballast::component::zero_down";
+/// `down` and `rotate` in one component's `print` block.
+pub const PRINT_DOWN_WITH_ROTATE: &str = "ballast::component::down_with_rotate";
 /// `optimize capsules=N` asks for fewer capsules than the project pins.
 pub const TOO_FEW_CAPSULES: &str = "ballast::optimize::too_few_capsules";
 /// A solution file's `infill` that the project does not leave open: outside the project's

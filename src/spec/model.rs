@@ -8,7 +8,7 @@
 use std::path::PathBuf;
 
 use miette::SourceSpan;
-use nalgebra::{Isometry3, Point3, Vector3};
+use nalgebra::{Isometry3, Point3, UnitQuaternion, Vector3};
 
 use crate::geometry::MeshSelector;
 
@@ -322,8 +322,23 @@ pub struct Component {
     pub mesh: Spanned<PathBuf>,
     /// Which part of the mesh file.
     pub selector: MeshSelector,
+    /// How the component lies on the print bed, when its `print` block says; `None`: ballast
+    /// chooses.
+    pub print: Option<PrintOrientation>,
     /// The whole `component` node.
     pub span: SourceSpan,
+}
+
+/// A component's declared print orientation (its `print` block). The print frame has +z up,
+/// away from the bed, whatever the project's `up` axis.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PrintOrientation {
+    /// `down x y z`: the rest-frame direction that points to the bed; the hull facet the ray from
+    /// the component's centroid along it meets goes on the bed. Never zero.
+    Down(Spanned<Vector3<f64>>),
+    /// `rotate rx ry rz`: rest frame to print frame, extrinsic X, Y, Z Euler angles in degrees
+    /// (as a pose's `rotate`).
+    Rotate(Spanned<UnitQuaternion<f64>>),
 }
 
 /// A named state of the model: where each component is, and what must happen. Equality ignores
@@ -446,9 +461,10 @@ impl PartialEq for Component {
             name,
             mesh,
             selector,
+            print,
             span: _,
         } = self;
-        (name, mesh, selector) == (&other.name, &other.mesh, &other.selector)
+        (name, mesh, selector, print) == (&other.name, &other.mesh, &other.selector, &other.print)
     }
 }
 

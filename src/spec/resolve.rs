@@ -13,9 +13,9 @@ use nalgebra::{Isometry3, Point3, Vector3};
 use super::codes;
 use super::model::{
     Axis, Ball, Capsule, Component, Goal, Infill, MassModel, Material, Optimize, Output, Pose,
-    Print, Project, Spanned, Units,
+    Print, PrintOrientation, Project, Spanned, Units,
 };
-use super::transform::{compose, Step};
+use super::transform::{compose, rotation, Step};
 use super::tree::Node;
 use super::value::listing;
 use super::vocabulary;
@@ -268,12 +268,58 @@ impl<'a> Resolver<'a> {
                 (None, Some(gltf_node)) => MeshSelector::GltfNode(gltf_node.value),
                 (None, None) => MeshSelector::Whole,
             };
+            let print = node
+                .child("print")
+                .and_then(|block| self.print_orientation(block));
             self.components.push(Component {
                 name,
                 mesh,
                 selector,
+                print,
                 span: node.span,
             });
+        }
+    }
+
+    /// The orientation a component's `print` block declares, if any; reports a zero `down` and a
+    /// `down` beside a `rotate`.
+    fn print_orientation(&mut self, block: &Node) -> Option<PrintOrientation> {
+        match (block.child("down"), block.child("rotate")) {
+            (None, None) => None,
+            (Some(down), Some(rotate)) => {
+                self.problems.push(
+                    Problem::error(
+                        codes::PRINT_DOWN_WITH_ROTATE,
+                        "a `print` block takes `down` or `rotate`, not both",
+                    )
+                    .with_label(down.span, "`down` names the facet on the bed")
+                    .with_label(rotate.span, "`rotate` turns the component onto the bed")
+                    .with_help("keep one of them"),
+                );
+                None
+            }
+            (Some(down), None) => {
+                let direction = down.vector()?;
+                if direction.norm() == 0.0 {
+                    self.problems.push(
+                        Problem::error(
+                            codes::ZERO_PRINT_DOWN,
+                            "`down` is the zero vector: it points nowhere",
+                        )
+                        .with_label(down.span, "this direction")
+                        .with_help("give the rest-frame direction that points to the print bed, e.g. `down 0 0 -1`"),
+                    );
+                    return None;
+                }
+                Some(PrintOrientation::Down(Spanned::new(direction, down.span)))
+            }
+            (None, Some(rotate)) => {
+                let degrees = rotate.vector()?;
+                Some(PrintOrientation::Rotate(Spanned::new(
+                    rotation(degrees),
+                    rotate.span,
+                )))
+            }
         }
     }
 

@@ -269,15 +269,25 @@ pub const DOCUMENT: &[NodeSpec] = &[
             prop("solid-infill-below-area", ValueKind::NonNegative),
         ],
     ),
-    mandatory(repeated(leaf(
-        "component",
-        NAME_ARG,
-        &[
+    NodeSpec {
+        name: "component",
+        args: NAME_ARG,
+        props: &[
             required(prop("mesh", ValueKind::Path)),
             prop("object", ValueKind::String),
             prop("node", ValueKind::String),
         ],
-    ))),
+        children: &[NodeSpec {
+            name: "print",
+            args: NO_ARGS,
+            props: &[],
+            children: &[leaf("down", DIRECTION, &[]), leaf("rotate", ANGLES, &[])],
+            repeatable: false,
+            required: false,
+        }],
+        repeatable: true,
+        required: true,
+    },
     NodeSpec {
         name: "pose",
         args: NAME_ARG,

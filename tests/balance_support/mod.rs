@@ -57,6 +57,7 @@ pub fn project(components: &[&str]) -> Project {
                 name: Spanned::new(name.to_string(), span()),
                 mesh: Spanned::new(PathBuf::from(format!("{name}.obj")), span()),
                 selector: MeshSelector::Whole,
+                print: None,
                 span: span(),
             })
             .collect(),
