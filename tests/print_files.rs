@@ -58,6 +58,7 @@ const SETTINGS: PrintSettings = PrintSettings {
     infill: 0.15,
     extrusion_width: 0.45,
     solid_infill_below_area: 70.0,
+    bed: [250.0, 210.0],
 };
 
 /// The top of layer `n` (1-based) on the settings' grid.

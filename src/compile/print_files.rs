@@ -4,14 +4,16 @@
 
 use nalgebra::Vector3;
 
+use super::BED_CENTRE_MM;
 use crate::design::Design;
 use crate::emit::print_files::{BedMesh, BedPart, BedPause, BedVoid, PrintSettings};
 use crate::fabrication::{OrientationChoice, PrintPlan};
 use crate::geometry::TriMesh;
 use crate::spec::model::Project;
 
-/// Every component of `plan` on the bed, in millimetres: its mesh and capsules moved by the
-/// plan's `to_bed`, its pauses with the capsules renumbered within the component.
+/// Every component of `plan` on the bed, in millimetres: its mesh and the design's capsules in
+/// it moved by the plan's `to_bed`, its pauses with the capsules renumbered within the
+/// component.
 pub fn bed_parts(
     project: &Project,
     meshes: &[TriMesh],
@@ -28,8 +30,10 @@ pub fn bed_parts(
                 positions: mesh.positions.iter().map(|p| (to_bed * p) * mm).collect(),
                 triangles: mesh.triangles.clone(),
             };
-            // Design index -> index among this component's voids.
-            let capsules: Vec<usize> = component.capsules.iter().map(|c| c.capsule).collect();
+            // The component's capsules in design order; a void's index is its place here.
+            let capsules: Vec<usize> = (0..design.capsules.len())
+                .filter(|&i| design.capsules[i].component == component.component)
+                .collect();
             let voids = capsules
                 .iter()
                 .map(|&i| {
@@ -63,27 +67,30 @@ pub fn bed_parts(
                 surface,
                 voids,
                 pauses,
-                orientation: orientation(&component.orientation, &component.down),
+                orientation: orientation(&component.orientation, &component.down, mm),
             }
         })
         .collect()
 }
 
-/// The orientation in plain words: where it came from and which rest-frame direction is down.
-fn orientation(choice: &OrientationChoice, down: &Vector3<f64>) -> String {
+/// The orientation in plain words: where it came from and which rest-frame direction is down;
+/// `mm` millimetres to the project unit.
+fn orientation(choice: &OrientationChoice, down: &Vector3<f64>, mm: f64) -> String {
     let down = format!("({:.3}, {:.3}, {:.3})", down.x, down.y, down.z);
     match choice {
         OrientationChoice::Declared => {
             format!("as the project file declares, rest-frame direction {down} down")
         }
         OrientationChoice::Chosen { area, reason } => format!(
-            "chosen by ballast, rest-frame direction {down} down onto a facet of {area:.1} square \
-             units: {reason}"
+            "chosen by ballast, rest-frame direction {down} down onto a facet of {:.1} mm²: \
+             {reason}",
+            area * mm * mm
         ),
     }
 }
 
-/// The print settings the mass model assumed, in millimetres, with the design's infill.
+/// The print settings the mass model assumed, in millimetres, with the design's infill; the bed
+/// the plan lays the parts out on.
 pub fn print_settings(project: &Project, design: &Design) -> PrintSettings {
     let mm = project.units.in_metres() * 1000.0;
     let print = &project.print;
@@ -96,5 +103,6 @@ pub fn print_settings(project: &Project, design: &Design) -> PrintSettings {
         infill: design.infill,
         extrusion_width: print.extrusion_width * mm,
         solid_infill_below_area: print.solid_infill_below_area * mm * mm,
+        bed: BED_CENTRE_MM.map(|centre| 2.0 * centre),
     }
 }

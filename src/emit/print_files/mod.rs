@@ -18,7 +18,7 @@ use nalgebra::Point3;
 use super::shapes::capsule;
 
 pub use prusa::write_prusa_3mf;
-pub use sheet::{write_sheet, Sheet};
+pub use sheet::{file_name, write_sheet, Sheet};
 pub use stl::write_stl;
 
 /// A component as it lies on the bed.
@@ -109,6 +109,8 @@ pub struct PrintSettings {
     pub extrusion_width: f64,
     /// Interior regions smaller than this (mm²) are filled solid.
     pub solid_infill_below_area: f64,
+    /// Size of the bed in x and y, mm, its origin at a corner.
+    pub bed: [f64; 2],
 }
 
 /// The G-code a pause runs (Marlin and Prusa firmware: pause and wait for the user).

@@ -149,6 +149,8 @@ fn model_config(parts: &[BedPart]) -> String {
 /// pause G-code. Keys are PrusaSlicer's, one `; key = value` line each, in key order.
 fn config(settings: &PrintSettings) -> String {
     let mut keys = BTreeMap::new();
+    let [x, y] = settings.bed.map(|v| number(v, 3));
+    keys.insert("bed_shape", format!("0x0,{x}x0,{x}x{y},0x{y}"));
     keys.insert(
         "bottom_solid_layers",
         settings.bottom_solid_layers.to_string(),

@@ -57,9 +57,9 @@ pub fn write_sheet(title: &str, parts: &[BedPart], settings: &PrintSettings, ste
         let _ = writeln!(md, "Orientation on the bed: {}.\n", part.orientation);
         let file = format!("{stem}-{}.svg", file_name(&part.name));
         let _ = writeln!(md, "![`{}` seen from the front]({file})\n", part.name);
-        if part.pauses.is_empty() {
+        if part.voids.is_empty() {
             md.push_str("No pause: this part holds no ball.\n\n");
-        } else {
+        } else if !part.pauses.is_empty() {
             md.push_str(
                 "| pause | after layer | printed to (mm) | resumes with the layer to (mm) | balls |\n\
                  | --- | --- | --- | --- | --- |\n",
@@ -99,8 +99,7 @@ pub fn write_sheet(title: &str, parts: &[BedPart], settings: &PrintSettings, ste
         if !missing.is_empty() {
             let _ = writeln!(
                 md,
-                "**No pause lets a ball into {}**: there is no height at which the dropped ball \
-                 lies below the printed layer while the opening is still wide enough.\n",
+                "**No pause is planned for the ball of {}.**\n",
                 missing
                     .iter()
                     .map(|n| format!("`{n}`"))
@@ -124,8 +123,9 @@ fn plural<'a>(n: usize, one: &'a str, many: &'a str) -> &'a str {
     }
 }
 
-/// `name` with every character but ASCII letters, digits, `-` and `_` replaced by `_`.
-fn file_name(name: &str) -> String {
+/// `name` with every character but ASCII letters, digits, `-` and `_` replaced by `_`: a
+/// component's name as part of a file name.
+pub fn file_name(name: &str) -> String {
     name.chars()
         .map(|c| {
             if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
@@ -169,19 +169,16 @@ fn side_view(part: &BedPart) -> String {
         escape(&part.name)
     );
     svg.push_str("<path fill=\"#c8c8c8\" d=\"");
-    for (row, runs) in silhouette(&part.surface, low, cell).iter().enumerate() {
-        let top = low[1] + (row as f64 + 1.0) * cell;
-        for &(start, end) in runs {
-            let _ = write!(
-                svg,
-                "M{} {}h{}v{}h-{}z",
-                x(low[0] + start as f64 * cell),
-                y(top),
-                number((end - start) as f64 * cell, 3),
-                number(cell, 3),
-                number((end - start) as f64 * cell, 3),
-            );
-        }
+    for (start, end, bottom, top) in rectangles(&silhouette(&part.surface, low, cell)) {
+        let _ = write!(
+            svg,
+            "M{} {}H{}V{}H{}z",
+            x(low[0] + start as f64 * cell),
+            y(low[1] + top as f64 * cell),
+            x(low[0] + end as f64 * cell),
+            y(low[1] + bottom as f64 * cell),
+            x(low[0] + start as f64 * cell),
+        );
     }
     svg.push_str("\"/>\n");
     let _ = writeln!(
@@ -254,6 +251,32 @@ fn bounds(mesh: &BedMesh) -> ([f64; 2], [f64; 2]) {
         return ([0.0; 2], [0.0; 2]);
     }
     (low, high)
+}
+
+/// The runs of `rows` merged with the same run in the rows above: `(first column, past the last,
+/// first row, past the last)`, in order of their first row, then column.
+fn rectangles(rows: &[Vec<(usize, usize)>]) -> Vec<(usize, usize, usize, usize)> {
+    let mut done = Vec::new();
+    let mut open: BTreeMap<(usize, usize), usize> = BTreeMap::new();
+    for (row, runs) in rows.iter().enumerate() {
+        let closed: Vec<(usize, usize)> = open
+            .keys()
+            .filter(|run| !runs.contains(run))
+            .copied()
+            .collect();
+        for run in closed {
+            let first = open.remove(&run).unwrap_or(row);
+            done.push((run.0, run.1, first, row));
+        }
+        for &run in runs {
+            open.entry(run).or_insert(row);
+        }
+    }
+    for (run, first) in open {
+        done.push((run.0, run.1, first, rows.len()));
+    }
+    done.sort_by_key(|&(start, _, first, _)| (first, start));
+    done
 }
 
 /// The mesh projected onto the x-z plane on a raster of square cells of side `cell` from `low`:
@@ -341,7 +364,7 @@ mod tests {
             "{md}"
         );
         assert!(md.contains("![`block` seen from the front](insertion-block.svg)"));
-        assert!(!md.contains("No pause lets"));
+        assert!(!md.contains("No pause"));
         assert_eq!(sheet.pictures.len(), 1);
         assert_eq!(sheet.pictures[0].0, "insertion-block.svg");
         assert_eq!(
@@ -358,7 +381,7 @@ mod tests {
         let sheet = write_sheet("b", &[part], &settings(), "s");
         assert!(sheet
             .markdown
-            .contains("**No pause lets a ball into `keel`**"));
+            .contains("**No pause is planned for the ball of `keel`.**"));
     }
 
     #[test]
@@ -370,6 +393,9 @@ mod tests {
         let filled: Vec<&Vec<(usize, usize)>> = rows.iter().filter(|r| !r.is_empty()).collect();
         assert_eq!(filled.len(), 120);
         assert!(filled.iter().all(|r| r.as_slice() == [(0, 240)]));
+        assert_eq!(rectangles(&rows), [(0, 240, 0, 120)]);
+        let steps = [vec![(0, 4)], vec![(0, 4), (6, 8)], vec![(6, 8)], vec![]];
+        assert_eq!(rectangles(&steps), [(0, 4, 0, 2), (6, 8, 1, 3)]);
 
         let svg = side_view(&part);
         assert!(svg.starts_with("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"86mm\""));

@@ -90,6 +90,7 @@ pub(crate) fn settings() -> PrintSettings {
         infill: 0.15,
         extrusion_width: 0.45,
         solid_infill_below_area: 70.0,
+        bed: [250.0, 210.0],
     }
 }
 
