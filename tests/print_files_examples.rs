@@ -143,3 +143,107 @@ fn every_examples_stl_is_closed_oriented_and_holds_the_body_less_its_voids() {
         }
     }
 }
+
+/// The part each extruding move of PrusaSlicer's G-code belongs to (by its `; printing object`
+/// labels), with the move's end point in x and y; absolute E, as PrusaSlicer writes by default.
+fn labelled_extrusions(gcode: &str) -> Vec<(String, f64, f64)> {
+    let (mut x, mut y, mut e) = (0.0, 0.0, 0.0);
+    let mut object: Option<String> = None;
+    let mut external = false;
+    let mut found = Vec::new();
+    for line in gcode.lines() {
+        if let Some(rest) = line.strip_prefix("; printing object ") {
+            object = rest.split(" id:").next().map(str::to_string);
+        } else if line.starts_with("; stop printing object") {
+            object = None;
+        } else if let Some(kind) = line.strip_prefix(";TYPE:") {
+            external = kind == "External perimeter";
+        } else if line.starts_with("G92") && line.contains("E0") {
+            e = 0.0;
+        } else if let Some(rest) = line.strip_prefix("G1 ") {
+            let mut new_e = e;
+            for word in rest.split(';').next().unwrap().split_whitespace() {
+                let value = || word[1..].parse::<f64>().unwrap();
+                match word.as_bytes()[0] {
+                    b'X' => x = value(),
+                    b'Y' => y = value(),
+                    b'E' => new_e = value(),
+                    _ => {}
+                }
+            }
+            if new_e > e + 1e-9 && external {
+                if let Some(name) = &object {
+                    found.push((name.clone(), x, y));
+                }
+            }
+            e = new_e;
+        }
+    }
+    found
+}
+
+#[test]
+fn prusaslicer_slices_the_built_3mf_with_every_part_where_the_plan_put_it() {
+    if std::process::Command::new("prusa-slicer")
+        .arg("--help")
+        .output()
+        .is_err()
+    {
+        eprintln!("skipped: prusa-slicer is not on the PATH (apt-get install prusa-slicer)");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let folder = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    // Two components at 100% infill, and one part with voids at 15%.
+    for name in ["articulated", "t_shape"] {
+        let path = folder.join(format!("{name}.kdl"));
+        let source = std::fs::read_to_string(&path).unwrap();
+        let compilation = compile(&source, &path).unwrap();
+        let out = dir.path().join(name);
+        let written = ballast::compile::write_outputs(&compilation, &path, Some(&out)).unwrap();
+        let model = out.join(format!("{name}.3mf"));
+        assert!(written.contains(&model));
+        let gcode_path = out.join(format!("{name}.gcode"));
+        let run = std::process::Command::new("prusa-slicer")
+            .args(["--export-gcode", "--dont-arrange", "-o"])
+            .arg(&gcode_path)
+            .arg(&model)
+            .output()
+            .unwrap();
+        assert!(
+            run.status.success(),
+            "{name}: {}{}",
+            String::from_utf8_lossy(&run.stdout),
+            String::from_utf8_lossy(&run.stderr)
+        );
+        let gcode = std::fs::read_to_string(&gcode_path).unwrap();
+        let moves = labelled_extrusions(&gcode);
+        let mm = compilation.project.units.in_metres() * 1000.0;
+        for (component, plan) in compilation.print_plan.components.iter().enumerate() {
+            let part = &compilation.project.components[component].name.value;
+            let bed: Vec<_> = compilation.meshes[component]
+                .positions
+                .iter()
+                .map(|p| (plan.to_bed * p) * mm)
+                .collect();
+            let low = bed.iter().fold(bed[0], |a, b| a.inf(b));
+            let high = bed.iter().fold(bed[0], |a, b| a.sup(b));
+            let mine: Vec<_> = moves.iter().filter(|m| &m.0 == part).collect();
+            assert!(!mine.is_empty(), "{name}: no extrusion labelled `{part}`");
+            let (x0, x1, y0, y1) = mine.iter().fold(
+                (f64::MAX, f64::MIN, f64::MAX, f64::MIN),
+                |(a, b, c, d), m| (a.min(m.1), b.max(m.1), c.min(m.2), d.max(m.2)),
+            );
+            println!(
+                "{name} {part}: outer perimeter x {x0:.2}..{x1:.2}, y {y0:.2}..{y1:.2}; \
+                 plan x {:.2}..{:.2}, y {:.2}..{:.2}",
+                low.x, high.x, low.y, high.y
+            );
+            // The outer perimeter's centre line lies half an extrusion width inside the outline;
+            // a slanted or rounded side is met a little further in.
+            for (got, want) in [(x0, low.x), (x1, high.x), (y0, low.y), (y1, high.y)] {
+                assert!((got - want).abs() < 0.5, "{name} {part}: {got} vs {want}");
+            }
+        }
+    }
+}

@@ -156,6 +156,10 @@ fn config(settings: &PrintSettings) -> String {
         settings.bottom_solid_layers.to_string(),
     );
     keys.insert("extrusion_width", number(settings.extrusion_width, 4));
+    // PrusaSlicer's default pattern (stars) refuses 100%; rectilinear prints it solid.
+    if settings.infill >= 1.0 {
+        keys.insert("fill_pattern", "rectilinear".to_string());
+    }
     keys.insert(
         "fill_density",
         format!("{}%", number(100.0 * settings.infill, 2)),
@@ -239,6 +243,12 @@ mod tests {
         assert!(text.contains("; fill_density = 15%\n"));
         assert!(text.contains("; first_layer_height = 0.35\n"));
         assert!(text.contains("; gcode_label_objects = 1\n"));
+        assert!(!text.contains("fill_pattern"));
+        let solid = PrintSettings {
+            infill: 1.0,
+            ..settings()
+        };
+        assert!(config(&solid).contains("; fill_density = 100%\n; fill_pattern = rectilinear\n"));
     }
 
     #[test]
