@@ -73,6 +73,9 @@ fn project() -> Project {
             gltf: PathBuf::from("hammer.glb"),
             report: PathBuf::from("hammer.json"),
             solution: PathBuf::from("hammer.solution.kdl"),
+            stl: PathBuf::from("hammer-stl"),
+            prusa: PathBuf::from("hammer.3mf"),
+            sheet: PathBuf::from("hammer.insertion.md"),
         },
     }
 }

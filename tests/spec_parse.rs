@@ -179,6 +179,9 @@ fn full_project() {
             gltf: PathBuf::from("/projects/out/teddy.glb"),
             report: PathBuf::from("/projects/out/teddy.json"),
             solution: PathBuf::from("/projects/teddy.solution.kdl"),
+            stl: PathBuf::from("/projects/out/parts"),
+            prusa: PathBuf::from("/projects/out/teddy.3mf"),
+            sheet: PathBuf::from("/projects/out/teddy.md"),
         },
     };
     assert_eq!(parse(&read("full.kdl")), expected);
@@ -223,6 +226,9 @@ fn defaults() {
             gltf: PathBuf::from("/projects/build/teddy.glb"),
             report: PathBuf::from("/projects/build/teddy.report.json"),
             solution: PathBuf::from("/projects/teddy.solution.kdl"),
+            stl: PathBuf::from("/projects/build/teddy-stl"),
+            prusa: PathBuf::from("/projects/build/teddy.3mf"),
+            sheet: PathBuf::from("/projects/build/teddy.insertion.md"),
         },
     };
     assert_eq!(project, expected);
@@ -463,6 +469,12 @@ fn paths_resolve_against_the_project_folder() {
     assert_eq!(
         project.output.report,
         PathBuf::from("designs/build/toy.report.json")
+    );
+    assert_eq!(project.output.stl, PathBuf::from("designs/build/toy-stl"));
+    assert_eq!(project.output.prusa, PathBuf::from("designs/build/toy.3mf"));
+    assert_eq!(
+        project.output.sheet,
+        PathBuf::from("designs/build/toy.insertion.md")
     );
     let bare = parse_project(source, Path::new("toy.kdl")).project.unwrap();
     assert_eq!(

@@ -21,6 +21,7 @@ mod optimize;
 mod orientation;
 mod outputs;
 mod print_cache;
+mod print_files;
 mod report;
 mod scene;
 mod solution;
@@ -38,6 +39,7 @@ pub use optimize::{
 pub use orientation::{print_orientations, print_plan, BED_CENTRE_MM, BED_GAP_MM};
 pub use outputs::write_outputs;
 pub use print_cache::PrintCache;
+pub use print_files::{bed_parts, print_settings};
 pub use report::{Report, REPORT_FORMAT};
 pub use solution::{read_solution, solution_text};
 pub use workspace::{Failure, Stage, Workspace};

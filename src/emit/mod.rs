@@ -2,6 +2,7 @@
 
 pub mod atomic;
 pub mod gltf;
+pub mod print_files;
 pub mod scene;
 mod shapes;
 pub mod solution;

@@ -540,4 +540,11 @@ pub struct Output {
     pub report: PathBuf,
     /// The optimizer's capsules as KDL `capsule` nodes, to commit, diff and check.
     pub solution: PathBuf,
+    /// The folder of the binary STL files, one `<component>.stl` per component in its print
+    /// orientation.
+    pub stl: PathBuf,
+    /// The PrusaSlicer project (3MF): every component on the bed, the pauses, the settings.
+    pub prusa: PathBuf,
+    /// The insertion sheet (markdown), its side-view pictures beside it.
+    pub sheet: PathBuf,
 }

@@ -608,8 +608,9 @@ fn steps(node: &Node) -> impl Iterator<Item = Step> + '_ {
     })
 }
 
-/// Where the build writes: the `output` block's paths, else `build/<stem>.glb` and
-/// `build/<stem>.report.json` next to the project file, and `<stem>.solution.kdl` beside it (a
+/// Where the build writes: the `output` block's paths, else `build/<stem>.glb`,
+/// `build/<stem>.report.json`, the folder `build/<stem>-stl`, `build/<stem>.3mf` and
+/// `build/<stem>.insertion.md` next to the project file, and `<stem>.solution.kdl` beside it (a
 /// file to commit, so not among the build products).
 fn output(node: Option<&Node>, folder: &Path, project_path: &Path) -> Output {
     let stem = project_path
@@ -625,5 +626,8 @@ fn output(node: Option<&Node>, folder: &Path, project_path: &Path) -> Output {
         gltf: path("gltf", build.join(format!("{stem}.glb"))),
         report: path("report", build.join(format!("{stem}.report.json"))),
         solution: path("solution", PathBuf::from(format!("{stem}.solution.kdl"))),
+        stl: path("stl", build.join(format!("{stem}-stl"))),
+        prusa: path("prusa", build.join(format!("{stem}.3mf"))),
+        sheet: path("sheet", build.join(format!("{stem}.insertion.md"))),
     }
 }

@@ -68,6 +68,9 @@ pub fn project(components: &[&str]) -> Project {
             gltf: PathBuf::from("out.glb"),
             report: PathBuf::from("report.json"),
             solution: PathBuf::from("solution.kdl"),
+            stl: PathBuf::from("stl"),
+            prusa: PathBuf::from("model.3mf"),
+            sheet: PathBuf::from("insertion.md"),
         },
     }
 }
