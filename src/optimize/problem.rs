@@ -6,13 +6,14 @@ use std::sync::Arc;
 use nalgebra::{Point3, Vector3};
 
 use super::bounds::design_bounds;
-use super::solver::{solve, Budget, Method, FEASIBLE};
+use super::solver::{solve, Bounds, Budget, Method, Solve, FEASIBLE};
+use super::stock::{capsule_radius, grid_scale, length_decimals, snap};
 use crate::balance::{evaluate_pose, ComponentBody, GoalOutcome, PoseEvaluation};
 use crate::cancel::Cancel;
 use crate::design::{Design, PlacedCapsule};
 use crate::fabrication::{check_design, CapsuleIssue};
 use crate::geometry::{PrintVolumes, TriMesh};
-use crate::objective::{DesignLayout, GridInterior, Objective, Parameters, CAPSULE_STRIDE};
+use crate::objective::{DesignLayout, GridInterior, Objective, Parameters, CAPSULE_STRIDE, R};
 use crate::spec::model::Project;
 
 /// A capsule the optimizer starts from: from a skeleton segment, from the project file, or
@@ -86,6 +87,8 @@ pub struct Problem<'a> {
     method: Method,
     budget_per_unknown: usize,
     cancel: Cancel,
+    /// Steps per unit of the solution file's length grid, which stock capsule radii sit on.
+    scale: f64,
 }
 
 impl<'a> Problem<'a> {
@@ -111,6 +114,7 @@ impl<'a> Problem<'a> {
             method,
             budget_per_unknown: 100,
             cancel: Cancel::new(),
+            scale: grid_scale(length_decimals(meshes)),
         }
     }
 
@@ -166,7 +170,8 @@ impl<'a> Problem<'a> {
             cancel: self.cancel.clone(),
             ..Budget::default()
         };
-        let solved = solve(&objective, &x0, &bounds, self.method, budget);
+        let solved = solve(&objective, &x0, &bounds, self.method, budget.clone());
+        let solved = self.snapped(&objective, &bounds, start, solved, budget);
         let mut design = layout.to_design(&solved.x, &self.project.ball, self.project.infill.value);
         for (capsule, started) in design.capsules.iter_mut().zip(start) {
             if let Some(ball) = self.project.ball.radius_for(capsule.radius) {
@@ -196,10 +201,14 @@ impl<'a> Problem<'a> {
                         continue;
                     }
                     let c = &mut shrunk.capsules[capsule];
-                    let radius = c.radius - (required - distance) * 1.01 - 1e-9 * c.radius.abs();
+                    let mut radius =
+                        c.radius - (required - distance) * 1.01 - 1e-9 * c.radius.abs();
                     let Some(ball) = self.project.ball.radius_for(radius) else {
                         continue;
                     };
+                    if self.project.ball.is_listed() {
+                        radius = capsule_radius(&self.project.ball, ball, self.scale);
+                    }
                     c.radius = radius;
                     c.ball_radius = ball;
                     changed = true;
@@ -214,6 +223,57 @@ impl<'a> Problem<'a> {
         outcome.feasible = solved.violation <= FEASIBLE;
         outcome.evaluations = solved.evaluations;
         outcome
+    }
+
+    /// `solved` with the radius of every unpinned capsule snapped to a stock ball plus the
+    /// clearance ([`snap`]; the larger ball only when it breaks no constraint the smaller keeps),
+    /// then those radii fixed and everything else solved again from there. `solved` itself when
+    /// balls come in any size.
+    fn snapped(
+        &self,
+        objective: &Objective,
+        bounds: &Bounds,
+        start: &[StartCapsule],
+        solved: Solve,
+        budget: Budget,
+    ) -> Solve {
+        let ball = &self.project.ball;
+        if !ball.is_listed() || start.iter().all(|c| c.pinned) {
+            return solved;
+        }
+        let mut x = solved.x.clone();
+        let mut fixed = bounds.clone();
+        for (j, capsule) in start.iter().enumerate() {
+            let i = j * CAPSULE_STRIDE + R;
+            if capsule.pinned {
+                continue;
+            }
+            let with = |radius: f64| {
+                let mut trial = x.clone();
+                trial[i] = radius;
+                objective.constraint_values(&trial)
+            };
+            let allowed = |larger: f64| {
+                let lower = ball
+                    .radius_for(x[i])
+                    .map_or(0.0, |b| capsule_radius(ball, b, self.scale));
+                larger <= bounds.range[i].1
+                    && with(larger)
+                        .iter()
+                        .zip(with(lower))
+                        .all(|(g, kept)| *g >= 0.0 || *g >= kept)
+            };
+            let Some((radius, _)) = snap(ball, x[i], self.scale, allowed) else {
+                continue;
+            };
+            x[i] = radius;
+            fixed.range[i] = (radius, radius);
+        }
+        let again = solve(objective, &x, &fixed, self.method, budget);
+        Solve {
+            evaluations: solved.evaluations + again.evaluations,
+            ..again
+        }
     }
 
     /// The exact verdict on `design`: every pose evaluated, every capsule checked.
