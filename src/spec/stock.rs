@@ -2,8 +2,9 @@
 //!
 //! Loose chrome-steel bearing balls (ISO 3290 / ABMA grades, G10 to G1000) are sold in metric
 //! sizes and in fractions of an inch; both series are listed here, the commonly stocked sizes only
-//! (every 0.5 mm up to 8 mm, every millimetre to 16, then the usual larger sizes; inch sizes from
-//! 1/16" in sixty-fourths and thirty-seconds up to 1", then the usual larger ones).
+//! (every 0.5 mm from 1 to 8 mm, every millimetre to 16 mm, then the usual larger sizes; 1/16",
+//! 3/32", every 1/32" from 1/8" to 11/32", every 1/16" from 3/8" to 1", then the usual larger
+//! ones). `docs/format.md` lists them.
 
 /// Metric ball diameters, millimetres.
 const METRIC_MM: &[f64] = &[
