@@ -70,8 +70,8 @@ fn balls_section(out: &mut String, compilation: &Compilation) {
         };
         let _ = writeln!(
             out,
-            "  ball \"{}\"  {size}, {:.2} g, gap to the wall {}",
-            capsule.name,
+            "  ball {:<10} {size}, {:.2} g, gap to the wall {}",
+            format!("\"{}\"", capsule.name),
             grams(capsule),
             format_length(capsule.radius - capsule.ball_radius, units),
         );
