@@ -186,7 +186,12 @@ impl<'a> Problem<'a> {
         let mut outcome = self.judge(design);
         // The grid's interpolant can overestimate the distance to a sharp feature by a fraction
         // of a cell: shrink any capsule that came too close, by the exact deficit, and re-judge.
-        for _ in 0..3 {
+        // A stock radius cannot shrink by a fraction of a cell, only to the next smaller ball:
+        // first the capsules are moved instead, solved again as if wider by their deficit.
+        let listed = self.project.ball.is_listed();
+        let mut widening = vec![0.0; start.len()];
+        for attempt in 0..3 {
+            let move_first = listed && attempt < 2;
             let mut shrunk = outcome.design.clone();
             let mut changed = false;
             for issue in &outcome.fabrication {
@@ -197,16 +202,21 @@ impl<'a> Problem<'a> {
                     ..
                 } = *issue
                 {
-                    if start.get(capsule).is_some_and(|s| s.pinned) {
+                    if start.get(capsule).is_none_or(|s| s.pinned) {
                         continue;
                     }
                     let c = &mut shrunk.capsules[capsule];
-                    let mut radius =
-                        c.radius - (required - distance) * 1.01 - 1e-9 * c.radius.abs();
+                    let deficit = (required - distance) * 1.01 + 1e-9 * c.radius.abs();
+                    if move_first {
+                        widening[capsule] += deficit;
+                        changed = true;
+                        continue;
+                    }
+                    let mut radius = c.radius - deficit;
                     let Some(ball) = self.project.ball.radius_for(radius) else {
                         continue;
                     };
-                    if self.project.ball.is_listed() {
+                    if listed {
                         radius = capsule_radius(&self.project.ball, ball, self.scale);
                     }
                     c.radius = radius;
@@ -217,6 +227,9 @@ impl<'a> Problem<'a> {
             if !changed {
                 break;
             }
+            if move_first {
+                shrunk = self.moved(&objective, &bounds, &layout, &outcome.design, &widening);
+            }
             outcome = self.judge(shrunk);
         }
         outcome.value = objective.value(&layout.to_vector(&outcome.design));
@@ -225,10 +238,43 @@ impl<'a> Problem<'a> {
         outcome
     }
 
+    /// `design` with its capsules' ends and the infill solved again from where they are, every
+    /// radius fixed and each capsule seen by the constraints as `widening` wider than it is (so
+    /// that it keeps that much further from the surface); radii and balls stay `design`'s.
+    fn moved(
+        &self,
+        objective: &Objective,
+        bounds: &Bounds,
+        layout: &DesignLayout,
+        design: &Design,
+        widening: &[f64],
+    ) -> Design {
+        let mut x = layout.to_vector(design);
+        let mut fixed = bounds.clone();
+        for (j, extra) in widening.iter().enumerate() {
+            let i = j * CAPSULE_STRIDE + R;
+            x[i] += extra;
+            fixed.range[i] = (x[i], x[i]);
+        }
+        let budget = Budget {
+            evaluations: (self.budget_per_unknown * layout.len()).max(200),
+            cancel: self.cancel.clone(),
+            ..Budget::default()
+        };
+        let again = solve(objective, &x, &fixed, self.method, budget);
+        let mut moved = layout.to_design(&again.x, &self.project.ball, self.project.infill.value);
+        for (capsule, kept) in moved.capsules.iter_mut().zip(&design.capsules) {
+            capsule.radius = kept.radius;
+            capsule.ball_radius = kept.ball_radius;
+        }
+        moved
+    }
+
     /// `solved` with the radius of every unpinned capsule snapped to a stock ball plus the
     /// clearance ([`snap`]; the larger ball only when it breaks no constraint the smaller keeps),
-    /// then those radii fixed and everything else solved again from there. `solved` itself when
-    /// balls come in any size.
+    /// then those radii fixed and everything else solved again from there; the snapped point
+    /// itself when the second solve ends at a higher objective. `solved` itself when balls come
+    /// in any size.
     fn snapped(
         &self,
         objective: &Objective,
@@ -269,10 +315,24 @@ impl<'a> Problem<'a> {
             x[i] = radius;
             fixed.range[i] = (radius, radius);
         }
+        // The snapped point itself, evaluated as a solve with nothing free: the second solve
+        // prefers a smaller constraint violation to a lower objective, and from a point just
+        // outside the constraints it can drift far from the design the first solve found.
+        let pinned = Bounds {
+            range: x.iter().map(|&v| (v, v)).collect(),
+            ..bounds.clone()
+        };
+        let at_snap = solve(objective, &x, &pinned, self.method, budget.clone());
         let again = solve(objective, &x, &fixed, self.method, budget);
+        let evaluations = solved.evaluations + at_snap.evaluations + again.evaluations;
+        let best = if at_snap.value < again.value {
+            at_snap
+        } else {
+            again
+        };
         Solve {
-            evaluations: solved.evaluations + again.evaluations,
-            ..again
+            evaluations,
+            ..best
         }
     }
 
