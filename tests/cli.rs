@@ -232,7 +232,7 @@ const T_OPTIMIZED: &str = r#"
 ball clearance=0.2
 infill 0.15
 wall 1.2
-optimize capsules=2
+optimize capsules=3
 component "T" mesh="meshes/t_shape.obj"
 pose "upright" { stand margin=2 }
 pose "on its right side" {
@@ -260,12 +260,12 @@ fn an_optimized_build_writes_a_solution_that_check_evaluates() {
     assert_eq!(build.status.code(), Some(0), "stderr: {}", stderr(&build));
     assert!(stdout(&build).contains("optimized:"), "{}", stdout(&build));
     let text = fs::read_to_string(&solution).unwrap();
-    assert_eq!(text.matches("capsule \"").count(), 2, "{text}");
+    assert_eq!(text.matches("capsule \"").count(), 3, "{text}");
     let report: serde_json::Value =
         serde_json::from_slice(&fs::read(folder.path().join("build/model.report.json")).unwrap())
             .unwrap();
     assert_eq!(report["design"], "optimized");
-    assert_eq!(report["optimization"]["chosen"], 2);
+    assert_eq!(report["optimization"]["chosen"], 3);
 
     let after = ballast(&["check", project, "--json"]);
     assert_eq!(after.status.code(), Some(0), "stderr: {}", stderr(&after));

@@ -8,6 +8,7 @@ use ballast::spec::model::{
     Print, Project, Spanned, Units,
 };
 use ballast::spec::parse_project;
+use ballast::spec::stock::stock_diameters_mm;
 use ballast::spec::transform::{compose, Step};
 use nalgebra::{Isometry3, Point3, Vector3};
 
@@ -202,7 +203,7 @@ fn defaults() {
             density: 7.85,
             clearance: mm.from_millimetres(0.2),
             min_angle: 3.0,
-            diameters: Vec::new(),
+            diameters: stock_diameters_mm(),
         },
         infill: Infill {
             value: 1.0,
@@ -603,5 +604,53 @@ fn solution_path_follows_the_output_block() {
     assert_eq!(
         bare.project.unwrap().output.solution,
         PathBuf::from("toy.solution.kdl")
+    );
+}
+
+#[test]
+fn without_a_list_the_balls_are_the_stock_sizes_in_the_project_units() {
+    let stock = stock_diameters_mm();
+    for (units, per_mm) in [("mm", 1.0), ("cm", 0.1), ("in", 1.0 / 25.4)] {
+        let project = parse(&format!(
+            "units {units}\ncomponent \"a\" mesh=\"a.obj\"\npose \"p\""
+        ));
+        let diameters = &project.ball.diameters;
+        assert_eq!(diameters.len(), stock.len(), "{units}");
+        for (d, mm) in diameters.iter().zip(&stock) {
+            assert!(
+                (d - mm * per_mm).abs() < 1e-12 * mm,
+                "{units}: {d} for {mm} mm"
+            );
+        }
+    }
+    // In inches the inch sizes are exact fractions: 1/4", 5/16", 1".
+    let inch = parse("units in\ncomponent \"a\" mesh=\"a.obj\"\npose \"p\"");
+    for size in [0.25, 0.3125, 1.0] {
+        assert!(
+            inch.ball.diameters.iter().any(|d| (d - size).abs() < 1e-12),
+            "{size} in"
+        );
+    }
+    // A 4 mm ball is the largest stock ball in a 2.3 mm capsule with the default clearance.
+    let mm = parse("component \"a\" mesh=\"a.obj\"\npose \"p\"");
+    assert_eq!(mm.ball.radius_for(2.3), Some(2.0));
+}
+
+#[test]
+fn any_size_allows_every_ball_and_excludes_a_list() {
+    let project = parse("ball any-size=#true\ncomponent \"a\" mesh=\"a.obj\"\npose \"p\"");
+    assert!(project.ball.diameters.is_empty());
+    assert_eq!(project.ball.radius_for(2.3), Some(2.3 - 0.2));
+    let listed = parse("ball { diameters 4 6; }\ncomponent \"a\" mesh=\"a.obj\"\npose \"p\"");
+    assert_eq!(listed.ball.diameters, vec![4.0, 6.0]);
+    let parsed = parse_project(
+        "ball any-size=#true { diameters 4 6; }\ncomponent \"a\" mesh=\"a.obj\"\npose \"p\"",
+        Path::new("/projects/teddy.kdl"),
+    );
+    assert!(parsed.project.is_none());
+    assert_eq!(parsed.problems.len(), 1, "{:#?}", parsed.problems);
+    assert_eq!(
+        parsed.problems[0].code,
+        ballast::spec::codes::CONFLICTING_PROPERTIES
     );
 }

@@ -5,6 +5,7 @@ use std::fmt::Write;
 
 use crate::balance::{BallRest, GoalOutcome, PoseEvaluation};
 use crate::compile::{Compilation, Optimization};
+use crate::design::PlacedCapsule;
 use crate::fabrication::OrientationChoice;
 use crate::spec::model::Units;
 
@@ -24,6 +25,7 @@ pub fn summary(compilation: &Compilation, project_name: &str) -> String {
         plural(project.poses.len()),
         unit_name(units),
     );
+    balls_section(&mut out, compilation);
     print_section(&mut out, compilation);
     let (mut total, mut met) = (0, 0);
     for evaluation in &compilation.poses {
@@ -70,6 +72,54 @@ fn print_section(out: &mut String, compilation: &Compilation) {
             units.keyword()
         );
     }
+}
+
+/// The ball each capsule holds (diameter in the project's units and in millimetres, mass, gap to
+/// the wall) and their total mass; nothing without capsules.
+fn balls_section(out: &mut String, compilation: &Compilation) {
+    let project = &compilation.project;
+    let units = project.units;
+    let capsules = &compilation.design.capsules;
+    if capsules.is_empty() {
+        return;
+    }
+    let grams = |capsule: &PlacedCapsule| {
+        project.ball.density * capsule.ball_volume() * units.cubic_in_cm3()
+    };
+    let total: f64 = capsules.iter().map(grams).sum();
+    let _ = writeln!(
+        out,
+        "\nballs           {} steel ball{}, {:.1} g in all",
+        capsules.len(),
+        plural(capsules.len()),
+        total
+    );
+    for capsule in capsules {
+        let diameter = 2.0 * capsule.ball_radius;
+        let mm = diameter * units.in_metres() * 1e3;
+        let size = match units {
+            Units::Millimetre => format!("{} mm", trimmed(mm)),
+            _ => format!(
+                "{} {} ({} mm)",
+                trimmed(diameter),
+                units.keyword(),
+                trimmed(mm)
+            ),
+        };
+        let _ = writeln!(
+            out,
+            "  ball {:<10} {size}, {:.2} g, gap to the wall {}",
+            format!("\"{}\"", capsule.name),
+            grams(capsule),
+            format_length(capsule.radius - capsule.ball_radius, units),
+        );
+    }
+}
+
+/// `value` with at most 4 decimals and no trailing zeros (`5`, `7.9375`, `0.3125`).
+fn trimmed(value: f64) -> String {
+    let text = format!("{value:.4}");
+    text.trim_end_matches('0').trim_end_matches('.').to_owned()
 }
 
 fn pose_section(out: &mut String, evaluation: &PoseEvaluation, units: Units) {

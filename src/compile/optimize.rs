@@ -11,10 +11,11 @@ use crate::design::Design;
 use crate::geometry::PrintVolumes;
 use crate::geometry::{DistanceGrid, Skeleton, TriMesh};
 use crate::objective::{GridInterior, Parameters};
+pub use crate::optimize::length_decimals;
 use crate::optimize::{
-    choose, content_hash, default_cell, explain_conflicts, rank, run_heuristic, skeleton_seeds,
-    Candidate, Conflict, GoalRef, GridKey, Method, Outcome, Problem, Ranking, SeedSite,
-    StartCapsule,
+    capsule_radius, choose, content_hash, default_cell, explain_conflicts, grid_scale, rank,
+    run_heuristic, skeleton_seeds, Candidate, Conflict, GoalRef, GridKey, Method, Outcome, Problem,
+    Ranking, SeedSite, StartCapsule,
 };
 use crate::spec::model::{Optimize, Project};
 
@@ -386,20 +387,6 @@ fn optimize_from(
     Some((design, optimization))
 }
 
-/// Digits after the decimal point that keep lengths to about 10⁻⁴ of the model's extent.
-pub fn length_decimals(meshes: &[TriMesh]) -> usize {
-    let extent = meshes
-        .iter()
-        .filter_map(TriMesh::bounding_box)
-        .map(|(lo, hi)| (hi - lo).norm())
-        .fold(0.0, f64::max);
-    if extent > 0.0 && extent.is_finite() {
-        (4.0 - extent.log10().floor()).clamp(0.0, 12.0) as usize
-    } else {
-        4
-    }
-}
-
 /// The capsules of the project file as start capsules, named and pinned as written.
 fn written_capsules(project: &Project) -> Vec<StartCapsule> {
     project
@@ -439,14 +426,16 @@ fn warm_capsules(design: &Design, pinned: &[StartCapsule]) -> Vec<StartCapsule> 
 }
 
 /// `outcome`'s design with every length rounded to [`length_decimals`], judged again. Ends move
-/// to the nearest step, and each unpinned radius shrinks by at least one step, so rounding cannot
-/// bring a capsule closer to the surface or to another capsule than it was.
+/// to the nearest step. With any ball size, each unpinned radius shrinks by at least one step, so
+/// rounding cannot bring a capsule closer to the surface or to another capsule than it was; with
+/// stock balls the optimizer's radius, a ball plus the clearance, is already on the grid and is
+/// kept.
 fn rounded(problem: &Problem, outcome: &Outcome, meshes: &[TriMesh]) -> Outcome {
-    let decimals = length_decimals(meshes);
     // k / 10^d, both exact, is the double the solution file's decimal `k·10^-d` reads back as;
     // k · 10^-d is not always (−1503 · 0.01 = −15.030000000000001).
-    let scale = 10f64.powi(decimals as i32);
+    let scale = grid_scale(length_decimals(meshes));
     let round = |v: f64| (v * scale).round() / scale;
+    let ball = &problem.project().ball;
     let written = &problem.project().capsules;
     let mut design = outcome.design.clone();
     for capsule in &mut design.capsules {
@@ -458,9 +447,21 @@ fn rounded(problem: &Problem, outcome: &Outcome, meshes: &[TriMesh]) -> Outcome 
         }
         capsule.from = capsule.from.map(round);
         capsule.to = capsule.to.map(round);
-        capsule.radius = ((capsule.radius * scale).floor() - 1.0) / scale;
-        if let Some(ball) = problem.project().ball.radius_for(capsule.radius) {
-            capsule.ball_radius = ball;
+        let stock = ball
+            .radius_for(capsule.radius)
+            .filter(|_| ball.is_listed())
+            .map(|b| (capsule_radius(ball, b, scale), b));
+        match stock {
+            Some((radius, b)) => {
+                capsule.radius = radius;
+                capsule.ball_radius = b;
+            }
+            None => {
+                capsule.radius = ((capsule.radius * scale).floor() - 1.0) / scale;
+                if let Some(b) = ball.radius_for(capsule.radius) {
+                    capsule.ball_radius = b;
+                }
+            }
         }
     }
     if problem.project().infill.range.is_some() {

@@ -40,6 +40,8 @@ pub struct Report<'a> {
     pub components: Vec<ComponentReport>,
     /// The capsules, in design order.
     pub capsules: Vec<CapsuleReport>,
+    /// Mass of every ball together, grams.
+    pub ball_mass: f64,
     /// One per pose, in project order.
     pub poses: Vec<PoseReport<'a>>,
     /// How many goals there are, and how many are met.
@@ -206,6 +208,14 @@ pub struct CapsuleReport {
     pub radius: f64,
     /// Radius of its ball.
     pub ball_radius: f64,
+    /// Diameter of its ball, project units.
+    pub ball_diameter: f64,
+    /// Diameter of its ball, millimetres (how balls are sold).
+    pub ball_diameter_mm: f64,
+    /// Mass of its ball, grams.
+    pub ball_mass: f64,
+    /// Gap between the ball and the capsule's wall, `radius − ball_radius`, project units.
+    pub gap: f64,
     /// Volume of the void, cubic project units.
     pub volume: f64,
 }
@@ -282,9 +292,16 @@ impl<'a> Report<'a> {
                 to: capsule.to.coords.into(),
                 radius: capsule.radius,
                 ball_radius: capsule.ball_radius,
+                ball_diameter: 2.0 * capsule.ball_radius,
+                ball_diameter_mm: 2.0 * capsule.ball_radius * project.units.in_metres() * 1e3,
+                ball_mass: project.ball.density
+                    * capsule.ball_volume()
+                    * project.units.cubic_in_cm3(),
+                gap: capsule.radius - capsule.ball_radius,
                 volume: capsule.volume(),
             })
-            .collect();
+            .collect::<Vec<CapsuleReport>>();
+        let ball_mass = capsules.iter().map(|c| c.ball_mass).sum();
         let poses = compilation.poses.iter().map(PoseReport::new).collect();
         let all_goals: Vec<bool> = compilation
             .poses
@@ -315,6 +332,7 @@ impl<'a> Report<'a> {
             wall: project.wall,
             components,
             capsules,
+            ball_mass,
             poses,
             goals: GoalCount {
                 total: all_goals.len(),

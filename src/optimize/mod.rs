@@ -11,6 +11,7 @@ mod heuristic;
 mod problem;
 mod seeds;
 mod solver;
+mod stock;
 #[cfg(test)]
 mod test_meshes;
 
@@ -24,3 +25,4 @@ pub use heuristic::{choose, run as run_heuristic, Candidate};
 pub use problem::{Outcome, Problem, StartCapsule};
 pub use seeds::{skeleton_seeds, SeedSite};
 pub use solver::{solve, Bounds, Budget, Method, Solve};
+pub use stock::{capsule_radius, grid_scale, length_decimals, snap as snap_to_stock};

@@ -6,13 +6,14 @@ use std::sync::Arc;
 use nalgebra::{Point3, Vector3};
 
 use super::bounds::design_bounds;
-use super::solver::{solve, Budget, Method, FEASIBLE};
+use super::solver::{solve, Bounds, Budget, Method, Solve, FEASIBLE};
+use super::stock::{capsule_radius, grid_scale, length_decimals, snap};
 use crate::balance::{evaluate_pose, ComponentBody, GoalOutcome, PoseEvaluation};
 use crate::cancel::Cancel;
 use crate::design::{Design, PlacedCapsule};
 use crate::fabrication::{check_design, CapsuleIssue};
 use crate::geometry::{PrintVolumes, TriMesh};
-use crate::objective::{DesignLayout, GridInterior, Objective, Parameters, CAPSULE_STRIDE};
+use crate::objective::{DesignLayout, GridInterior, Objective, Parameters, CAPSULE_STRIDE, R};
 use crate::spec::model::Project;
 
 /// A capsule the optimizer starts from: from a skeleton segment, from the project file, or
@@ -86,6 +87,8 @@ pub struct Problem<'a> {
     method: Method,
     budget_per_unknown: usize,
     cancel: Cancel,
+    /// Steps per unit of the solution file's length grid, which stock capsule radii sit on.
+    scale: f64,
 }
 
 impl<'a> Problem<'a> {
@@ -111,6 +114,7 @@ impl<'a> Problem<'a> {
             method,
             budget_per_unknown: 100,
             cancel: Cancel::new(),
+            scale: grid_scale(length_decimals(meshes)),
         }
     }
 
@@ -166,7 +170,8 @@ impl<'a> Problem<'a> {
             cancel: self.cancel.clone(),
             ..Budget::default()
         };
-        let solved = solve(&objective, &x0, &bounds, self.method, budget);
+        let solved = solve(&objective, &x0, &bounds, self.method, budget.clone());
+        let solved = self.snapped(&objective, &bounds, start, solved, budget);
         let mut design = layout.to_design(&solved.x, &self.project.ball, self.project.infill.value);
         for (capsule, started) in design.capsules.iter_mut().zip(start) {
             if let Some(ball) = self.project.ball.radius_for(capsule.radius) {
@@ -181,7 +186,12 @@ impl<'a> Problem<'a> {
         let mut outcome = self.judge(design);
         // The grid's interpolant can overestimate the distance to a sharp feature by a fraction
         // of a cell: shrink any capsule that came too close, by the exact deficit, and re-judge.
-        for _ in 0..3 {
+        // A stock radius cannot shrink by a fraction of a cell, only to the next smaller ball:
+        // first the capsules are moved instead, solved again as if wider by their deficit.
+        let listed = self.project.ball.is_listed();
+        let mut widening = vec![0.0; start.len()];
+        for attempt in 0..3 {
+            let move_first = listed && attempt < 2;
             let mut shrunk = outcome.design.clone();
             let mut changed = false;
             for issue in &outcome.fabrication {
@@ -192,14 +202,23 @@ impl<'a> Problem<'a> {
                     ..
                 } = *issue
                 {
-                    if start.get(capsule).is_some_and(|s| s.pinned) {
+                    if start.get(capsule).is_none_or(|s| s.pinned) {
                         continue;
                     }
                     let c = &mut shrunk.capsules[capsule];
-                    let radius = c.radius - (required - distance) * 1.01 - 1e-9 * c.radius.abs();
+                    let deficit = (required - distance) * 1.01 + 1e-9 * c.radius.abs();
+                    if move_first {
+                        widening[capsule] += deficit;
+                        changed = true;
+                        continue;
+                    }
+                    let mut radius = c.radius - deficit;
                     let Some(ball) = self.project.ball.radius_for(radius) else {
                         continue;
                     };
+                    if listed {
+                        radius = capsule_radius(&self.project.ball, ball, self.scale);
+                    }
                     c.radius = radius;
                     c.ball_radius = ball;
                     changed = true;
@@ -208,12 +227,113 @@ impl<'a> Problem<'a> {
             if !changed {
                 break;
             }
+            if move_first {
+                shrunk = self.moved(&objective, &bounds, &layout, &outcome.design, &widening);
+            }
             outcome = self.judge(shrunk);
         }
         outcome.value = objective.value(&layout.to_vector(&outcome.design));
         outcome.feasible = solved.violation <= FEASIBLE;
         outcome.evaluations = solved.evaluations;
         outcome
+    }
+
+    /// `design` with its capsules' ends and the infill solved again from where they are, every
+    /// radius fixed and each capsule seen by the constraints as `widening` wider than it is (so
+    /// that it keeps that much further from the surface); radii and balls stay `design`'s.
+    fn moved(
+        &self,
+        objective: &Objective,
+        bounds: &Bounds,
+        layout: &DesignLayout,
+        design: &Design,
+        widening: &[f64],
+    ) -> Design {
+        let mut x = layout.to_vector(design);
+        let mut fixed = bounds.clone();
+        for (j, extra) in widening.iter().enumerate() {
+            let i = j * CAPSULE_STRIDE + R;
+            x[i] += extra;
+            fixed.range[i] = (x[i], x[i]);
+        }
+        let budget = Budget {
+            evaluations: (self.budget_per_unknown * layout.len()).max(200),
+            cancel: self.cancel.clone(),
+            ..Budget::default()
+        };
+        let again = solve(objective, &x, &fixed, self.method, budget);
+        let mut moved = layout.to_design(&again.x, &self.project.ball, self.project.infill.value);
+        for (capsule, kept) in moved.capsules.iter_mut().zip(&design.capsules) {
+            capsule.radius = kept.radius;
+            capsule.ball_radius = kept.ball_radius;
+        }
+        moved
+    }
+
+    /// `solved` with the radius of every unpinned capsule snapped to a stock ball plus the
+    /// clearance ([`snap`]; the larger ball only when it breaks no constraint the smaller keeps),
+    /// then those radii fixed and everything else solved again from there; the snapped point
+    /// itself when the second solve ends at a higher objective. `solved` itself when balls come
+    /// in any size.
+    fn snapped(
+        &self,
+        objective: &Objective,
+        bounds: &Bounds,
+        start: &[StartCapsule],
+        solved: Solve,
+        budget: Budget,
+    ) -> Solve {
+        let ball = &self.project.ball;
+        if !ball.is_listed() || start.iter().all(|c| c.pinned) {
+            return solved;
+        }
+        let mut x = solved.x.clone();
+        let mut fixed = bounds.clone();
+        for (j, capsule) in start.iter().enumerate() {
+            let i = j * CAPSULE_STRIDE + R;
+            if capsule.pinned {
+                continue;
+            }
+            let with = |radius: f64| {
+                let mut trial = x.clone();
+                trial[i] = radius;
+                objective.constraint_values(&trial)
+            };
+            let allowed = |larger: f64| {
+                let lower = ball
+                    .radius_for(x[i])
+                    .map_or(0.0, |b| capsule_radius(ball, b, self.scale));
+                larger <= bounds.range[i].1
+                    && with(larger)
+                        .iter()
+                        .zip(with(lower))
+                        .all(|(g, kept)| *g >= 0.0 || *g >= kept)
+            };
+            let Some((radius, _)) = snap(ball, x[i], self.scale, allowed) else {
+                continue;
+            };
+            x[i] = radius;
+            fixed.range[i] = (radius, radius);
+        }
+        // The snapped point itself, evaluated as a solve with nothing free: the second solve
+        // prefers a smaller constraint violation to a lower objective, and from a point just
+        // outside the constraints it can drift far from the design the first solve found.
+        let pinned = Bounds {
+            range: x.iter().map(|&v| (v, v)).collect(),
+            ..bounds.clone()
+        };
+        let at_snap = solve(objective, &x, &pinned, self.method, budget.clone());
+        let again = solve(objective, &x, &fixed, self.method, budget);
+        let evaluations = solved.evaluations + at_snap.evaluations + again.evaluations;
+        let best = if at_snap.value < again.value {
+            at_snap
+        } else {
+            again
+        };
+        Solve {
+            evaluations,
+            ..best
+        }
     }
 
     /// The exact verdict on `design`: every pose evaluated, every capsule checked.

@@ -95,8 +95,14 @@ struct Tracker {
 }
 
 impl Tracker {
+    /// Counts the evaluation at `u`, and keeps it when it is the best so far. A point with a
+    /// coordinate or objective that is not a number (a solver step through a NaN gradient) is
+    /// never kept.
     fn record(&mut self, u: &[f64], value: f64, violation: f64) {
         self.evaluations += 1;
+        if value.is_nan() || violation.is_nan() || u.iter().any(|v| !v.is_finite()) {
+            return;
+        }
         let better = match &self.best {
             None => true,
             Some((_, best_value, best_violation)) => {
@@ -285,7 +291,13 @@ fn solve_by(
             .values
             .iter()
             .zip(&norms)
-            .map(|((g, _), norm)| (-g / norm).max(0.0))
+            .map(|((g, _), norm)| {
+                if g.is_nan() {
+                    f64::INFINITY
+                } else {
+                    (-g / norm).max(0.0)
+                }
+            })
             .fold(0.0, f64::max);
         tracker.borrow_mut().record(u, value, violation);
     };

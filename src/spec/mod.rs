@@ -10,6 +10,7 @@ pub mod model;
 mod parse;
 mod resolve;
 mod solution;
+pub mod stock;
 mod syntax;
 pub mod transform;
 mod tree;

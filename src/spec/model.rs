@@ -202,7 +202,9 @@ pub struct Ball {
     /// A capsule whose axis is within this many degrees of horizontal cannot be trusted to send its
     /// ball to either end.
     pub min_angle: f64,
-    /// Ball diameters that can be bought, project units. Empty means any size.
+    /// Ball diameters that can be bought, project units: the stock sizes
+    /// ([`stock_diameters_mm`](super::stock::stock_diameters_mm)) unless the project lists its
+    /// own. Empty means any size (`any-size=#true`).
     pub diameters: Vec<f64>,
 }
 
@@ -222,6 +224,20 @@ impl Ball {
             .map(|diameter| diameter / 2.0)
             .filter(|radius| *radius <= largest * (1.0 + 1e-9))
             .max_by(f64::total_cmp)
+    }
+
+    /// Whether balls come from a list of diameters rather than in any size.
+    pub fn is_listed(&self) -> bool {
+        !self.diameters.is_empty()
+    }
+
+    /// The smallest listed ball radius larger than `ball_radius`, if any.
+    pub fn next_larger(&self, ball_radius: f64) -> Option<f64> {
+        self.diameters
+            .iter()
+            .map(|diameter| diameter / 2.0)
+            .filter(|radius| *radius > ball_radius * (1.0 + 1e-9))
+            .min_by(f64::total_cmp)
     }
 }
 

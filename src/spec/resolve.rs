@@ -15,6 +15,7 @@ use super::model::{
     Axis, Ball, Capsule, Component, Goal, Infill, MassModel, Material, Optimize, Output, Pose,
     Print, PrintOrientation, Project, Spanned, Units,
 };
+use super::stock::stock_diameters_mm;
 use super::transform::{compose, rotation, Step};
 use super::tree::Node;
 use super::value::listing;
@@ -119,17 +120,43 @@ impl<'a> Resolver<'a> {
         }
     }
 
-    fn ball(&self) -> Ball {
+    /// The `ball` node. Without a `diameters` child the balls are the stock sizes
+    /// ([`stock_diameters_mm`]) in the project's units; `any-size=#true` allows any size instead,
+    /// and is an error beside a `diameters` list.
+    fn ball(&mut self) -> Ball {
         let node = self.top("ball");
         let number = |name| node.and_then(|node| node.number(name));
+        let listed = node.and_then(|node| node.child("diameters"));
+        let any_size = node
+            .filter(|node| node.flag("any-size") == Some(true))
+            .and_then(|node| node.prop("any-size"))
+            .map(|value| value.span);
+        if let (Some(span), Some(listed)) = (any_size, listed) {
+            self.problems.push(
+                Problem::error(
+                    codes::CONFLICTING_PROPERTIES,
+                    "a `ball` takes `any-size=#true` or a `diameters` list, not both",
+                )
+                .with_label(span, "`any-size=#true` allows every size")
+                .with_label(listed.span, "this list allows only these sizes")
+                .with_help("keep the list to use those balls, or `any-size=#true` for a study"),
+            );
+        }
+        let stock = || {
+            stock_diameters_mm()
+                .into_iter()
+                .map(|mm| self.units.from_millimetres(mm))
+                .collect()
+        };
         Ball {
             density: number("density").unwrap_or(7.85),
             clearance: number("clearance").unwrap_or(self.units.from_millimetres(0.2)),
             min_angle: number("min-angle").unwrap_or(3.0),
-            diameters: node
-                .and_then(|node| node.child("diameters"))
-                .and_then(Node::numbers)
-                .unwrap_or_default(),
+            diameters: match listed {
+                Some(listed) => listed.numbers().unwrap_or_default(),
+                None if any_size.is_some() => Vec::new(),
+                None => stock(),
+            },
         }
     }
 

@@ -237,6 +237,7 @@ pub const DOCUMENT: &[NodeSpec] = &[
             prop("density", ValueKind::Positive),
             length_prop("clearance", ValueKind::NonNegative),
             prop("min-angle", ValueKind::NonNegative),
+            prop("any-size", ValueKind::Bool),
         ],
         children: &[leaf(
             "diameters",
