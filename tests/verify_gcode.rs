@@ -12,7 +12,7 @@ use std::path::Path;
 use ballast::compile::{compile, Compilation};
 use ballast::fabrication::{ComponentPlan, OrientationChoice, Pause, PrintPlan};
 use ballast::geometry::TriMesh;
-use ballast::verify::sliced::{verify_gcode, SlicedCheck, SlicedOptions};
+use ballast::sliced::{verify_gcode, SlicedCheck, SlicedOptions};
 use geometry_support::box_mesh;
 use nalgebra::{Isometry3, Point3, Vector3};
 use print_support::*;

@@ -17,14 +17,10 @@
 //! Each goal's measured value is put beside the computed one; they agree when they are within
 //! [`AGREEMENT_DEGREES`] and the state (stands or topples, where each ball ends) is the same.
 //! `docs/physics.md` ("The independent check") says what is simulated and what is not.
-//!
-//! [`sliced`] checks a G-code file sliced from the project's print files against the design: the
-//! goals with the sliced mass, the pauses, the voids.
 
 mod body;
 mod immerse;
 mod release;
-pub mod sliced;
 mod stand;
 mod suspend;
 
