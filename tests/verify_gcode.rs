@@ -264,3 +264,52 @@ fn labelled_objects_and_a_skirt_outside_them() {
     assert!((part.shift[0] - 30.0).abs() < 0.1, "{:?}", part.shift);
     assert!((part.shift[1] - 25.0).abs() < 0.1, "{:?}", part.shift);
 }
+
+/// The t_shape example with its design (two tilted capsules), sliced from an STL with the voids
+/// as inner shells at the design's infill, checked through the upright plan the command line
+/// uses: no pause planned or printed, both voids empty, every goal met with the sliced mass.
+#[test]
+fn the_t_shape_sliced_upright_is_as_planned() {
+    if skip() {
+        return;
+    }
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let path = root.join("examples/t_shape.kdl");
+    let source = std::fs::read_to_string(&path).unwrap();
+    let compilation = compile(&source, &path).expect("the example compiles");
+    let voids: Vec<TriMesh> = compilation
+        .design
+        .capsules
+        .iter()
+        .map(|c| capsule_mesh(c.from, c.to, c.radius, 64))
+        .collect();
+    let dir = tempfile::tempdir().unwrap();
+    let stl = dir.path().join("t_shape.stl");
+    write_stl(&with_voids(&compilation.meshes[0], &voids), &stl);
+    let infill = format!("{}%", compilation.design.infill * 100.0);
+    let gcode = slice_with(&stl, &["--fill-density", &infill, "--skirts", "0"]);
+    let check = check(
+        &compilation,
+        &ballast::sliced::upright_plan(&compilation),
+        &gcode,
+    );
+    for void in &check.voids {
+        println!(
+            "capsule `{}`: closest extrusion {:.3} from the axis, limit {:.3}",
+            void.capsule,
+            void.closest.unwrap(),
+            void.limit
+        );
+    }
+    for pose in &check.poses {
+        for goal in &pose.goals {
+            println!(
+                "{} {}: computed {:.2}, sliced {:.2}",
+                pose.pose, goal.kind, goal.computed, goal.sliced
+            );
+            assert!((goal.computed - goal.sliced).abs() < 1.0);
+        }
+    }
+    assert_eq!(check.failures(), Vec::<String>::new());
+    assert!(check.pauses.is_empty());
+}
