@@ -126,7 +126,9 @@ M601
         first.message.as_deref(),
         Some("Insert one 8 mm steel ball into capsule `keel`")
     );
+    assert_eq!(first.resume_height, Some(0.8));
     assert_eq!(read.pauses[1].layers_done, 3);
+    assert_eq!(read.pauses[1].resume_height, None);
     assert_eq!(read.pauses[1].message, None);
     // The total deposit is every object's, the purge line included.
     assert!((read_deposit(program, 1.75).unwrap().filament - 4.0).abs() < 1e-12);

@@ -144,6 +144,7 @@ fn the_sliced_box_is_as_planned() {
     let found = check.pauses[0].found.as_ref().expect("the pause is found");
     assert_eq!(found.layers_done, LAYERS_DONE);
     assert!((found.height.unwrap() - HEIGHT).abs() < 1e-6);
+    assert!((found.resume_height.unwrap() - RESUME).abs() < 1e-6);
     assert_eq!(found.message.as_deref(), Some(MESSAGE));
 
     // The void is empty: the closest extrusion runs outside the void, about half an extrusion

@@ -96,6 +96,8 @@ pub struct PauseMark {
     pub layers_done: usize,
     /// Nozzle height of the last layer printed before the pause; `None` before any.
     pub height: Option<f64>,
+    /// Nozzle height of the first layer printed after it; `None` when none is.
+    pub resume_height: Option<f64>,
 }
 
 /// How far two heights may differ and still be one layer, mm.
@@ -241,6 +243,7 @@ impl State {
             message: self.message.take(),
             layers_done: self.layers.len(),
             height: self.layers.last().copied(),
+            resume_height: None,
         });
     }
 
@@ -272,6 +275,12 @@ impl State {
             .is_none_or(|last| (last - z).abs() > SAME_LAYER)
         {
             self.layers.push(z);
+            for pause in self.pauses.iter_mut().rev() {
+                if pause.resume_height.is_some() {
+                    break;
+                }
+                pause.resume_height = Some(z);
+            }
         }
         self.message = None;
         let object = match self.current {

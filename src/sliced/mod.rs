@@ -164,7 +164,7 @@ pub fn verify_gcode(
     let placed = placement::place(compilation, plan, &program, options.filament_diameter)?;
     let components: Vec<SlicedComponent> = placed.iter().map(|p| p.summary.clone()).collect();
     let mm = compilation.project.units.from_millimetres(1.0);
-    let pauses = pauses::check(plan, &program, mm, compilation.project.print.layer_height);
+    let pauses = pauses::check(plan, &program, mm);
     let voids = voids::check(compilation, &placed);
     let bodies: Vec<ComponentBody> = compilation
         .meshes

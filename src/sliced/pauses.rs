@@ -20,6 +20,8 @@ pub struct PlannedPause {
     pub layers_done: usize,
     /// Top of the last layer printed before it, project units.
     pub height: f64,
+    /// Top of the first layer printed after it, project units.
+    pub resume_height: f64,
     /// The messages of the plan's pauses at this layer, one per component pausing there.
     pub messages: Vec<String>,
 }
@@ -33,6 +35,8 @@ pub struct FoundPause {
     pub layers_done: usize,
     /// Nozzle height of the last layer printed before it, project units; `None` before any.
     pub height: Option<f64>,
+    /// Nozzle height of the first layer printed after it, project units; `None` when none is.
+    pub resume_height: Option<f64>,
     /// The `M117` message shown with it, if any.
     pub message: Option<String>,
 }
@@ -50,13 +54,10 @@ pub struct PauseCheck {
 }
 
 /// Every planned pause of `plan` against the pauses of `program` (heights `mm` project units
-/// per mm); two heights are one when they differ by less than a quarter of `layer_height`.
-pub(super) fn check(
-    plan: &PrintPlan,
-    program: &Program,
-    mm: f64,
-    layer_height: f64,
-) -> Vec<PauseCheck> {
+/// per mm); two heights are one when they differ by less than a quarter of the plan's layer
+/// height.
+pub(super) fn check(plan: &PrintPlan, program: &Program, mm: f64) -> Vec<PauseCheck> {
+    let layer_height = plan.layer_height;
     let mut planned: BTreeMap<usize, PlannedPause> = BTreeMap::new();
     for pause in plan.components.iter().flat_map(|c| &c.pauses) {
         planned
@@ -64,6 +65,7 @@ pub(super) fn check(
             .or_insert_with(|| PlannedPause {
                 layers_done: pause.layers_done,
                 height: pause.height,
+                resume_height: pause.resume_height,
                 messages: Vec::new(),
             })
             .messages
@@ -76,6 +78,7 @@ pub(super) fn check(
             line: mark.line,
             layers_done: mark.layers_done,
             height: mark.height.map(|z| z * mm),
+            resume_height: mark.resume_height.map(|z| z * mm),
             message: mark.message.clone(),
         })
         .collect();
@@ -143,6 +146,16 @@ fn mismatch(pause: &PlannedPause, found: &FoundPause, layer_height: f64) -> Opti
              plan's)",
             height_words(found.height),
             pause.height
+        ));
+    }
+    if found
+        .resume_height
+        .is_some_and(|h| (h - pause.resume_height).abs() > layer_height / 4.0)
+    {
+        problems.push(format!(
+            "the first layer after it is at {}, planned at {:.2}",
+            height_words(found.resume_height),
+            pause.resume_height
         ));
     }
     let message = found.message.as_deref().unwrap_or("");
