@@ -314,3 +314,87 @@ fn the_t_shape_sliced_upright_is_as_planned() {
     assert_eq!(check.failures(), Vec::<String>::new());
     assert!(check.pauses.is_empty());
 }
+
+/// Two components, each a box with a capsule (the second box 30 mm long), written into the 3MF
+/// second first and sliced with object labels: each object is found by its name, each with its
+/// own shift, and the two components' pauses after the same layer are the file's one pause, whose
+/// message holds both.
+#[test]
+fn two_labelled_parts_are_matched_by_name_and_share_a_pause() {
+    if skip() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    write_obj(&box_mesh(40.0, 30.0, 20.0), &dir.path().join("long.obj"));
+    write_obj(&box_mesh(30.0, 30.0, 20.0), &dir.path().join("short.obj"));
+    let source = "units mm\nup z\nmaterial \"PLA\" density=1.24\ninfill 0.15\n\
+        component \"long\" mesh=\"long.obj\"\ncomponent \"short\" mesh=\"short.obj\"\n\
+        capsule \"a\" component=\"long\" radius=4 {\n    from 10 15 10\n    to 30 15 10\n}\n\
+        capsule \"b\" component=\"short\" radius=4 {\n    from 8 15 10\n    to 22 15 10\n}\n\
+        pose \"side by side\" {\n    component \"short\" { translate 50 0 0 }\n    stand margin=2\n}\n";
+    let path = dir.path().join("two.kdl");
+    std::fs::write(&path, source).unwrap();
+    let compilation = compile(source, &path).expect("the project compiles");
+
+    let void = |from: [f64; 3], to: [f64; 3]| capsule_mesh(from.into(), to.into(), RADIUS, 64);
+    let long = with_voids(&box_mesh(40.0, 30.0, 20.0), &[void(FROM, TO)]);
+    let short = with_voids(
+        &box_mesh(30.0, 30.0, 20.0),
+        &[void([8.0, 15.0, 10.0], [22.0, 15.0, 10.0])],
+    );
+    let messages = [
+        "Insert one 7.6 mm steel ball into capsule `a`",
+        "Insert one 7.6 mm steel ball into capsule `b`",
+    ];
+    let both = messages.join(" / ");
+    let file = dir.path().join("two.3mf");
+    write_3mf(
+        &[("short", &short), ("long", &long)],
+        &[(RESUME, &both)],
+        &file,
+    );
+    let gcode = slice_with(
+        &file,
+        &[
+            "--fill-density",
+            "15%",
+            "--skirts",
+            "0",
+            "--gcode-label-objects",
+        ],
+    );
+
+    let mut plan = plan(LAYERS_DONE, messages[0]);
+    let mut second = plan.components[0].clone();
+    second.component = 1;
+    second.to_bed = Isometry3::translation(120.0, CORNER[1], 0.0);
+    second.pauses[0].message = messages[1].to_string();
+    plan.components.push(second);
+    let check = check(&compilation, &plan, &gcode);
+    for part in &check.components {
+        println!(
+            "{} as {:?}: shift {:?}",
+            part.component, part.object, part.shift
+        );
+    }
+    assert_eq!(check.failures(), Vec::<String>::new());
+    let labels: Vec<_> = check
+        .components
+        .iter()
+        .map(|c| c.object.as_deref())
+        .collect();
+    assert_eq!(
+        labels,
+        [Some("long id:1 copy 0"), Some("short id:0 copy 0")]
+    );
+    assert_eq!(check.pauses.len(), 1);
+    assert_eq!(check.pauses[0].planned.as_ref().unwrap().messages.len(), 2);
+    assert!(check.voids.iter().all(|v| v.intrusions == 0));
+    // The shifts differ (PrusaSlicer arranged the two parts its own way), and each maps its
+    // object onto its own part: the deposits' centroids lie at the boxes' middles.
+    assert_ne!(check.components[0].shift, check.components[1].shift);
+    for (part, middle) in check.components.iter().zip([20.0, 15.0]) {
+        assert!((part.centroid[0] - middle).abs() < 0.3, "{part:?}");
+        assert!((part.centroid[1] - 15.0).abs() < 0.3, "{part:?}");
+    }
+}
