@@ -2,13 +2,13 @@
 //! from a project's print files and, through the [`PrintPlan`] the files were made from,
 //!
 //! - finds each component's printed object and the shift the slicer gave it on the bed, and
-//!   maps its extrusions back to the component's rest frame ([`placement`]);
+//!   maps its extrusions back to the component's rest frame (`placement.rs`);
 //! - re-evaluates every goal with each component's material replaced by what the file deposits
 //!   (mass = extruded volume × the material's density, at the deposit's centroid), the capsule
 //!   voids already empty in it and the balls at their ends as usual;
 //! - checks that every planned pause is in the file right after the planned layer with its
-//!   message, that the file has no other pause ([`pauses`]), and that no extrusion lies inside a
-//!   capsule void ([`voids`]).
+//!   message, that the file has no other pause (`pauses.rs`), and that no extrusion lies inside a
+//!   capsule void (`voids.rs`).
 //!
 //! `docs/fabrication.md` ("Checking the sliced file") says what is checked and how.
 
@@ -144,7 +144,7 @@ pub struct SlicedGoal {
 ///
 /// Fails only when the file cannot be checked at all: a line does not read, nothing is
 /// extruded, a component has no plan, or the printed objects cannot be matched to the components
-/// (see [`placement`]). Everything else is in the returned check; [`SlicedCheck::failures`] lists
+/// (see `placement.rs`). Everything else is in the returned check; [`SlicedCheck::failures`] lists
 /// what is wrong.
 pub fn verify_gcode(
     compilation: &Compilation,
