@@ -12,9 +12,12 @@
 //! - [`objective`]: the smooth objective and constraints, with exact gradients, an optimizer
 //!   descends.
 //! - [`emit`]: glTF scenes (one per pose) and atomic file writes.
-//! - [`gcode`]: what a slicer's G-code deposits, to check the mass model against.
+//! - [`gcode`]: what a slicer's G-code deposits, object by object and layer by layer, and where
+//!   it pauses.
 //! - [`cancel`]: a flag another thread sets to stop a long build early.
 //! - [`verify`]: every goal re-measured by a rigid-body simulation, independent of [`balance`].
+//! - [`sliced`]: a sliced G-code file checked against the design: the goals with its mass, its
+//!   pauses, its voids.
 //! - [`watch`]: watch mode's loop: rebuild once per burst of changes to a project's files.
 //!
 //! `docs/architecture.md` describes the whole pipeline, including the stages still to come.
@@ -32,6 +35,7 @@ pub mod gcode;
 pub mod geometry;
 pub mod objective;
 pub mod optimize;
+pub mod sliced;
 pub mod spec;
 pub mod verify;
 pub mod watch;

@@ -268,3 +268,36 @@ fn a_capsule_moves_with_its_component() {
         1e-9,
     );
 }
+
+/// A measured body (the box's material with the void already empty, as a sliced file deposits
+/// it) weighs its deposit plus the ball: the void is not removed a second time and no shell is
+/// added, whatever the infill; the outer volume stays the box's.
+#[test]
+fn a_measured_body_has_its_voids_already_empty() {
+    let (mass, centre) = box_with_ball_by_hand(1.0);
+    let box_volume = 240_000.0;
+    let void = PI * 25.0 * 60.0 + 4.0 / 3.0 * PI * 125.0;
+    let deposit = ballast::geometry::Region {
+        volume: box_volume - void,
+        centroid: Point3::new(
+            (box_volume * 20.0 - void * 10.0) / (box_volume - void),
+            30.0,
+            (box_volume * 50.0 - void * 50.0) / (box_volume - void),
+        ),
+    };
+    let mesh = tall_box();
+    let bodies = [ballast::balance::ComponentBody::measured(&mesh, deposit)];
+    let mut d = design(vec![capsule(
+        0,
+        Point3::new(10.0, 30.0, 20.0),
+        Point3::new(10.0, 30.0, 80.0),
+        5.0,
+        4.5,
+    )]);
+    d.infill = 0.25;
+    let result =
+        ballast::balance::evaluate_pose(&project(&["box"]), &bodies, &d, &rest_pose(1, vec![]));
+    assert_close("mass", result.mass, mass, 1e-9);
+    assert_point("centre", result.centre_of_mass, centre, 1e-9);
+    assert_close("volume", result.volume, box_volume, 1e-9);
+}

@@ -445,3 +445,54 @@ fn verify_prints_simulated_beside_computed_and_exits_zero_when_all_agree() {
     assert_eq!(value["poses"][0]["goals"][0]["kind"], "suspend");
     assert_eq!(value["poses"][0]["goals"][0]["agrees"], true);
 }
+
+/// `verify --gcode`: a G-code word that is not a number is a diagnostic at its line (exit 2), a
+/// file that extrudes nothing cannot be checked (exit 2), and a file that is not the planned print
+/// (a 10 mm square, not the T, and a pause no plan asks for) lists its failures (exit 1).
+#[test]
+fn verify_gcode_reports_unreadable_empty_and_unplanned_files() {
+    let t_shape = examples().join("t_shape.kdl");
+    let t_shape = t_shape.to_str().expect("a UTF-8 path");
+    let folder = tempfile::tempdir().unwrap();
+    let write = |name: &str, text: &str| {
+        let path = folder.path().join(name);
+        fs::write(&path, text).unwrap();
+        path.to_str().expect("a UTF-8 path").to_string()
+    };
+
+    let bad = write("bad.gcode", "G1 Z0.3\nG1 X1 Yabc E1\n");
+    let output = ballast(&["verify", t_shape, "--gcode", &bad]);
+    assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
+    assert!(stderr(&output).contains("ballast::gcode::not_a_number"));
+    assert!(stderr(&output).contains("G-code line 2: `Yabc` is not a number"));
+
+    let empty = write("empty.gcode", "G28\nG1 Z5 F5000\n");
+    let output = ballast(&["verify", t_shape, "--gcode", &empty]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(
+        stderr(&output).contains("extrudes nothing"),
+        "{}",
+        stderr(&output)
+    );
+
+    let square = write(
+        "square.gcode",
+        "M83\nG1 Z0.35\nG1 X0 Y0\nG1 X10 E0.5\nG1 Y10 E0.5\nG1 X0 E0.5\nG1 Y0 E0.5\n\
+         M117 Insert a ball\nM601\nG1 Z0.65\nG1 X10 E0.5\n",
+    );
+    let output = ballast(&["verify", t_shape, "--gcode", &square]);
+    assert_eq!(output.status.code(), Some(1), "{}", stderr(&output));
+    let text = stdout(&output);
+    assert!(text.contains("the file pauses after layer 1"), "{text}");
+    assert!(text.contains("not the planned part"), "{text}");
+
+    let output = ballast(&[
+        "verify",
+        t_shape,
+        "--gcode",
+        &square,
+        "--filament-diameter",
+        "0",
+    ]);
+    assert_eq!(output.status.code(), Some(2));
+}

@@ -1,6 +1,7 @@
 //! The G-code reader on hand-written programs whose deposit is known.
 
-use ballast::gcode::read_deposit;
+use ballast::gcode::{read_deposit, read_program, ReadOptions};
+use nalgebra::Point3;
 
 const AREA: f64 = std::f64::consts::PI * 1.75 * 1.75 / 4.0;
 
@@ -65,4 +66,98 @@ fn a_bad_number_names_its_line_and_nothing_deposited_is_the_origin() {
     let empty = read_deposit("; nothing\nM104 S200\n", 1.75).unwrap();
     assert_eq!(empty.filament, 0.0);
     assert_eq!(empty.centroid, nalgebra::Point3::origin());
+}
+
+/// Two labelled objects, a purge line outside any label, a z-hop, and a pause after the second
+/// layer with its message: what the reader finds in each.
+#[test]
+fn objects_layers_and_pauses() {
+    let program = "\
+M83
+G1 Z0.2
+G1 X0 Y-5 E1 ; purge line, outside any object
+; printing object left id:0 copy 0
+G1 X0 Y0 F600
+G1 X10 Y0 E1
+; stop printing object left id:0 copy 0
+G1 Z0.6 ; z-hop travel
+; printing object right id:1 copy 0
+G1 X20 Y0 Z0.2
+G1 X30 Y0 E1
+; stop printing object right id:1 copy 0
+;LAYER_CHANGE
+G1 Z0.5
+; printing object left id:0 copy 0
+G1 X10 Y5 E0.5
+; stop printing object left id:0 copy 0
+G1 Z0.8
+M117 Insert one 8 mm steel ball into capsule `keel`
+m601 ; lower case, a comment
+G1 E-1 ; retract: the pause's message is kept
+; printing object left id:0 copy 0
+G1 X0 Y5 Z0.8 E0.5
+; stop printing object left id:0 copy 0
+M601
+";
+    let read = read_program(program, &ReadOptions::default()).unwrap();
+    let labels: Vec<_> = read.objects.iter().map(|o| o.label.as_deref()).collect();
+    assert_eq!(
+        labels,
+        [Some("left id:0 copy 0"), Some("right id:1 copy 0"), None]
+    );
+    assert_eq!(read.objects[0].name(), Some("left"));
+    assert_eq!(read.objects[2].name(), None);
+    let counts: Vec<_> = read.objects.iter().map(|o| o.segments.len()).collect();
+    assert_eq!(counts, [3, 1, 1]);
+    assert_eq!(read.layers, [0.2, 0.5, 0.8]);
+    assert!((read.layer_thickness(1) - 0.3).abs() < 1e-12);
+    assert_eq!(read.layer_thickness(0), 0.2);
+    assert_eq!(read.layer_thickness(3), 0.0);
+    let left = &read.objects[0].segments;
+    assert_eq!(left[0].start, Point3::new(0.0, 0.0, 0.2));
+    assert_eq!(left[1].layer, 1);
+    assert_eq!(left[1].line, 16);
+    assert_eq!(read.pauses.len(), 2);
+    let first = &read.pauses[0];
+    assert_eq!(first.line, 20);
+    assert_eq!(first.layers_done, 2);
+    assert_eq!(first.height, Some(0.5));
+    assert_eq!(
+        first.message.as_deref(),
+        Some("Insert one 8 mm steel ball into capsule `keel`")
+    );
+    assert_eq!(first.resume_height, Some(0.8));
+    assert_eq!(read.pauses[1].layers_done, 3);
+    assert_eq!(read.pauses[1].resume_height, None);
+    assert_eq!(read.pauses[1].message, None);
+    // The total deposit is every object's, the purge line included.
+    assert!((read_deposit(program, 1.75).unwrap().filament - 4.0).abs() < 1e-12);
+}
+
+/// Without labels everything is one object; another pause command; OrcaSlicer's labels.
+#[test]
+fn one_object_without_labels_another_pause_command_and_orca_labels() {
+    let program = "G1 Z0.3\nG1 X1 E1\nM400   u1\nG1 X2 E2\n";
+    let options = ReadOptions {
+        pause_gcode: "M400 U1".to_string(),
+    };
+    let read = read_program(program, &options).unwrap();
+    assert_eq!(read.objects.len(), 1);
+    assert_eq!(read.objects[0].label, None);
+    assert_eq!(read.pauses.len(), 1);
+    assert_eq!(read.pauses[0].layers_done, 1);
+    assert!(read_program(program, &ReadOptions::default())
+        .unwrap()
+        .pauses
+        .is_empty());
+    let orca = "\
+; start printing object, unique label id: 15
+G1 Z0.2
+G1 X1 E1
+; stop printing object, unique label id: 15
+";
+    let read = read_program(orca, &ReadOptions::default()).unwrap();
+    assert_eq!(read.objects.len(), 1);
+    assert_eq!(read.objects[0].label.as_deref(), Some("15"));
+    assert_eq!(read.objects[0].name(), Some("15"));
 }

@@ -30,7 +30,9 @@ const CANCELLATION: f64 = 1e-12;
 /// at the material's density, the sparse part at `design.infill` of it, each at its centroid.
 /// Each capsule removes the sparse material of the capsule dilated by [`capsule_shell`], adds
 /// that shell back solid, and adds its ball (already placed, in `balls`, one per capsule); shell
-/// and void are centred on the axis midpoint. Capsules whose component has no body are left out.
+/// and void are centred on the axis midpoint. A component whose print is measured
+/// ([`ComponentBody::voids_in_print`]) has its voids and shells in it already: only its balls are
+/// added. Capsules whose component has no body are left out.
 /// When a total cancels to (nearly) zero, its centre is the mean of the components' world
 /// centroids, or the origin without components.
 pub(crate) fn mass_totals(
@@ -61,13 +63,15 @@ pub(crate) fn mass_totals(
         if capsule.component >= bodies.len() {
             continue;
         }
-        let middle =
-            pose.component_frame(capsule.component) * nalgebra::center(&capsule.from, &capsule.to);
-        let dilated = capsule_volume(capsule.axis_length(), capsule.radius + shell);
-        mass.add(
-            density * ((1.0 - design.infill) * dilated - capsule.volume()),
-            &middle,
-        );
+        if !bodies[capsule.component].voids_in_print {
+            let middle = pose.component_frame(capsule.component)
+                * nalgebra::center(&capsule.from, &capsule.to);
+            let dilated = capsule_volume(capsule.axis_length(), capsule.radius + shell);
+            mass.add(
+                density * ((1.0 - design.infill) * dilated - capsule.volume()),
+                &middle,
+            );
+        }
         mass.add(ball.mass, &Point3::from(ball.centre_world));
     }
     let fallback = if bodies.is_empty() {

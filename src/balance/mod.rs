@@ -51,7 +51,7 @@ pub use rest::{Resting, SNAP_WARNING};
 use nalgebra::{Matrix3, Rotation3};
 use serde::Serialize;
 
-use crate::geometry::{print_volumes, MassProperties, PrintVolumes, Slicing, TriMesh};
+use crate::geometry::{print_volumes, MassProperties, PrintVolumes, Region, Slicing, TriMesh};
 use crate::spec::model::{Axis, MassModel, Print, Project};
 
 /// Per-component data that does not change with the pose: the mesh in its rest frame, its mass
@@ -69,8 +69,13 @@ pub struct ComponentBody<'a> {
     /// centroid, rest frame.
     pub mass: MassProperties,
     /// The material of the printed mesh before capsules are cut: [`print_volumes`] under the
-    /// `fdm` mass model, [`PrintVolumes::uniform`] under `uniform`.
+    /// `fdm` mass model, [`PrintVolumes::uniform`] under `uniform`; or, when `voids_in_print`,
+    /// the material measured in a print, voids already empty.
     pub print: PrintVolumes,
+    /// Whether `print` already has the capsule voids empty and their shells printed (a measured
+    /// deposit, see [`ComponentBody::measured`]): then no void is removed from this component's
+    /// material and no shell added; its balls still weigh.
+    pub voids_in_print: bool,
 }
 
 impl<'a> ComponentBody<'a> {
@@ -87,6 +92,7 @@ impl<'a> ComponentBody<'a> {
             mesh,
             mass,
             print: component_print(project, mesh, &mass, up_to_print(project.up)),
+            voids_in_print: false,
         }
     }
 
@@ -96,6 +102,26 @@ impl<'a> ComponentBody<'a> {
             mesh,
             mass: crate::geometry::mass_properties(mesh),
             print,
+            voids_in_print: false,
+        }
+    }
+
+    /// The body of `mesh` printed as measured: `deposit` is all its material (volume, cubic
+    /// project units, at the material's full density; centroid, rest frame), the capsule voids
+    /// already empty in it. The outer volume, for buoyancy, and the vertices, for support, are
+    /// still `mesh`'s.
+    pub fn measured(mesh: &'a TriMesh, deposit: Region) -> Self {
+        ComponentBody {
+            mesh,
+            mass: crate::geometry::mass_properties(mesh),
+            print: PrintVolumes {
+                solid: deposit,
+                sparse: Region {
+                    volume: 0.0,
+                    centroid: deposit.centroid,
+                },
+            },
+            voids_in_print: true,
         }
     }
 }

@@ -40,14 +40,28 @@ pub enum Command {
     /// spherical joint and immerse floats, each let go from ten orientations, and the distinct
     /// final states are listed.
     ///
+    /// With `--gcode FILE`, checks that G-code file, sliced from the project's print files,
+    /// instead: every goal with the sliced mass, the pauses at the planned layers with their
+    /// messages, no extrusion inside a void (the simulation is not run then).
+    ///
     /// Exit status: 0 every goal agrees (within 1°, same state), 1 the project is valid but some
-    /// goal disagrees, 2 invalid project or failure.
+    /// goal disagrees, 2 invalid project or failure. With `--gcode`: 0 the file is as planned and
+    /// every goal is met with its mass, 1 something is not, 2 invalid project or unreadable file.
     Verify {
         /// The project file (.kdl).
         project: PathBuf,
         /// Print the verification as JSON on standard output instead of the table.
         #[arg(long)]
         json: bool,
+        /// Check this G-code file, sliced from the project's print files.
+        #[arg(long, value_name = "FILE")]
+        gcode: Option<PathBuf>,
+        /// Diameter of the filament the G-code feeds, mm (with `--gcode`).
+        #[arg(long, value_name = "MM", default_value_t = 1.75, value_parser = positive_mm)]
+        filament_diameter: f64,
+        /// The command the G-code pauses with (with `--gcode`).
+        #[arg(long, value_name = "GCODE", default_value = "M601")]
+        pause_gcode: String,
         /// Read the solution file from this folder (where `build --out-dir` wrote it) instead of
         /// the path the project names.
         #[arg(long, value_name = "DIR")]
@@ -135,4 +149,12 @@ pub enum Solver {
     Slsqp,
     /// Constrained optimization by linear approximations, derivative-free.
     Cobyla,
+}
+
+/// A positive, finite length in millimetres.
+fn positive_mm(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(value) if value.is_finite() && value > 0.0 => Ok(value),
+        _ => Err(format!("`{text}` is not a positive number of millimetres")),
+    }
 }

@@ -10,6 +10,7 @@ mod check;
 mod diagnostics;
 mod poses;
 mod progress;
+mod sliced;
 mod table;
 mod verify;
 mod watch;
@@ -24,6 +25,7 @@ use crate::compile::{
     compile_with, Compilation, CompileOptions, Failure, OptimizeOptions, Workspace,
 };
 use crate::optimize::{DiskCache, Method, PrecomputeCache};
+use crate::sliced::SlicedOptions;
 
 /// Every goal of every pose is met.
 pub const EXIT_MET: i32 = 0;
@@ -63,14 +65,25 @@ pub fn run() -> i32 {
             project,
             json,
             out_dir,
-        } => verify::run(
-            &project,
-            json,
-            &CompileOptions {
+            gcode,
+            filament_diameter,
+            pause_gcode,
+        } => {
+            let options = CompileOptions {
                 out_dir,
                 optimize: None,
-            },
-        ),
+            };
+            match gcode {
+                None => verify::run(&project, json, &options),
+                Some(gcode) => {
+                    let sliced = SlicedOptions {
+                        filament_diameter,
+                        pause_gcode,
+                    };
+                    sliced::run(&project, &gcode, json, &options, &sliced)
+                }
+            }
+        }
         Command::Build {
             project,
             out_dir,

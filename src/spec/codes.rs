@@ -50,3 +50,5 @@ pub const TOO_FEW_CAPSULES: &str = "ballast::optimize::too_few_capsules";
 /// A solution file's `infill` that the project does not leave open: outside the project's
 /// `min`..`max`, or different from its fixed infill.
 pub const SOLUTION_INFILL: &str = "ballast::solution::infill";
+/// A G-code file given to `verify --gcode` has a move word whose value is not a number.
+pub const GCODE_NUMBER: &str = "ballast::gcode::not_a_number";

@@ -125,3 +125,149 @@ pub fn slice(input: &Path, infill: f64) -> String {
     );
     std::fs::read_to_string(&output).expect("read G-code")
 }
+
+/// Writes a PrusaSlicer project 3MF holding `objects` (name, mesh, placed on the bed as they
+/// are) and pauses `(print_z, message)` in `Metadata/Prusa_Slicer_custom_gcode_per_print_z.xml`:
+/// the pause runs before the first layer whose top is at `print_z`.
+pub fn write_3mf(objects: &[(&str, &TriMesh)], pauses: &[(f64, &str)], path: &Path) {
+    let mut resources = String::new();
+    let mut items = String::new();
+    for (index, (name, mesh)) in objects.iter().enumerate() {
+        let id = index + 1;
+        resources.push_str(&format!(
+            "<object id=\"{id}\" name=\"{name}\" type=\"model\"><mesh><vertices>"
+        ));
+        for p in &mesh.positions {
+            resources.push_str(&format!(
+                "<vertex x=\"{}\" y=\"{}\" z=\"{}\"/>",
+                p.x, p.y, p.z
+            ));
+        }
+        resources.push_str("</vertices><triangles>");
+        for [a, b, c] in &mesh.triangles {
+            resources.push_str(&format!("<triangle v1=\"{a}\" v2=\"{b}\" v3=\"{c}\"/>"));
+        }
+        resources.push_str("</triangles></mesh></object>");
+        items.push_str(&format!("<item objectid=\"{id}\" printable=\"1\"/>"));
+    }
+    let model = format!(
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<model unit=\"millimeter\" \
+         xml:lang=\"en-US\" xmlns=\"http://schemas.microsoft.com/3dmanufacturing/core/2015/02\" \
+         xmlns:slic3rpe=\"http://schemas.slic3r.org/3mf/2017/06\"><metadata \
+         name=\"Application\">PrusaSlicer-2.5.0</metadata><metadata \
+         name=\"slic3rpe:Version3mf\">1</metadata><resources>{resources}</resources>\
+         <build>{items}</build></model>"
+    );
+    let codes: String = pauses
+        .iter()
+        .map(|(z, message)| {
+            format!(
+                "<code print_z=\"{z}\" type=\"1\" extruder=\"1\" color=\"\" extra=\"{message}\" \
+                 gcode=\"M601\"/>"
+            )
+        })
+        .collect();
+    let custom = format!(
+        "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<custom_gcodes_per_print_z>{codes}<mode \
+         value=\"SingleExtruder\"/></custom_gcodes_per_print_z>"
+    );
+    let types = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<Types \
+        xmlns=\"http://schemas.openxmlformats.org/package/2006/content-types\"><Default \
+        Extension=\"rels\" \
+        ContentType=\"application/vnd.openxmlformats-package.relationships+xml\"/><Default \
+        Extension=\"model\" ContentType=\"application/vnd.ms-package.3dmanufacturing-3dmodel+xml\"/>\
+        </Types>";
+    let rels = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<Relationships \
+        xmlns=\"http://schemas.openxmlformats.org/package/2006/relationships\"><Relationship \
+        Target=\"/3D/3dmodel.model\" Id=\"rel0\" \
+        Type=\"http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel\"/></Relationships>";
+    let entries = [
+        ("[Content_Types].xml", types.to_string()),
+        ("_rels/.rels", rels.to_string()),
+        ("3D/3dmodel.model", model),
+        ("Metadata/Prusa_Slicer_custom_gcode_per_print_z.xml", custom),
+    ];
+    std::fs::write(path, stored_zip(&entries)).expect("write 3MF");
+}
+
+/// A zip archive of `entries` (name, text), stored without compression.
+fn stored_zip(entries: &[(&str, String)]) -> Vec<u8> {
+    let mut out = Vec::new();
+    let mut directory = Vec::new();
+    for (name, text) in entries {
+        let data = text.as_bytes();
+        let crc = crc32(data);
+        let offset = out.len() as u32;
+        let size = data.len() as u32;
+        let fields = |out: &mut Vec<u8>| {
+            out.extend(20u16.to_le_bytes()); // version needed
+            out.extend(0u16.to_le_bytes()); // flags
+            out.extend(0u16.to_le_bytes()); // stored
+            out.extend(0u32.to_le_bytes()); // time, date
+            out.extend(crc.to_le_bytes());
+            out.extend(size.to_le_bytes());
+            out.extend(size.to_le_bytes());
+            out.extend((name.len() as u16).to_le_bytes());
+            out.extend(0u16.to_le_bytes()); // extra length
+        };
+        out.extend(0x0403_4b50u32.to_le_bytes());
+        fields(&mut out);
+        out.extend(name.as_bytes());
+        out.extend(data);
+        directory.extend(0x0201_4b50u32.to_le_bytes());
+        directory.extend(20u16.to_le_bytes()); // version made by
+        fields(&mut directory);
+        // Comment length, disk number, internal and external attributes.
+        directory.extend([0u8; 10]);
+        directory.extend(offset.to_le_bytes());
+        directory.extend(name.as_bytes());
+    }
+    let start = out.len() as u32;
+    let length = directory.len() as u32;
+    out.extend(directory);
+    out.extend(0x0605_4b50u32.to_le_bytes());
+    out.extend([0u8; 4]); // disk numbers
+    out.extend((entries.len() as u16).to_le_bytes());
+    out.extend((entries.len() as u16).to_le_bytes());
+    out.extend(length.to_le_bytes());
+    out.extend(start.to_le_bytes());
+    out.extend(0u16.to_le_bytes());
+    out
+}
+
+/// The CRC-32 (IEEE) of `data`.
+fn crc32(data: &[u8]) -> u32 {
+    let mut crc = !0u32;
+    for byte in data {
+        crc ^= u32::from(*byte);
+        for _ in 0..8 {
+            crc = if crc & 1 == 1 {
+                (crc >> 1) ^ 0xEDB8_8320
+            } else {
+                crc >> 1
+            };
+        }
+    }
+    !crc
+}
+
+/// The G-code PrusaSlicer writes for the file `input` (an STL or a 3MF) at its defaults, with
+/// the extra command-line arguments `args`.
+pub fn slice_with(input: &Path, args: &[&str]) -> String {
+    let output = input.with_extension("gcode");
+    let status = Command::new("prusa-slicer")
+        .arg("--export-gcode")
+        .args(["--loglevel", "1"])
+        .args(args)
+        .arg("-o")
+        .arg(&output)
+        .arg(input)
+        .output()
+        .expect("run prusa-slicer");
+    assert!(
+        status.status.success(),
+        "prusa-slicer failed: {}",
+        String::from_utf8_lossy(&status.stderr)
+    );
+    std::fs::read_to_string(&output).expect("read G-code")
+}

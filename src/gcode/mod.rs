@@ -1,0 +1,88 @@
+//! Reading a G-code program: what it deposits, where, object by object and layer by layer, and
+//! where it pauses (`docs/physics.md`, "The mass of a print"; `docs/fabrication.md`, "Checking
+//! the sliced file").
+//!
+//! Understood: `G0`/`G1` moves (`X`, `Y`, `Z`, `E`), `G90`/`G91` (absolute or relative
+//! positions, `E` included, as Marlin does), `M82`/`M83` (absolute or relative `E`), `G92`
+//! (setting positions), `M117` (a message on the printer's screen), the pause command (`M601`
+//! unless told otherwise) and the comments slicers label objects with (see [`read_program`]).
+//! Everything else (temperatures, fans, other comments) is skipped. A move that extrudes (`E`
+//! grows) while it moves in `X`, `Y` or `Z` deposits the filament it feeds along its path;
+//! `E` changes without motion are retractions and their undoing.
+//!
+//! The module knows G-code and nothing of ballast: positions are the printer's, in mm.
+
+mod program;
+
+pub use program::{read_program, PauseMark, PrintedObject, Program, ReadOptions, Segment};
+
+use nalgebra::{Point3, Vector3};
+use thiserror::Error;
+
+/// What a G-code program deposits.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Deposit {
+    /// Filament fed by depositing moves, mm.
+    pub filament: f64,
+    /// Volume of that filament, mm³.
+    pub volume: f64,
+    /// The filament's centroid, printer coordinates (mm); the origin when nothing is deposited.
+    pub centroid: Point3<f64>,
+}
+
+impl Deposit {
+    /// Grams of material of `density` g/cm³.
+    pub fn mass(&self, density: f64) -> f64 {
+        self.volume * density / 1000.0
+    }
+}
+
+/// A G-code line that cannot be read.
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+#[error("G-code line {line}: `{word}` is not a number")]
+pub struct GcodeError {
+    /// 1-based line number.
+    pub line: usize,
+    /// The word whose value does not parse.
+    pub word: String,
+}
+
+/// The deposit of the G-code `text`, every object together, with filament of
+/// `filament_diameter` mm. Each move's filament counts at the move's midpoint, at the nozzle's
+/// height.
+pub fn read_deposit(text: &str, filament_diameter: f64) -> Result<Deposit, GcodeError> {
+    let program = read_program(text, &ReadOptions::default())?;
+    Ok(deposit_of(
+        program.objects.iter().flat_map(|object| &object.segments),
+        filament_diameter,
+    ))
+}
+
+/// The deposit of `segments`, with filament of `filament_diameter` mm.
+pub fn deposit_of<'a>(
+    segments: impl IntoIterator<Item = &'a Segment>,
+    filament_diameter: f64,
+) -> Deposit {
+    let area = filament_area(filament_diameter);
+    let mut filament = 0.0;
+    let mut moment = Vector3::zeros();
+    for segment in segments {
+        filament += segment.filament;
+        moment += (segment.start.coords + segment.end.coords) * (segment.filament / 2.0);
+    }
+    let centroid = if filament > 0.0 {
+        Point3::from(moment / filament)
+    } else {
+        Point3::origin()
+    };
+    Deposit {
+        filament,
+        volume: filament * area,
+        centroid,
+    }
+}
+
+/// Cross-section of filament of `diameter` mm, mm².
+pub fn filament_area(diameter: f64) -> f64 {
+    std::f64::consts::PI * diameter * diameter / 4.0
+}

@@ -1,0 +1,74 @@
+//! No plastic inside a void: an extrusion lands in a capsule's void when its material centre
+//! line, in the component's rest frame, passes closer to the capsule's axis than the capsule's
+//! radius less half the extrusion width.
+
+use serde::Serialize;
+
+use super::placement::Placed;
+use crate::compile::Compilation;
+use crate::geometry::segment_segment_distance;
+
+/// One capsule's void in the sliced file.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct VoidCheck {
+    /// The capsule's name.
+    pub capsule: String,
+    /// Extrusion moves closer to the axis than `limit`.
+    pub intrusions: usize,
+    /// The smallest distance of any extrusion of the capsule's component from its axis, project
+    /// units; `None` when the component extrudes nothing.
+    pub closest: Option<f64>,
+    /// The distance below which an extrusion is inside: radius less half the extrusion width.
+    pub limit: f64,
+    /// Line of the first extrusion inside, when there is one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub first_line: Option<usize>,
+}
+
+impl VoidCheck {
+    /// The failure in words, when something is inside.
+    pub fn problem(&self) -> Option<String> {
+        let line = self.first_line?;
+        Some(format!(
+            "capsule `{}`: {} extrusion{} inside the void (the first on line {line}), {:.2} from \
+             the axis where the void's radius less half an extrusion width is {:.2}",
+            self.capsule,
+            self.intrusions,
+            if self.intrusions == 1 { "" } else { "s" },
+            self.closest.unwrap_or(0.0),
+            self.limit
+        ))
+    }
+}
+
+/// Every capsule of the design against its component's extrusions in `placed`.
+pub(super) fn check(compilation: &Compilation, placed: &[Placed]) -> Vec<VoidCheck> {
+    let half_width = compilation.project.print.extrusion_width / 2.0;
+    compilation
+        .design
+        .capsules
+        .iter()
+        .map(|capsule| {
+            let limit = capsule.radius - half_width;
+            let mut check = VoidCheck {
+                capsule: capsule.name.clone(),
+                intrusions: 0,
+                closest: None,
+                limit,
+                first_line: None,
+            };
+            let segments = placed
+                .get(capsule.component)
+                .map_or(&[][..], |p| &p.segments[..]);
+            for (a, b, line) in segments {
+                let distance = segment_segment_distance(a, b, &capsule.from, &capsule.to);
+                check.closest = Some(check.closest.map_or(distance, |c: f64| c.min(distance)));
+                if distance < limit {
+                    check.intrusions += 1;
+                    check.first_line = check.first_line.or(Some(*line));
+                }
+            }
+            check
+        })
+        .collect()
+}
