@@ -161,3 +161,33 @@ G1 X1 E1
     assert_eq!(read.objects[0].label.as_deref(), Some("15"));
     assert_eq!(read.objects[0].name(), Some("15"));
 }
+
+/// Firmware labels (`M486`) when the file has no label comments: named by `A`, the name kept
+/// when the object starts again without it; `M486 S-1` ends an object.
+#[test]
+fn firmware_labels_without_label_comments() {
+    let program = "\
+M83
+M486 T2
+G1 Z0.2
+M486 S0 A\"left\"
+G1 X1 E1
+M486 S-1
+G1 X5 E1 ; outside any object
+M486 S1
+G1 X9 E1
+M486 S0
+G1 X2 E1
+M486 S-1
+";
+    let read = read_program(program, &ReadOptions::default()).unwrap();
+    let labels: Vec<_> = read.objects.iter().map(|o| o.label.as_deref()).collect();
+    assert_eq!(labels, [Some("left"), Some("1"), None]);
+    let counts: Vec<_> = read.objects.iter().map(|o| o.segments.len()).collect();
+    assert_eq!(counts, [2, 1, 1]);
+    // With label comments, M486 is not read a second time.
+    let both = format!("; printing object left id:0 copy 0\n{program}");
+    let read = read_program(&both, &ReadOptions::default()).unwrap();
+    assert_eq!(read.objects.len(), 1);
+    assert_eq!(read.objects[0].segments.len(), 4);
+}

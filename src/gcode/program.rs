@@ -108,9 +108,16 @@ const SAME_LAYER: f64 = 1e-6;
 /// Objects are told apart by the comments slicers write around each object's moves:
 /// PrusaSlicer's `; printing object NAME` … `; stop printing object NAME` (its
 /// `gcode_label_objects` setting) and OrcaSlicer's `; start printing object, unique label id:
-/// N` … `; stop printing object, unique label id: N`.
+/// N` … `; stop printing object, unique label id: N`. A file without such comments may label
+/// its objects for the firmware instead: `M486 S<n>` starts object `n` (named by an `A` word on
+/// that line or an earlier one for `n`, else labelled `n`), `M486 S-1` ends it.
 pub fn read_program(text: &str, options: &ReadOptions) -> Result<Program, GcodeError> {
     let pause = normalise(&options.pause_gcode);
+    let firmware_labels = !text.lines().any(|raw| {
+        raw.split_once(';')
+            .is_some_and(|(_, comment)| label_change(comment).is_some())
+    });
+    let mut firmware_names: Vec<(i64, String)> = Vec::new();
     let mut state = State::default();
     for (index, raw) in text.lines().enumerate() {
         let line = index + 1;
@@ -136,6 +143,24 @@ pub fn read_program(text: &str, options: &ReadOptions) -> Result<Program, GcodeE
             "M82" => state.relative_e = false,
             "M83" => state.relative_e = true,
             "M117" => state.message = Some(rest.trim().to_string()),
+            "M486" if firmware_labels => {
+                if let Some((id, name)) = firmware_label(rest) {
+                    if id < 0 {
+                        state.current = None;
+                    } else {
+                        let known = firmware_names.iter().find(|(n, _)| *n == id);
+                        let label = match (name, known) {
+                            (Some(name), _) => name,
+                            (None, Some((_, name))) => name.clone(),
+                            (None, None) => id.to_string(),
+                        };
+                        if known.is_none() {
+                            firmware_names.push((id, label.clone()));
+                        }
+                        state.current = Some(state.object(Some(label)));
+                    }
+                }
+            }
             "G92" => {
                 let values = axis_values(rest, line)?;
                 for (axis, value) in values.iter().take(3).enumerate() {
@@ -177,6 +202,18 @@ fn label_change(comment: &str) -> Option<Option<String>> {
     comment
         .strip_prefix("printing object ")
         .map(|label| Some(label.trim().to_string()))
+}
+
+/// The object index of an `M486 S<n>` and the name its `A` word gives, if any (quotes
+/// dropped); `None` for the other `M486` forms (`T`, `P`, `U`, `C`).
+fn firmware_label(words: &str) -> Option<(i64, Option<String>)> {
+    let (index, name) = match words.find(['A', 'a']) {
+        Some(at) => (&words[..at], Some(words[at + 1..].trim().trim_matches('"'))),
+        None => (words, None),
+    };
+    let mut index = index.split_whitespace();
+    let id = index.next()?.strip_prefix(['S', 's'])?.parse().ok()?;
+    Some((id, name.filter(|n| !n.is_empty()).map(str::to_string)))
 }
 
 /// The `X`, `Y`, `Z` and `E` values of a move's words.
