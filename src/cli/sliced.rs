@@ -10,7 +10,7 @@ use super::{compile_file, file_name, EXIT_INVALID, EXIT_MET, EXIT_UNMET};
 use crate::compile::{CompileOptions, Workspace};
 use crate::diagnostic::{Problem, SourceFile};
 use crate::gcode::GcodeError;
-use crate::sliced::{upright_plan, verify_gcode, SlicedCheck, SlicedError, SlicedOptions};
+use crate::sliced::{verify_gcode, SlicedCheck, SlicedError, SlicedOptions};
 use crate::spec::codes;
 
 /// Checks the G-code at `gcode` against the project at `path`; prints the table, or the check
@@ -32,8 +32,7 @@ pub fn run(
             return EXIT_INVALID;
         }
     };
-    let plan = upright_plan(&compilation);
-    let check = match verify_gcode(&compilation, &plan, &text, sliced) {
+    let check = match verify_gcode(&compilation, &compilation.print_plan, &text, sliced) {
         Ok(check) => check,
         Err(SlicedError::Gcode(error)) => {
             let name = gcode.display().to_string();

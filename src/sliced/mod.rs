@@ -12,7 +12,6 @@
 //!
 //! `docs/fabrication.md` ("Checking the sliced file") says what is checked and how.
 
-mod assumed;
 mod pauses;
 mod placement;
 mod voids;
@@ -20,7 +19,6 @@ mod voids;
 use serde::Serialize;
 use thiserror::Error;
 
-pub use assumed::upright_plan;
 pub use pauses::{FoundPause, PauseCheck, PlannedPause};
 pub use placement::SlicedComponent;
 pub use voids::VoidCheck;
