@@ -15,6 +15,7 @@
 
 mod design;
 mod down;
+mod insertion;
 mod mesh_cache;
 mod meshes;
 mod optimize;
@@ -28,6 +29,7 @@ mod workspace;
 use std::path::{Path, PathBuf};
 
 pub use design::hand_placed_design;
+pub use insertion::{direction_words, insertion_plans, ComponentInsertion, BRIDGE_LIMIT_MM};
 pub use mesh_cache::MeshCache;
 pub use meshes::load_components;
 pub use optimize::{
@@ -87,6 +89,8 @@ pub struct Compilation {
     pub design: Design,
     /// One per pose, in project order.
     pub poses: Vec<PoseEvaluation>,
+    /// Per component, in project order: when the balls go in.
+    pub insertion: Vec<ComponentInsertion>,
     /// Warnings: the project is valid but something deserves a look.
     pub warnings: Vec<Problem>,
     /// Where the design came from.
@@ -197,6 +201,8 @@ pub fn compile_with(
     problems.extend(undetermined_balls(&project, &design, &poses));
     problems.extend(settled_poses(&project, &poses));
     problems.extend(other_states(&project, &poses));
+    let insertion = insertion_plans(&project, &meshes, &design);
+    problems.extend(insertion::ceiling_warnings(&project, &design, &insertion));
     Ok(Compilation {
         project,
         meshes,
@@ -204,6 +210,7 @@ pub fn compile_with(
         prints,
         design,
         poses,
+        insertion,
         warnings: problems,
         source,
         optimization,

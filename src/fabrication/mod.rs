@@ -10,13 +10,17 @@
 //! - two capsules of one component keep a wall between them (eq. 14 with the wall added).
 //!
 //! [`PrintPlan`] is how the design is printed: each component's orientation on the bed, the
-//! pauses and the balls that go in at each.
+//! pauses and the balls that go in at each; [`plan_insertions`] fills in a component's windows
+//! and pauses in its [`PrintFrame`]: the heights at which each ball can go in (eq. 16 in
+//! general, [`insertion_window`]), grouped into the fewest pauses on the layer grid.
 //!
 //! Issues are plain data without spans or messages: the driver knows which project node each
 //! capsule came from and turns an issue into a diagnostic there. Whether a ball clearly rolls to
 //! one end (eq. 22) depends on the pose and is left to the physics stage.
 
 mod check;
+mod frame;
+mod insertion;
 mod issue;
 mod overlap;
 mod placement;
@@ -24,5 +28,7 @@ mod plan;
 mod tolerance;
 
 pub use check::check_design;
+pub use frame::{LayerGrid, PrintFrame, PrintSetup};
+pub use insertion::{ceiling_bridge, insertion_window, plan_insertions, required_rise};
 pub use issue::CapsuleIssue;
 pub use plan::{CapsuleInsertion, ComponentPlan, OrientationChoice, Pause, PrintPlan};
