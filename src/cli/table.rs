@@ -4,9 +4,9 @@
 use std::fmt::Write;
 
 use crate::balance::{BallRest, GoalOutcome, PoseEvaluation};
-use crate::compile::{Compilation, Optimization};
+use crate::compile::{direction_words, Compilation, Optimization};
 use crate::design::PlacedCapsule;
-use crate::fabrication::OrientationChoice;
+use crate::fabrication::{ComponentPlan, OrientationChoice};
 use crate::spec::model::Units;
 
 /// The summary of `compilation`, ending with a line counting the goals met.
@@ -33,6 +33,10 @@ pub fn summary(compilation: &Compilation, project_name: &str) -> String {
         pose_section(&mut out, evaluation, units);
         total += evaluation.goals.len();
         met += evaluation.goals.iter().filter(|goal| goal.met).count();
+    }
+    for plan in &compilation.print_plan.components {
+        out.push('\n');
+        insertion_section(&mut out, compilation, plan);
     }
     let _ = writeln!(out, "\n{met} of {total} goal{} met.", plural(total));
     out
@@ -112,6 +116,62 @@ fn balls_section(out: &mut String, compilation: &Compilation) {
             format!("\"{}\"", capsule.name),
             grams(capsule),
             format_length(capsule.radius - capsule.ball_radius, units),
+        );
+    }
+}
+
+/// When the balls of one component go in: its pauses, then each capsule's window.
+fn insertion_section(out: &mut String, compilation: &Compilation, plan: &ComponentPlan) {
+    let units = compilation.project.units;
+    let length = |value: f64| format_length(value, units);
+    let name = |index: usize| {
+        compilation
+            .design
+            .capsules
+            .get(index)
+            .map_or("", |c| c.name.as_str())
+    };
+    let _ = writeln!(
+        out,
+        "printing \"{}\" along {}: {} pause{}",
+        compilation.project.component_name(plan.component),
+        direction_words(&-plan.down),
+        plan.pauses.len(),
+        plural(plan.pauses.len())
+    );
+    for (number, pause) in plan.pauses.iter().enumerate() {
+        let _ = writeln!(
+            out,
+            "  pause {} after layer {} at {} (resume at {}): {}",
+            number + 1,
+            pause.layers_done,
+            length(pause.height),
+            length(pause.resume_height),
+            pause.message
+        );
+    }
+    for capsule in &plan.capsules {
+        let window = match (capsule.window, capsule.pause) {
+            (Some((low, high)), Some(pause)) => {
+                format!(
+                    "window {} to {}, pause {}",
+                    length(low),
+                    length(high),
+                    pause + 1
+                )
+            }
+            (Some((low, high)), None) => format!(
+                "window {} to {} holds no layer boundary",
+                length(low),
+                length(high)
+            ),
+            (None, _) => "no insertion window".to_string(),
+        };
+        let _ = writeln!(
+            out,
+            "  capsule \"{}\" {window}, ceiling bridge {}",
+            name(capsule.capsule),
+            length(capsule.ceiling_bridge)
         );
     }
 }

@@ -15,6 +15,7 @@
 
 mod design;
 mod down;
+mod insertion;
 mod mesh_cache;
 mod meshes;
 mod optimize;
@@ -30,6 +31,7 @@ mod workspace;
 use std::path::{Path, PathBuf};
 
 pub use design::hand_placed_design;
+pub use insertion::{direction_words, plan_insertions_into, BRIDGE_LIMIT_MM};
 pub use mesh_cache::MeshCache;
 pub use meshes::load_components;
 pub use optimize::{
@@ -218,7 +220,9 @@ pub fn compile_with(
     problems.extend(undetermined_balls(&project, &design, &poses));
     problems.extend(settled_poses(&project, &poses));
     problems.extend(other_states(&project, &poses));
-    let print_plan = print_plan(&project, &meshes, &orientations);
+    let mut print_plan = print_plan(&project, &meshes, &orientations);
+    plan_insertions_into(&project, &meshes, &design, &mut print_plan);
+    problems.extend(insertion::ceiling_warnings(&project, &design, &print_plan));
     Ok(Compilation {
         project,
         meshes,

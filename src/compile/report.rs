@@ -7,8 +7,9 @@ use serde::Serialize;
 
 use super::{Compilation, DesignSource, Optimization};
 use crate::balance::{capsule_shell, PoseEvaluation};
+use crate::design::Design;
 use crate::fabrication::{ComponentPlan, Orientation, OrientationChoice};
-use crate::spec::model::{MassModel, Print};
+use crate::spec::model::{MassModel, Print, Project};
 
 /// Version of the report's layout; raised when a field changes meaning or disappears.
 pub const REPORT_FORMAT: u32 = 1;
@@ -44,6 +45,8 @@ pub struct Report<'a> {
     pub ball_mass: f64,
     /// One per pose, in project order.
     pub poses: Vec<PoseReport<'a>>,
+    /// Per component, in project order: when the balls go in.
+    pub insertion: Vec<InsertionReport>,
     /// How many goals there are, and how many are met.
     pub goals: GoalCount,
     /// Whether every goal of every pose is met (the exit status is 0 exactly then).
@@ -240,6 +243,85 @@ impl<'a> PoseReport<'a> {
     }
 }
 
+/// How the balls of one component go in.
+#[derive(Debug, Clone, Serialize)]
+pub struct InsertionReport {
+    /// The component's name.
+    pub component: String,
+    /// The rest-frame direction it is printed along.
+    pub up: [f64; 3],
+    /// The pauses, lowest first.
+    pub pauses: Vec<PauseReport>,
+    /// Its capsules, in design order.
+    pub capsules: Vec<CapsuleInsertionReport>,
+}
+
+/// One pause of the print.
+#[derive(Debug, Clone, Serialize)]
+pub struct PauseReport {
+    /// Layers printed before it.
+    pub layers_done: usize,
+    /// Top of the last layer printed, above the bed.
+    pub height: f64,
+    /// Top of the first layer printed after it (where slicers key a pause).
+    pub resume_height: f64,
+    /// Names of the capsules whose balls go in, in design order.
+    pub capsules: Vec<String>,
+    /// What the printer shows.
+    pub message: String,
+}
+
+/// When one capsule's ball can go in.
+#[derive(Debug, Clone, Serialize)]
+pub struct CapsuleInsertionReport {
+    /// The capsule's name.
+    pub capsule: String,
+    /// Heights above the bed at which the print may pause for it, `[low, high]`, or `null`.
+    pub window: Option<[f64; 2]>,
+    /// Index into the component's `pauses`, or `null` when no layer boundary is in the window.
+    pub pause: Option<usize>,
+    /// Widest span of the void's ceiling a slicer bridges (overhang past 45°).
+    pub ceiling_bridge: f64,
+}
+
+impl InsertionReport {
+    /// The report entry of `plan`, names taken from `project` and `design`.
+    fn new(plan: &ComponentPlan, project: &Project, design: &Design) -> InsertionReport {
+        let name = |index: usize| {
+            design
+                .capsules
+                .get(index)
+                .map(|c| c.name.clone())
+                .unwrap_or_default()
+        };
+        InsertionReport {
+            component: project.component_name(plan.component).to_string(),
+            up: (-plan.down).into(),
+            pauses: plan
+                .pauses
+                .iter()
+                .map(|pause| PauseReport {
+                    layers_done: pause.layers_done,
+                    height: pause.height,
+                    resume_height: pause.resume_height,
+                    capsules: pause.capsules.iter().map(|&c| name(c)).collect(),
+                    message: pause.message.clone(),
+                })
+                .collect(),
+            capsules: plan
+                .capsules
+                .iter()
+                .map(|capsule| CapsuleInsertionReport {
+                    capsule: name(capsule.capsule),
+                    window: capsule.window.map(|(low, high)| [low, high]),
+                    pause: capsule.pause,
+                    ceiling_bridge: capsule.ceiling_bridge,
+                })
+                .collect(),
+        }
+    }
+}
+
 /// How many goals are met.
 #[derive(Debug, Clone, Copy, Serialize)]
 pub struct GoalCount {
@@ -334,6 +416,12 @@ impl<'a> Report<'a> {
             capsules,
             ball_mass,
             poses,
+            insertion: compilation
+                .print_plan
+                .components
+                .iter()
+                .map(|plan| InsertionReport::new(plan, project, &compilation.design))
+                .collect(),
             goals: GoalCount {
                 total: all_goals.len(),
                 met: all_goals.iter().filter(|met| **met).count(),

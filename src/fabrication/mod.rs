@@ -11,7 +11,10 @@
 //!
 //! [`PrintPlan`] is how the design is printed: each component's orientation on the bed
 //! ([`choose`] or a declared one, `orientation.rs`; laid out by [`lay_out`], `bed.rs`), the pauses
-//! and the balls that go in at each.
+//! and the balls that go in at each;
+//! [`plan_insertions`] fills in a component's windows and pauses in its [`PrintFrame`]: the
+//! heights at which each ball can go in (eq. 16 in general, [`insertion_window`]), grouped into
+//! the fewest pauses on the layer grid.
 //!
 //! Issues are plain data without spans or messages: the driver knows which project node each
 //! capsule came from and turns an issue into a diagnostic there. Whether a ball clearly rolls to
@@ -19,6 +22,8 @@
 
 mod bed;
 mod check;
+mod frame;
+mod insertion;
 mod issue;
 mod orientation;
 mod overlap;
@@ -28,6 +33,8 @@ mod tolerance;
 
 pub use bed::{lay_out, Bed};
 pub use check::check_design;
+pub use frame::{LayerGrid, PrintFrame, PrintSetup};
+pub use insertion::{ceiling_bridge, insertion_window, plan_insertions, required_rise};
 pub use issue::CapsuleIssue;
 pub use orientation::{
     choose, declared_down, declared_rotation, height, InsertionRank, Orientation, AREA_TIE,

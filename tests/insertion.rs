@@ -1,0 +1,90 @@
+//! A project's insertion plan, through the driver and into the report: a vertical capsule in a
+//! 20 mm box printed along +z on PrusaSlicer's default layers (0.35 mm, then 0.3 mm).
+
+use std::path::Path;
+
+use ballast::compile::{compile, Report};
+
+const PROJECT: &str = r#"
+component "box" mesh="../meshes/box.obj"
+wall 1
+ball clearance=0.2
+pose "rest" { stand }
+capsule "weight" component="box" radius=4 {
+    from 10 10 6
+    to 10 10 14
+}
+"#;
+
+#[test]
+fn a_vertical_capsule_gets_one_pause_in_the_middle_of_its_window() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/compile/err/insertion.kdl");
+    let compilation = compile(PROJECT, &path).expect("compiles");
+    // The ball (3.8) tops out at 6 − 4 + 7.6 = 9.6; the opening closes at 14 + 0.2. The layer
+    // tops in [9.6, 14.2] are those of layers 32 (9.65) to 47 (14.15); the middle is layer 39,
+    // whose top is 0.35 + 38 × 0.3 = 11.75.
+    let report: serde_json::Value =
+        serde_json::from_str(&Report::new(&compilation, &path).to_json()).unwrap();
+    let plan = &report["insertion"][0];
+    assert_eq!(plan["component"], "box");
+    assert_eq!(plan["up"], serde_json::json!([0.0, 0.0, 1.0]));
+    let window = plan["capsules"][0]["window"].as_array().unwrap();
+    assert!(
+        (window[0].as_f64().unwrap() - 9.6).abs() < 1e-9,
+        "{window:?}"
+    );
+    assert!(
+        (window[1].as_f64().unwrap() - 14.2).abs() < 1e-9,
+        "{window:?}"
+    );
+    assert_eq!(plan["capsules"][0]["pause"], 0);
+    let bridge = plan["capsules"][0]["ceiling_bridge"].as_f64().unwrap();
+    assert!((bridge - 4.0 * 2f64.sqrt()).abs() < 1e-9);
+    let pauses = plan["pauses"].as_array().unwrap();
+    assert_eq!(pauses.len(), 1);
+    assert_eq!(pauses[0]["layers_done"], 39);
+    assert!((pauses[0]["height"].as_f64().unwrap() - 11.75).abs() < 1e-9);
+    assert!((pauses[0]["resume_height"].as_f64().unwrap() - 12.05).abs() < 1e-9);
+    assert_eq!(pauses[0]["capsules"], serde_json::json!(["weight"]));
+    assert_eq!(
+        pauses[0]["message"],
+        "Insert one 7.6 mm steel ball into capsule `weight`"
+    );
+    // A 5.66 mm ceiling is within the bridge limit: no warning.
+    assert!(compilation
+        .warnings
+        .iter()
+        .all(|w| w.code != "ballast::capsule::ceiling_bridge"));
+}
+
+#[test]
+fn a_wide_void_warns_about_its_ceiling() {
+    // The same box read in centimetres (20 cm), the capsule 0.75 cm wide: a ceiling of
+    // √2 × 0.75 = 1.0607 cm, past the 10 mm limit. The message gives both units.
+    let wide = format!(
+        "units \"cm\"\n{}",
+        PROJECT
+            .replace("wall 1", "wall 0.1")
+            .replace("clearance=0.2", "clearance=0.02")
+            .replace("radius=4", "radius=0.75")
+    );
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/compile/err/insertion.kdl");
+    let compilation = compile(&wide, &path).expect("compiles");
+    let warning = compilation
+        .warnings
+        .iter()
+        .find(|w| w.code == "ballast::capsule::ceiling_bridge")
+        .expect("a ceiling warning");
+    assert!(!warning.is_error());
+    assert!(
+        warning.message.contains("1.0607 cm (10.61 mm)"),
+        "{}",
+        warning.message
+    );
+    // The pause message names the ball in centimetres and millimetres: 2 × (0.75 − 0.02).
+    let pause = &compilation.insertion[0].pauses[0];
+    assert_eq!(
+        pause.message,
+        "Insert one 1.46 cm (14.6 mm) steel ball into capsule `weight`"
+    );
+}
