@@ -82,7 +82,7 @@ fn a_wide_void_warns_about_its_ceiling() {
         warning.message
     );
     // The pause message names the ball in centimetres and millimetres: 2 × (0.75 − 0.02).
-    let pause = &compilation.insertion[0].pauses[0];
+    let pause = &compilation.print_plan.components[0].pauses[0];
     assert_eq!(
         pause.message,
         "Insert one 1.46 cm (14.6 mm) steel ball into capsule `weight`"

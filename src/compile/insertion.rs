@@ -6,7 +6,7 @@ use nalgebra::Vector3;
 
 use crate::design::Design;
 use crate::diagnostic::Problem;
-use crate::fabrication::{plan_insertions, PrintPlan, PrintSetup};
+use crate::fabrication::{plan_insertions, required_rise, PrintPlan, PrintSetup};
 use crate::geometry::TriMesh;
 use crate::spec::model::{Project, Units};
 
@@ -65,6 +65,52 @@ pub fn ceiling_warnings(project: &Project, design: &Design, plan: &PrintPlan) ->
             ),
         )
         .with_help("make the capsule narrower, or let the slicer add support inside the void (and clear it before the pause)");
+        if let Some(node) = project.capsules.iter().find(|c| &c.name.value == name) {
+            warning = warning.with_label(node.span, "this capsule");
+        }
+        warnings.push(warning);
+    }
+    warnings
+}
+
+/// A warning for every capsule whose ball cannot go in at any pause in its component's print
+/// orientation (no layer boundary in its insertion window), on its node in the project file when
+/// it has one: the design cannot be printed the way the balls are meant to go in.
+pub fn window_warnings(
+    project: &Project,
+    meshes: &[TriMesh],
+    design: &Design,
+    plan: &PrintPlan,
+) -> Vec<Problem> {
+    let print = PrintSetup::from_plan(plan);
+    let units = project.units;
+    let mut warnings = Vec::new();
+    for insertion in plan.components.iter().flat_map(|component| &component.capsules) {
+        if insertion.pause.is_some() {
+            continue;
+        }
+        let Some(capsule) = design.capsules.get(insertion.capsule) else {
+            continue;
+        };
+        let Some(mesh) = meshes.get(capsule.component) else {
+            continue;
+        };
+        let frame = print.frame(capsule.component, mesh);
+        let (rise, required) = required_rise(capsule, &frame, &print.grid);
+        let up = direction_words(&frame.up);
+        let name = &capsule.name;
+        let mut warning = Problem::warning(
+            "ballast::capsule::no_insertion_window",
+            format!(
+                "the ball of capsule `{name}` cannot be dropped in at any pause: printed along {up}, its axis rises {}; a layer boundary between the resting ball's top and the end of the opening needs {}",
+                length_words(rise, units),
+                length_words(required, units),
+            ),
+        )
+        .with_help(format!(
+            "raise one end so that the axis rises {} more along {up}, or print the component in another orientation (a `print` block)",
+            length_words((required - rise).max(0.0), units)
+        ));
         if let Some(node) = project.capsules.iter().find(|c| &c.name.value == name) {
             warning = warning.with_label(node.span, "this capsule");
         }
