@@ -282,3 +282,43 @@ fn the_orientation_and_the_report_are_the_same_twice() {
         );
     }
 }
+
+#[test]
+fn the_reported_rotate_written_into_a_print_block_prints_the_part_the_same_way() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let path = root.join("examples/t_shape.kdl");
+    let source = std::fs::read_to_string(&path).unwrap();
+    let chosen = compile(&source, &path).unwrap();
+    let json: serde_json::Value =
+        serde_json::from_str(&Report::new(&chosen, &path).to_json()).unwrap();
+    let print = &json["components"][0]["print"];
+    assert_eq!(print["choice"], "chosen");
+    let rotate: Vec<f64> = print["rotate"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|a| a.as_f64().unwrap())
+        .collect();
+    let line = "component \"T\" mesh=\"meshes/t_shape.obj\"";
+    assert!(source.contains(line));
+    let declared = source.replace(
+        line,
+        &format!(
+            "{line} {{\n    print {{ rotate {} {} {} }}\n}}",
+            rotate[0], rotate[1], rotate[2]
+        ),
+    );
+    let declared = compile(&declared, &path).unwrap();
+    let (a, b) = (&chosen.orientations[0], &declared.orientations[0]);
+    assert_eq!(b.choice, OrientationChoice::Declared);
+    assert!((a.to_print.matrix() - b.to_print.matrix()).norm() < 1e-12);
+    assert!((a.down - b.down).norm() < 1e-12);
+    assert_close(
+        b.facet_area.unwrap(),
+        a.facet_area.unwrap(),
+        "facet on the bed",
+    );
+    let (x, y) = (&chosen.prints[0], &declared.prints[0]);
+    assert_close(y.solid.volume, x.solid.volume, "solid volume");
+    assert!((y.solid.centroid - x.solid.centroid).norm() < 1e-6);
+}

@@ -73,8 +73,10 @@ fn a_ball_that_rolls_within_the_margin_lowers_it_as_by_hand() {
     let rise = 20.0 * 8f64.to_radians().tan();
     let project = format!(
         r#"
-// The hand computation weighs uniform material at the infill fraction.
+// The hand computation weighs uniform material at the infill fraction, and a ball of the
+// capsule radius less the clearance.
 print model="uniform"
+ball any-size=#true
 infill 0.1
 component "box" mesh="mesh.obj"
 capsule "c" component="box" radius=8 {{
@@ -154,8 +156,10 @@ fn a_box_with_a_ball_off_centre_floats_turned_as_by_hand() {
     // bottom (z = 8 − 0.2); the centre of buoyancy is the box's centre (0, 0, 20). By hand, the
     // angle between up and the centre of mass's direction to the centre of buoyancy.
     let project = r#"
-// The hand computation weighs uniform material at the infill fraction.
+// The hand computation weighs uniform material at the infill fraction, and a ball of the
+// capsule radius less the clearance.
 print model="uniform"
+ball any-size=#true
 infill 0.5
 component "box" mesh="mesh.obj"
 capsule "c" component="box" radius=6 {

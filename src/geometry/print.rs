@@ -103,12 +103,9 @@ pub fn print_volumes(mesh: &TriMesh, slicing: &Slicing) -> PrintVolumes {
             centroid: Point3::origin(),
         },
     };
+    let to_print = exact_axes(&slicing.to_print);
     let printed = TriMesh {
-        positions: mesh
-            .positions
-            .iter()
-            .map(|p| slicing.to_print * p)
-            .collect(),
+        positions: mesh.positions.iter().map(|p| to_print * p).collect(),
         triangles: mesh.triangles.clone(),
     };
     let mesh = &printed;
@@ -146,7 +143,7 @@ pub fn print_volumes(mesh: &TriMesh, slicing: &Slicing) -> PrintVolumes {
     }
     let fallback = layout.centre();
     let back = |region: Region| Region {
-        centroid: slicing.to_print.inverse() * region.centroid,
+        centroid: to_print.inverse() * region.centroid,
         ..region
     };
     PrintVolumes {
@@ -161,6 +158,24 @@ enum Cell {
     Outside,
     Solid,
     Sparse,
+}
+
+/// Entries of a print rotation this close to 0 or ±1 are taken as exactly that.
+const AXIS_SNAP: f64 = 1e-12;
+
+/// `rotation` with every entry within [`AXIS_SNAP`] of 0, 1 or −1 made exact, so a quarter turn
+/// computed in floating point (cos 90° = 6e-17) maps a face lying on a layer boundary exactly
+/// there: a part is sliced the same whether its orientation was declared or chosen.
+fn exact_axes(rotation: &Rotation3<f64>) -> Rotation3<f64> {
+    let matrix = rotation.matrix().map(|entry| {
+        let nearest = entry.round();
+        if (entry - nearest).abs() <= AXIS_SNAP {
+            nearest + 0.0
+        } else {
+            entry
+        }
+    });
+    Rotation3::from_matrix_unchecked(matrix)
 }
 
 /// The print frame's axes: up (the build direction), and the raster's columns and rows.
