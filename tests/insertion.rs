@@ -1,14 +1,17 @@
 //! A project's insertion plan, through the driver and into the report: a vertical capsule in a
-//! 20 mm box printed along +z on PrusaSlicer's default layers (0.35 mm, then 0.3 mm).
+//! 20 mm box printed along +z (declared) on PrusaSlicer's default layers (0.35 mm, then 0.3 mm),
+//! its ball of any size (the capsule radius less the clearance).
 
 use std::path::Path;
 
 use ballast::compile::{compile, Report};
 
 const PROJECT: &str = r#"
-component "box" mesh="../meshes/box.obj"
+component "box" mesh="../meshes/box.obj" {
+    print { down 0 0 -1 }
+}
 wall 1
-ball clearance=0.2
+ball clearance=0.2 any-size=#true
 pose "rest" { stand }
 capsule "weight" component="box" radius=4 {
     from 10 10 6

@@ -228,7 +228,13 @@ fn each_component_of_the_articulated_example_gets_its_own_orientation_and_place(
         assert_close(chosen(&orientation.choice).0, largest, "own largest facet");
         let component = &plan.components[i];
         assert_eq!(component.component, i);
-        assert!(component.capsules.is_empty() && component.pauses.is_empty());
+        let own = compiled
+            .design
+            .capsules
+            .iter()
+            .filter(|capsule| capsule.component == i)
+            .count();
+        assert_eq!(component.capsules.len(), own);
         let placed: Vec<Point3<f64>> = mesh
             .positions
             .iter()

@@ -48,7 +48,11 @@ pub fn ceiling_warnings(project: &Project, design: &Design, plan: &PrintPlan) ->
     let units = project.units;
     let limit = units.from_millimetres(BRIDGE_LIMIT_MM);
     let mut warnings = Vec::new();
-    for insertion in plan.components.iter().flat_map(|component| &component.capsules) {
+    for insertion in plan
+        .components
+        .iter()
+        .flat_map(|component| &component.capsules)
+    {
         let Some(capsule) = design.capsules.get(insertion.capsule) else {
             continue;
         };
@@ -85,7 +89,11 @@ pub fn window_warnings(
     let print = PrintSetup::from_plan(plan);
     let units = project.units;
     let mut warnings = Vec::new();
-    for insertion in plan.components.iter().flat_map(|component| &component.capsules) {
+    for insertion in plan
+        .components
+        .iter()
+        .flat_map(|component| &component.capsules)
+    {
         if insertion.pause.is_some() {
             continue;
         }

@@ -222,7 +222,12 @@ pub fn compile_with(
     problems.extend(other_states(&project, &poses));
     let mut print_plan = print_plan(&project, &meshes, &orientations);
     plan_insertions_into(&project, &meshes, &design, &mut print_plan);
-    problems.extend(insertion::window_warnings(&project, &meshes, &design, &print_plan));
+    problems.extend(insertion::window_warnings(
+        &project,
+        &meshes,
+        &design,
+        &print_plan,
+    ));
     problems.extend(insertion::ceiling_warnings(&project, &design, &print_plan));
     Ok(Compilation {
         project,

@@ -3,8 +3,8 @@
 
 use nalgebra::{Point3, Vector3};
 
-use crate::geometry::TriMesh;
 use super::PrintPlan;
+use crate::geometry::TriMesh;
 
 /// Slack, in layers, when a height is compared with a layer boundary: a window that ends a
 /// rounding error short of a boundary still holds it.

@@ -65,7 +65,8 @@ pub(super) fn place(
     let project = &compilation.project;
     let objects = match_objects(compilation, program)?;
     let mm = project.units.from_millimetres(1.0);
-    let area = filament_area(filament_diameter) * mm * mm;
+    // Filament fed (mm) times its cross-section (mm²) is mm³: cubic project units at `mm³`.
+    let area = filament_area(filament_diameter) * mm.powi(3);
     let density = project.material.density * project.units.cubic_in_cm3();
     let print = &project.print;
     let tolerance = 2.0 * print.extrusion_width + print.layer_height;

@@ -435,7 +435,7 @@ impl World {
     }
 
     /// How fast the model tilts and the balls move in it, m/s: the model's angular speed about
-    /// horizontal axes times its size, or a ball's speed relative to the model, whichever is
+    /// horizontal axes times its size, or a ball's speed along its capsule, whichever is
     /// largest. Translation and turning about `up` are left out: neither changes a hanging or
     /// floating goal's angle.
     pub fn motion(&self, size: f64, up: Vector) -> f64 {
@@ -444,10 +444,22 @@ impl World {
         let tilting = spin - up * spin.dot(up);
         self.balls
             .iter()
-            .map(|handle| {
-                let ball = &self.bodies[*handle];
-                (ball.linvel() - body.velocity_at_point(ball.translation())).length()
-            })
+            .map(|handle| self.slide_speed(*handle))
             .fold(tilting.length() * size, f64::max)
+    }
+
+    /// How fast the ball `handle` slides along its capsule, m/s: its joint's velocity when it
+    /// is a link of the model's multibody, else its speed relative to the model.
+    fn slide_speed(&self, handle: RigidBodyHandle) -> f64 {
+        let joint = self.joints.rigid_body_link(handle).and_then(|link| {
+            let multibody = self.joints.get_multibody(link.multibody)?;
+            let velocity = multibody.joint_velocity(multibody.link(link.id)?);
+            Some(velocity.iter().map(|v| v * v).sum::<f64>().sqrt())
+        });
+        joint.unwrap_or_else(|| {
+            let body = self.model_body();
+            let ball = &self.bodies[handle];
+            (ball.linvel() - body.velocity_at_point(ball.translation())).length()
+        })
     }
 }

@@ -1,0 +1,139 @@
+//! Every example from its design to a sliced print: the PrusaSlicer project `ballast build`
+//! writes is sliced by the installed `prusa-slicer` from the command line the docs give, and the
+//! G-code is checked against the design through its print plan (`ballast verify --gcode`): every
+//! planned pause in the file after its layer with its message, no pause that is not planned, no
+//! extrusion inside a void, the mass the slicer deposits within 10% of the mass model's, and every
+//! goal met with it (but for the examples listed below). Skipped when `prusa-slicer` is not
+//! installed (`.ci/run` installs it).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use ballast::compile::{bed_parts, compile, print_settings, Compilation};
+use ballast::emit::print_files::write_prusa_3mf;
+use ballast::sliced::{verify_gcode, SlicedOptions};
+
+/// The example projects, in name order.
+fn examples() -> Vec<PathBuf> {
+    let folder = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    let mut projects: Vec<_> = std::fs::read_dir(&folder)
+        .unwrap()
+        .map(|entry| entry.unwrap().path())
+        .filter(|path| {
+            path.extension().is_some_and(|e| e == "kdl")
+                && !path.to_string_lossy().ends_with(".solution.kdl")
+        })
+        .collect();
+    projects.sort();
+    projects
+}
+
+/// The G-code of the PrusaSlicer project of `compilation`, sliced in `folder`.
+fn sliced(compilation: &Compilation, folder: &Path, name: &str) -> String {
+    let parts = bed_parts(
+        &compilation.project,
+        &compilation.meshes,
+        &compilation.design,
+        &compilation.print_plan,
+    );
+    let settings = print_settings(&compilation.project, &compilation.design);
+    let project = folder.join(format!("{name}.3mf"));
+    std::fs::write(&project, write_prusa_3mf(&parts, &settings).unwrap()).unwrap();
+    let gcode = folder.join(format!("{name}.gcode"));
+    let output = Command::new("prusa-slicer")
+        .args(["--export-gcode", "--dont-arrange", "--loglevel", "1", "-o"])
+        .arg(&gcode)
+        .arg(&project)
+        .output()
+        .expect("prusa-slicer runs");
+    assert!(
+        output.status.success(),
+        "{name}: prusa-slicer failed: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    std::fs::read_to_string(&gcode).unwrap()
+}
+
+/// Examples whose goals the sliced mass does not meet yet. Their designs hang or float within a
+/// hair of their goal's limit (the hammer's centre of mass a few millimetres from the string, the
+/// fish's 1 mm under its centre of buoyancy), and the mass model's error against the slicer (a
+/// few per cent of the mass, 0.1 to 3 mm of the centre) is larger than that: `docs/fabrication.md`,
+/// "Checking the sliced file". The test fails when one of them starts to pass, so that the list
+/// is kept true.
+const SHORT_WITH_THE_SLICED_MASS: &[&str] = &["fish", "hammer", "spot"];
+
+#[test]
+fn every_example_sliced_from_its_3mf_is_as_planned() {
+    let available = Command::new("prusa-slicer")
+        .arg("--help")
+        .output()
+        .is_ok_and(|out| out.status.success());
+    if !available {
+        eprintln!("skipped: prusa-slicer is not on the PATH (apt-get install prusa-slicer)");
+        return;
+    }
+    let folder = tempfile::tempdir().unwrap();
+    let projects = examples();
+    assert!(projects.len() >= 6);
+    let mut failures = Vec::new();
+    for path in &projects {
+        let name = path.file_stem().unwrap().to_string_lossy().into_owned();
+        let source = std::fs::read_to_string(path).unwrap();
+        let compilation = compile(&source, path)
+            .unwrap_or_else(|problems| panic!("{name} does not compile: {problems:?}"));
+        let gcode = sliced(&compilation, folder.path(), &name);
+        let check = verify_gcode(
+            &compilation,
+            &compilation.print_plan,
+            &gcode,
+            &SlicedOptions::default(),
+        )
+        .unwrap_or_else(|error| panic!("{name}: {error}"));
+        // The file is as planned: every part where the plan put it, every planned pause after
+        // its layer with its message and none other, no extrusion inside a void.
+        failures.extend(
+            check
+                .components
+                .iter()
+                .filter_map(|c| c.mismatch.clone())
+                .chain(check.pauses.iter().filter_map(|p| p.problem.clone()))
+                .chain(check.voids.iter().filter_map(|v| v.problem()))
+                .map(|failure| format!("{name}: {failure}")),
+        );
+        assert!(
+            check.pauses.iter().all(|pause| pause.problem.is_none()),
+            "{name}: {:#?}",
+            check.pauses
+        );
+        // Every goal with the sliced mass, which is the mass model's within 10% (the examples
+        // are within 5%).
+        let mut short = Vec::new();
+        for pose in &check.poses {
+            if (pose.sliced_mass - pose.computed_mass).abs() > 0.1 * pose.computed_mass {
+                failures.push(format!(
+                    "{name}, pose \"{}\": sliced mass {:.2} g, computed {:.2} g",
+                    pose.pose, pose.sliced_mass, pose.computed_mass
+                ));
+            }
+            for goal in &pose.goals {
+                println!(
+                    "{name}, pose \"{}\": {} {} computed {:.2}, sliced {:.2} (mass {:.2} g computed, {:.2} g sliced)",
+                    pose.pose, goal.kind, goal.quantity, goal.computed, goal.sliced,
+                    pose.computed_mass, pose.sliced_mass
+                );
+                if !goal.met {
+                    short.push(format!("pose \"{}\" {}", pose.pose, goal.kind));
+                }
+            }
+        }
+        let known = SHORT_WITH_THE_SLICED_MASS.contains(&name.as_str());
+        if known && short.is_empty() {
+            failures.push(format!(
+                "{name}: now meets every goal with the sliced mass; take it off the list"
+            ));
+        } else if !known && !short.is_empty() {
+            failures.push(format!("{name}: not met with the sliced mass: {short:?}"));
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
