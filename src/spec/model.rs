@@ -264,8 +264,8 @@ impl MassModel {
 }
 
 /// The slicer settings the mass model assumes (the `print` node). Lengths in project units; the
-/// defaults are PrusaSlicer 2.5's for a 0.4 mm nozzle (`prusa-slicer --help-fff`). The build
-/// direction is the project's `up` axis in every component's rest frame.
+/// defaults are PrusaSlicer 2.5's for a 0.4 mm nozzle (`prusa-slicer --help-fff`). Each component
+/// is built along its own print orientation (its `print` block, or the facet ballast chooses).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Print {
     /// Where the material is.
