@@ -6,12 +6,14 @@
 //! goal met with it (but for the examples listed below). Skipped when `prusa-slicer` is not
 //! installed (`.ci/run` installs it).
 
+mod print_support;
+
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use ballast::compile::{bed_parts, compile, print_settings, Compilation};
 use ballast::emit::print_files::write_prusa_3mf;
 use ballast::sliced::{verify_gcode, SlicedOptions};
+use print_support::{slice_with, slicer_available};
 
 /// The example projects, in name order.
 fn examples() -> Vec<PathBuf> {
@@ -39,19 +41,7 @@ fn sliced(compilation: &Compilation, folder: &Path, name: &str) -> String {
     let settings = print_settings(&compilation.project, &compilation.design);
     let project = folder.join(format!("{name}.3mf"));
     std::fs::write(&project, write_prusa_3mf(&parts, &settings).unwrap()).unwrap();
-    let gcode = folder.join(format!("{name}.gcode"));
-    let output = Command::new("prusa-slicer")
-        .args(["--export-gcode", "--dont-arrange", "--loglevel", "1", "-o"])
-        .arg(&gcode)
-        .arg(&project)
-        .output()
-        .expect("prusa-slicer runs");
-    assert!(
-        output.status.success(),
-        "{name}: prusa-slicer failed: {}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    std::fs::read_to_string(&gcode).unwrap()
+    slice_with(&project, &["--dont-arrange"])
 }
 
 /// Examples whose goals the sliced mass does not meet yet. Their designs hang or float within a
@@ -64,11 +54,7 @@ const SHORT_WITH_THE_SLICED_MASS: &[&str] = &["fish", "hammer", "spot"];
 
 #[test]
 fn every_example_sliced_from_its_3mf_is_as_planned() {
-    let available = Command::new("prusa-slicer")
-        .arg("--help")
-        .output()
-        .is_ok_and(|out| out.status.success());
-    if !available {
+    if !slicer_available() {
         eprintln!("skipped: prusa-slicer is not on the PATH (apt-get install prusa-slicer)");
         return;
     }

@@ -8,7 +8,6 @@ mod print_support;
 
 use std::io::Read;
 use std::path::Path;
-use std::process::Command;
 
 use ballast::emit::print_files::{
     solid_mesh, write_prusa_3mf, write_stl, BedMesh, BedPart, BedPause, BedVoid, PrintSettings,
@@ -324,22 +323,7 @@ fn the_prusa_3mf_reads_back_to_the_same_triangles_volumes_and_pauses() {
 
 /// Slices `input` with the command line the docs give, plus `extra` options.
 fn slice(input: &Path, extra: &[&str]) -> String {
-    let output = input.with_extension("gcode");
-    let status = Command::new("prusa-slicer")
-        .arg("--export-gcode")
-        .arg("--dont-arrange")
-        .args(extra)
-        .arg("-o")
-        .arg(&output)
-        .arg(input)
-        .output()
-        .expect("prusa-slicer runs");
-    assert!(
-        status.status.success(),
-        "prusa-slicer failed: {}",
-        String::from_utf8_lossy(&status.stderr)
-    );
-    std::fs::read_to_string(&output).unwrap()
+    print_support::slice_with(input, &[&["--dont-arrange"], extra].concat())
 }
 
 /// One extruding move's end point (at mid-layer) and its feature type.

@@ -107,23 +107,18 @@ pub fn slicer_available() -> bool {
 /// The G-code PrusaSlicer writes for the STL `input` at its defaults (no skirt), infill
 /// `infill` (a fraction), centred on (100, 100).
 pub fn slice(input: &Path, infill: f64) -> String {
-    let output = input.with_extension("gcode");
-    let status = Command::new("prusa-slicer")
-        .arg("--export-gcode")
-        .arg("--fill-density")
-        .arg(format!("{}%", infill * 100.0))
-        .args(["--skirts", "0", "--center", "100,100", "--loglevel", "1"])
-        .arg("-o")
-        .arg(&output)
-        .arg(input)
-        .output()
-        .expect("run prusa-slicer");
-    assert!(
-        status.status.success(),
-        "prusa-slicer failed: {}",
-        String::from_utf8_lossy(&status.stderr)
-    );
-    std::fs::read_to_string(&output).expect("read G-code")
+    let density = format!("{}%", infill * 100.0);
+    slice_with(
+        input,
+        &[
+            "--fill-density",
+            &density,
+            "--skirts",
+            "0",
+            "--center",
+            "100,100",
+        ],
+    )
 }
 
 /// Writes a PrusaSlicer project 3MF holding `objects` (name, mesh, placed on the bed as they
