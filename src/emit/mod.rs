@@ -2,6 +2,7 @@
 
 pub mod atomic;
 pub mod gltf;
+mod number;
 pub mod print_files;
 pub mod scene;
 mod shapes;

@@ -3,6 +3,8 @@
 
 use std::fmt::Write;
 
+use super::number::number;
+
 /// One capsule to write.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SolutionCapsule {
@@ -71,22 +73,6 @@ pub fn write_solution(solution: &Solution) -> String {
         out.push_str("}\n");
     }
     out
-}
-
-/// `value` with `decimals` digits after the point, trailing zeros (and a bare point) removed, and
-/// no negative zero.
-fn number(value: f64, decimals: usize) -> String {
-    let text = format!("{value:.decimals$}");
-    let text = if text.contains('.') {
-        text.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        text
-    };
-    if text == "-0" {
-        "0".to_string()
-    } else {
-        text
-    }
 }
 
 /// A KDL string literal.

@@ -15,6 +15,7 @@ mod zip;
 
 use nalgebra::Point3;
 
+use super::number::number;
 use super::shapes::capsule;
 
 pub use prusa::write_prusa_3mf;
@@ -146,21 +147,6 @@ fn blocker_mesh(void: &BedVoid) -> BedMesh {
     BedMesh {
         positions: shell.positions,
         triangles: shell.triangles,
-    }
-}
-
-/// A number as slicers read it: at most `decimals` places, no trailing zeros, no `-0`.
-fn number(value: f64, decimals: usize) -> String {
-    let text = format!("{value:.decimals$}");
-    let text = if text.contains('.') {
-        text.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        text
-    };
-    if text == "-0" {
-        "0".to_string()
-    } else {
-        text
     }
 }
 
