@@ -26,6 +26,7 @@ use std::time::Instant;
 use ballast::compile::{
     self, compile_with, CompileOptions, OptimizeOptions, Preparation, Workspace,
 };
+use ballast::fabrication::PrintSetup;
 use ballast::geometry::{load_mesh, DistanceGrid, MeshSelector, PrintVolumes, Skeleton, TriMesh};
 use ballast::objective::{GridInterior, Parameters};
 use ballast::optimize::{choose, default_cell, rank, run_heuristic, Candidate, Method, Problem};
@@ -68,6 +69,7 @@ struct Example {
     project: Project,
     meshes: Vec<TriMesh>,
     prints: Vec<PrintVolumes>,
+    print: PrintSetup,
 }
 
 impl Example {
@@ -86,6 +88,7 @@ impl Example {
             project: compiled.project,
             meshes: compiled.meshes,
             prints: compiled.prints,
+            print: PrintSetup::from_plan(&compiled.print_plan),
         }
     }
 
@@ -139,6 +142,7 @@ fn heuristic(example: &Example, prepared: &Preparation, method: Method, base: &T
         &example.project,
         &example.meshes,
         &example.prints,
+        example.print.clone(),
         prepared.interior.clone(),
         method,
     );
@@ -412,6 +416,7 @@ fn main() {
                 &example.project,
                 &example.meshes,
                 &example.prints,
+                example.print.clone(),
                 prep.interior.clone(),
                 Method::Hybrid,
             );

@@ -1,12 +1,13 @@
-//! Fabrication checks on capsules placed in boxes: containment, walls, overlaps, lengths, balls.
+//! Fabrication checks on capsules placed in boxes: containment, walls, overlaps, lengths, balls,
+//! insertion windows.
 
 mod geometry_support;
 
 use ballast::design::{Design, PlacedCapsule};
-use ballast::fabrication::{check_design, CapsuleIssue};
+use ballast::fabrication::{check_design, CapsuleIssue, LayerGrid, PrintSetup};
 use ballast::geometry::TriMesh;
 use geometry_support::box_mesh;
-use nalgebra::{Isometry3, Point3};
+use nalgebra::{Isometry3, Point3, Vector3};
 
 const WALL: f64 = 1.0;
 const CLEARANCE: f64 = 0.2;
@@ -49,8 +50,32 @@ fn two_boxes() -> Vec<TriMesh> {
     vec![box_a(), shifted(&box_a(), 60.0, 0.0, 0.0)]
 }
 
+/// Every component printed along `up` on layers of 0.35 mm, then 0.3 mm (boundaries off whole
+/// millimetres).
+fn printed_along(up: Vector3<f64>, components: usize) -> PrintSetup {
+    PrintSetup {
+        up: vec![up.normalize(); components],
+        grid: LayerGrid {
+            first_layer_height: 0.35,
+            layer_height: 0.3,
+        },
+    }
+}
+
+/// The issues of `capsules` with every component printed along `up`.
+fn check_printed(
+    meshes: &[TriMesh],
+    capsules: Vec<PlacedCapsule>,
+    up: Vector3<f64>,
+) -> Vec<CapsuleIssue> {
+    let print = printed_along(up, meshes.len());
+    check_design(meshes, &design(capsules), WALL, CLEARANCE, &print)
+}
+
+/// The issues of `capsules` printed along +x, the direction most capsules here lie in (so their
+/// balls can go in).
 fn check(meshes: &[TriMesh], capsules: Vec<PlacedCapsule>) -> Vec<CapsuleIssue> {
-    check_design(meshes, &design(capsules), WALL, CLEARANCE)
+    check_printed(meshes, capsules, Vector3::x())
 }
 
 fn assert_close(actual: f64, expected: f64) {
@@ -232,12 +257,14 @@ fn capsules_that_keep_the_wall_between_them_pass() {
 #[test]
 fn crossing_capsules_overlap_at_distance_zero() {
     let room = box_mesh(60.0, 40.0, 40.0);
-    let issues = check(
+    // Printed along the diagonal of x and y, both axes rise.
+    let issues = check_printed(
         &[room],
         vec![
             capsule(0, p(10.0, 20.0, 20.0), p(50.0, 20.0, 20.0)),
             capsule(0, p(30.0, 8.0, 20.0), p(30.0, 32.0, 20.0)),
         ],
+        Vector3::new(1.0, 1.0, 0.0),
     );
     assert_eq!(
         issues,
@@ -264,14 +291,18 @@ fn axis_shorter_than_the_radius_is_too_short() {
         &[box_a()],
         vec![capsule(0, p(18.0, 10.0, 10.0), p(21.0, 10.0, 10.0))],
     );
+    // Rising 3 along the print direction, it has no insertion window either.
     assert_eq!(
-        issues,
-        vec![CapsuleIssue::TooShort {
+        issues[0],
+        CapsuleIssue::TooShort {
             capsule: 0,
             length: 3.0,
             radius: 4.0
-        }]
+        }
     );
+    let (rise, required) = no_window(&issues[1..]);
+    assert_close(rise, 3.0);
+    assert_close(required, 3.45);
     let exactly = check(
         &[box_a()],
         vec![capsule(0, p(18.0, 10.0, 10.0), p(22.0, 10.0, 10.0))],
@@ -283,7 +314,7 @@ fn axis_shorter_than_the_radius_is_too_short() {
 fn zero_length_axis_is_too_short_and_still_placed() {
     let point = p(20.0, 10.0, 2.0);
     let issues = check(&[box_a()], vec![capsule(0, point, point)]);
-    assert_eq!(issues.len(), 2, "{issues:?}");
+    assert_eq!(issues.len(), 3, "{issues:?}");
     assert_eq!(
         issues[0],
         CapsuleIssue::TooShort {
@@ -292,7 +323,12 @@ fn zero_length_axis_is_too_short_and_still_placed() {
             radius: 4.0
         }
     );
-    let (distance, _) = too_close(&issues[1..], 0);
+    let (distance, _) = too_close(&issues[1..2], 0);
+    // Too close to the floor, it is still inside: its window is checked. The bed at x = 0; the
+    // ball tops out at 20 − 4 + 7.6 = 23.6, the next boundary is 23.75: it needs 3.55.
+    let (rise, required) = no_window(&issues[2..]);
+    assert_close(rise, 0.0);
+    assert_close(required, 3.55);
     assert_close(distance, 2.0);
 }
 
@@ -385,6 +421,7 @@ fn issues_come_by_capsule_then_kind() {
                 CapsuleIssue::Outside { .. } => "outside",
                 CapsuleIssue::InOtherComponent { .. } => "other",
                 CapsuleIssue::TooCloseToSurface { .. } => "close",
+                CapsuleIssue::NoInsertionWindow { .. } => "window",
                 CapsuleIssue::Overlap { .. } => "overlap",
             };
             (issue.capsule(), kind)
@@ -409,7 +446,8 @@ fn issues_come_by_capsule_then_kind() {
 
 #[test]
 fn many_capsules_are_checked_pairwise() {
-    // A row of 40 short capsules along x in a long bar, 10 apart: neighbours keep the wall.
+    // A row of 40 short capsules along z in a long bar, 10 apart, printed along z: neighbours
+    // keep the wall.
     let bar = [box_mesh(420.0, 20.0, 20.0)];
     let capsules: Vec<PlacedCapsule> = (0..40)
         .map(|i| {
@@ -422,14 +460,26 @@ fn many_capsules_are_checked_pairwise() {
         })
         .collect();
     assert_eq!(
-        check_design(&bar, &design(capsules.clone()), WALL, CLEARANCE),
+        check_design(
+            &bar,
+            &design(capsules.clone()),
+            WALL,
+            CLEARANCE,
+            &printed_along(Vector3::z(), 1)
+        ),
         vec![]
     );
     // Move one capsule next to its neighbour: exactly one overlap, on the lower index.
     let mut crowded = capsules;
     crowded[7].from.x -= 4.0;
     crowded[7].to.x -= 4.0;
-    let issues = check_design(&bar, &design(crowded), WALL, CLEARANCE);
+    let issues = check_design(
+        &bar,
+        &design(crowded),
+        WALL,
+        CLEARANCE,
+        &printed_along(Vector3::z(), 1),
+    );
     assert_eq!(issues.len(), 1, "{issues:?}");
     assert!(matches!(
         issues[0],
@@ -439,4 +489,68 @@ fn many_capsules_are_checked_pairwise() {
             ..
         }
     ));
+}
+
+/// The one `NoInsertionWindow` in `issues`, on capsule 0: its rise and required rise.
+fn no_window(issues: &[CapsuleIssue]) -> (f64, f64) {
+    match issues {
+        [CapsuleIssue::NoInsertionWindow {
+            capsule: 0,
+            rise,
+            required,
+        }] => (*rise, *required),
+        other => panic!("expected one NoInsertionWindow, got {other:?}"),
+    }
+}
+
+#[test]
+fn an_axis_that_rises_too_little_has_no_insertion_window() {
+    // Printed along x from the face x = 0: the ends are at heights 18 and 21 (the axis also
+    // climbs 3 along z, so it is longer than its radius). The ball (3.8 in a void of 4) tops out
+    // at 18 − 4 + 7.6 = 21.6 and the opening ends at 21.2. The first boundary from 21.6 is
+    // 0.35 + 71 × 0.3 = 21.65, so the axis must rise 21.65 − 21.6 + 3 × 3.8 − 2 × 4 = 3.45.
+    let (rise, required) = no_window(&check(
+        &[box_a()],
+        vec![capsule(0, p(18.0, 10.0, 10.0), p(21.0, 10.0, 13.0))],
+    ));
+    assert_close(rise, 3.0);
+    assert_close(required, 3.45);
+    // Rising 3.5, the window [21.6, 21.7] holds the boundary 21.65.
+    let enough = check(
+        &[box_a()],
+        vec![capsule(0, p(18.0, 10.0, 10.0), p(21.5, 10.0, 13.0))],
+    );
+    assert_eq!(enough, vec![]);
+}
+
+#[test]
+fn a_long_axis_across_the_print_direction_has_no_window() {
+    // 20 long along x, printed along z: it does not rise at all. Its ball tops out at
+    // 10 − 4 + 7.6 = 13.6; the first boundary from there is 13.85, so it needs 3.65.
+    let placed = || vec![capsule(0, p(10.0, 10.0, 10.0), p(30.0, 10.0, 10.0))];
+    let (rise, required) = no_window(&check_printed(&[box_a()], placed(), Vector3::z()));
+    assert_close(rise, 0.0);
+    assert_close(required, 3.65);
+    // Printed along the diagonal of x and z it rises 20 / √2 and passes.
+    assert_eq!(
+        check_printed(&[box_a()], placed(), Vector3::new(1.0, 0.0, 1.0)),
+        vec![]
+    );
+}
+
+#[test]
+fn a_capsule_outside_its_component_has_no_window_checked() {
+    // Across the print direction but outside every box: only the placement issue.
+    let issues = check_printed(
+        &two_boxes(),
+        vec![capsule(0, p(45.0, 10.0, 10.0), p(55.0, 10.0, 10.0))],
+        Vector3::z(),
+    );
+    assert_eq!(
+        issues,
+        vec![CapsuleIssue::Outside {
+            capsule: 0,
+            component: 0
+        }]
+    );
 }

@@ -91,3 +91,75 @@ fn a_wide_void_warns_about_its_ceiling() {
         "Insert one 1.46 cm (14.6 mm) steel ball into capsule `weight`"
     );
 }
+
+/// The box with one capsule of radius `radius` along x, `print` and `ball` as given.
+fn lying(print: &str, ball: &str, radius: f64) -> String {
+    format!(
+        r#"
+component "box" mesh="../meshes/box.obj" {{
+    {print}
+}}
+wall 1
+{ball}
+pose "rest" {{ stand }}
+capsule "weight" component="box" radius={radius} {{
+    from 6 10 10
+    to 14 10 10
+}}
+"#
+    )
+}
+
+#[test]
+fn a_written_capsule_chooses_the_facet_that_lets_its_ball_in() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/compile/err/insertion.kdl");
+    let any = "ball clearance=0.2 any-size=#true";
+    // Printed on its bottom face, the axis along x does not rise: no window, and a warning.
+    let flat = compile(&lying("print { down 0 0 -1 }", any, 4.0), &path).expect("compiles");
+    assert!(flat
+        .warnings
+        .iter()
+        .any(|w| w.code == "ballast::capsule::no_insertion_window"));
+    assert_eq!(flat.print_plan.components[0].capsules[0].pause, None);
+    // Left to choose among the cube's six equal faces, ballast stands it on one across x, where
+    // the axis rises 8 along the print direction: the ball goes in.
+    let chosen = compile(&lying("", any, 4.0), &path).expect("compiles");
+    assert!(
+        chosen.orientations[0].down.x.abs() > 0.999_999,
+        "{:?}",
+        chosen.orientations[0].down
+    );
+    assert!(chosen
+        .warnings
+        .iter()
+        .all(|w| w.code != "ballast::capsule::no_insertion_window"));
+    assert_eq!(chosen.print_plan.components[0].capsules[0].pause, Some(0));
+}
+
+#[test]
+fn a_radius_far_from_every_listed_ball_warns_of_the_gap() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/compile/err/insertion.kdl");
+    let listed = "ball clearance=0.2 {\n    diameters 6 8\n}";
+    let gap = |radius: f64| {
+        compile(&lying("", listed, radius), &path)
+            .expect("compiles")
+            .warnings
+            .into_iter()
+            .filter(|w| w.code == "ballast::capsule::ball_gap")
+            .collect::<Vec<_>>()
+    };
+    // Radius 4.2 holds the 8 mm ball with exactly the clearance.
+    assert!(gap(4.2).is_empty());
+    // 4.7 still holds only the 8 mm ball: 0.7 between ball and wall, 0.5 beyond the clearance,
+    // just at the limit.
+    assert!(gap(4.7).is_empty());
+    // 4.75 leaves 0.55 beyond the clearance: a warning, with the snug radius in its help.
+    let warnings = gap(4.75);
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    let text = format!("{:?}", warnings[0]);
+    assert!(text.contains("0.55 mm more than the clearance"), "{text}");
+    assert!(
+        text.contains("a radius of 4.2 mm holds the 8 mm ball"),
+        "{text}"
+    );
+}

@@ -7,7 +7,7 @@ mod objective_support;
 
 use balance_support::{imbalance, rotation, stand};
 use ballast::design::Design;
-use ballast::objective::{smooth_max, InteriorDistance, Objective, Parameters};
+use ballast::objective::{smooth_max, Insertion, InteriorDistance, Objective, Parameters};
 use ballast::spec::model::{Print, Project, Units};
 use nalgebra::{Isometry3, Point3, Vector3};
 use num_dual::{Derivative, DualDVec64};
@@ -230,12 +230,63 @@ impl InteriorDistance for BoxInterior {
     }
 }
 
+/// Print directions that are no axis, one per component, and the first capsule left free (as a
+/// pinned one is).
+fn insertion(design: &Design) -> Insertion {
+    let ups = [
+        Vector3::new(0.3, -0.5, 0.8).normalize(),
+        Vector3::new(-0.6, 0.2, 0.7).normalize(),
+    ];
+    Insertion {
+        up: design
+            .capsules
+            .iter()
+            .enumerate()
+            .map(|(j, c)| (j > 0).then(|| ups[c.component % 2]))
+            .collect(),
+        clearance: 0.2,
+        layer_height: 0.3,
+        slack: 0.02,
+    }
+}
+
+#[test]
+fn the_insertion_constraint_is_the_rise_beyond_a_layer_long_window() {
+    for (_, design, objective) in cases() {
+        let x = objective.layout().to_vector(&design);
+        let without = objective.constraint_values(&x);
+        let insertion = insertion(&design);
+        let with = objective.with_insertion(insertion.clone());
+        let values = with.constraint_values(&x);
+        let added = &values[without.len()..];
+        assert_eq!(&values[..without.len()], &without[..]);
+        let expected: Vec<f64> = design
+            .capsules
+            .iter()
+            .zip(&insertion.up)
+            .filter_map(|(c, up)| {
+                let up = (*up)?;
+                // u·(q − p) − (r − 3c + h + slack): the window [z_P − r + 2b, z_Q + r − b] of the
+                // widest ball b = r − c is then at least a layer and the slack long.
+                Some(up.dot(&(c.to - c.from)) - (c.radius - 0.6 + 0.3 + 0.02))
+            })
+            .collect();
+        assert_eq!(added.len(), expected.len());
+        assert!(!added.is_empty());
+        for (a, e) in added.iter().zip(&expected) {
+            assert!((a - e).abs() < 1e-9, "{a} is not {e}");
+        }
+    }
+}
+
 #[test]
 fn every_constraint_matches_finite_differences() {
     let mut worst = 0.0f64;
     let mut count = 0;
     for (i, (_, design, objective)) in cases().into_iter().enumerate() {
-        // The box cases also carry the interior hook of eq. 15.
+        // Every case carries the insertion constraints; the box cases also the interior hook of
+        // eq. 15.
+        let objective = objective.with_insertion(insertion(&design));
         let objective = if i < 4 {
             objective.with_interior(Box::new(BoxInterior))
         } else {

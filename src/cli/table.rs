@@ -9,7 +9,8 @@ use crate::design::PlacedCapsule;
 use crate::fabrication::{ComponentPlan, OrientationChoice};
 use crate::spec::model::Units;
 
-/// The summary of `compilation`, ending with a line counting the goals met.
+/// The summary of `compilation`, ending with a line counting the goals met, and one more when
+/// some capsule cannot take its ball at any pause.
 pub fn summary(compilation: &Compilation, project_name: &str) -> String {
     let project = &compilation.project;
     let units = project.units;
@@ -39,6 +40,21 @@ pub fn summary(compilation: &Compilation, project_name: &str) -> String {
         insertion_section(&mut out, compilation, plan);
     }
     let _ = writeln!(out, "\n{met} of {total} goal{} met.", plural(total));
+    let shut = compilation
+        .print_plan
+        .components
+        .iter()
+        .flat_map(|plan| &plan.capsules)
+        .filter(|capsule| capsule.pause.is_none())
+        .count();
+    if shut > 0 {
+        let _ = writeln!(
+            out,
+            "Not printable as planned: {shut} capsule{} cannot take {} ball at any pause.",
+            plural(shut),
+            if shut == 1 { "its" } else { "their" }
+        );
+    }
     out
 }
 
@@ -406,7 +422,7 @@ pub fn optimization(
         optimization.candidates.len(),
         plural(optimization.candidates.len()),
     );
-    let _ = writeln!(out, "  capsules  objective  worst tilt  goals      time");
+    let _ = writeln!(out, "  capsules  objective  worst tilt  goals        time");
     let mut marked = false;
     for candidate in &optimization.candidates {
         let chosen = !marked && candidate.capsules == optimization.chosen;
@@ -416,13 +432,15 @@ pub fn optimization(
             .map_or("-".to_string(), |t| format!("{t:.2}"));
         let _ = writeln!(
             out,
-            "{} {:>7}  {:>9.3}  {:>10}  {:<9} {:>6.2} s",
+            "{} {:>7}  {:>9.3}  {:>10}  {:<11} {:>6.2} s",
             if chosen { "*" } else { " " },
             candidate.capsules,
             candidate.objective,
             tilt,
             if candidate.meets_goals {
                 "all met"
+            } else if !candidate.printable {
+                "unprintable"
             } else {
                 "not all"
             },

@@ -3,7 +3,7 @@
 
 use crate::design::{Design, PlacedCapsule};
 use crate::diagnostic::Problem;
-use crate::fabrication::{check_design, CapsuleIssue};
+use crate::fabrication::{check_design, CapsuleIssue, PrintSetup};
 use crate::geometry::TriMesh;
 use crate::spec::model::Project;
 
@@ -33,6 +33,85 @@ pub fn hand_placed_design(project: &Project) -> (Design, Vec<Problem>) {
     (design, problems)
 }
 
+/// The widest gap beyond the clearance between a written capsule's wall and its ball that passes
+/// without a warning, millimetres: half a millimetre, about two steps of the metric stock sizes
+/// below 8 mm (`docs/format.md`, `ballast::capsule::ball_gap`).
+pub const BALL_GAP_MM: f64 = 0.5;
+
+/// A warning for every written capsule whose radius leaves more than [`BALL_GAP_MM`] beyond the
+/// clearance around the largest listed ball that fits it (only when balls come from a list): the
+/// void is wider than its ball needs, so the ball rattles off the axis, and the radius is not
+/// what the stock ball asks for.
+pub fn ball_gap_warnings(project: &Project, written: &Design) -> Vec<Problem> {
+    let ball = &project.ball;
+    if !ball.is_listed() {
+        return Vec::new();
+    }
+    let units = project.units.keyword();
+    let limit = project.units.from_millimetres(BALL_GAP_MM);
+    let mut warnings = Vec::new();
+    for node in &project.capsules {
+        let Some(capsule) = written.capsules.iter().find(|c| c.name == node.name.value) else {
+            continue;
+        };
+        let gap = capsule.radius - capsule.ball_radius;
+        let extra = gap - ball.clearance;
+        // A gap at the limit but for rounding passes.
+        if extra <= limit * (1.0 + 1e-9) {
+            continue;
+        }
+        let diameter = 2.0 * capsule.ball_radius;
+        let snug = round(capsule.ball_radius + ball.clearance);
+        let mut help = format!(
+            "a radius of {snug} {units} holds the {} {units} ball with the clearance",
+            round(diameter)
+        );
+        if let Some(larger) = ball.next_larger(capsule.ball_radius) {
+            help.push_str(&format!(
+                "; {} {units} holds the next larger one, {} {units}",
+                round(larger + ball.clearance),
+                round(2.0 * larger)
+            ));
+        }
+        warnings.push(
+            Problem::warning(
+                "ballast::capsule::ball_gap",
+                format!(
+                    "capsule `{}` (radius {} {units}) holds a {} {units} ball, the largest listed that fits: it leaves {} {units} between ball and wall, {} {units} more than the clearance",
+                    capsule.name,
+                    round(capsule.radius),
+                    round(diameter),
+                    round(gap),
+                    round(extra)
+                ),
+            )
+            .with_label(node.span, "this capsule")
+            .with_help(help),
+        );
+    }
+    warnings
+}
+
+/// The capsules known before any optimizing, which the print orientation is chosen for: every
+/// written capsule of `written` without `optimize`, the pinned ones with it.
+pub fn fixed_capsules(project: &Project, written: &Design) -> Design {
+    let pinned = |name: &str| {
+        project
+            .capsules
+            .iter()
+            .any(|node| node.name.value == name && node.pinned)
+    };
+    Design {
+        capsules: written
+            .capsules
+            .iter()
+            .filter(|c| project.optimize.is_none() || pinned(&c.name))
+            .cloned()
+            .collect(),
+        infill: written.infill,
+    }
+}
+
 fn no_ball_problem(project: &Project, radius: f64, span: miette::SourceSpan) -> Problem {
     let units = project.units.keyword();
     let ball = &project.ball;
@@ -58,20 +137,26 @@ pub(crate) fn round(value: f64) -> f64 {
     (value * 1e4).round() / 1e4
 }
 
-/// The fabrication stage's findings on `design` as diagnostics on the capsules' nodes.
+/// The fabrication stage's findings on `design`, its components printed as `print` says, as
+/// errors on the capsules' nodes. A capsule without an insertion window is no error here: the
+/// design can still be evaluated, and the driver warns of it with the print plan
+/// (`ballast::capsule::no_insertion_window`).
 pub fn fabrication_problems(
     project: &Project,
     meshes: &[TriMesh],
     design: &Design,
+    print: &PrintSetup,
 ) -> Vec<Problem> {
-    let issues = check_design(meshes, design, project.wall, project.ball.clearance);
+    let issues = check_design(meshes, design, project.wall, project.ball.clearance, print);
     issues
         .iter()
-        .map(|issue| issue_problem(project, design, issue))
+        .filter_map(|issue| issue_problem(project, design, issue))
         .collect()
 }
 
-fn issue_problem(project: &Project, design: &Design, issue: &CapsuleIssue) -> Problem {
+/// The error `issue` is on its capsule's node; `None` for a missing insertion window (a warning
+/// the driver gives).
+fn issue_problem(project: &Project, design: &Design, issue: &CapsuleIssue) -> Option<Problem> {
     let units = project.units.keyword();
     let capsule = |index: usize| {
         let name = design
@@ -92,7 +177,8 @@ fn issue_problem(project: &Project, design: &Design, issue: &CapsuleIssue) -> Pr
     let (name, node) = capsule(issue.capsule());
     let span = node.map(|n| n.span).unwrap_or_else(|| (0, 0).into());
     let component_span = node.map(|n| n.component.span).unwrap_or(span);
-    match *issue {
+    let problem = match *issue {
+        CapsuleIssue::NoInsertionWindow { .. } => return None,
         CapsuleIssue::TooShort { length, radius, .. } => Problem::error(
             "ballast::capsule::too_short",
             format!(
@@ -172,5 +258,6 @@ fn issue_problem(project: &Project, design: &Design, issue: &CapsuleIssue) -> Pr
             }
             problem.with_help("move them apart or make them narrower")
         }
-    }
+    };
+    Some(problem)
 }

@@ -38,7 +38,10 @@ pub use optimize::{
     length_decimals, optimize_design, prepare, CandidateReport, Optimization, OptimizeOptions,
     Preparation, SeedReport, Timings, WarmStart,
 };
-pub use orientation::{print_orientations, print_plan, BED_CENTRE_MM, BED_GAP_MM};
+pub use orientation::{
+    insertion_rank, layer_grid, print_orientations, print_plan, print_setup, BED_CENTRE_MM,
+    BED_GAP_MM,
+};
 pub use outputs::write_outputs;
 pub use print_cache::PrintCache;
 pub use print_files::{bed_parts, print_settings};
@@ -144,8 +147,12 @@ pub fn compile_with(
     };
     let (meshes, mesh_problems) = load_components(&project, &mut workspace.meshes);
     problems.extend(mesh_problems);
+    let (written, design_problems) = hand_placed_design(&project);
+    problems.extend(design_problems);
+    problems.extend(design::ball_gap_warnings(&project, &written));
+    let known = design::fixed_capsules(&project, &written);
     let orientations = meshes.as_ref().map(|meshes| {
-        let (orientations, orientation_problems) = print_orientations(&project, meshes);
+        let (orientations, orientation_problems) = print_orientations(&project, meshes, &known);
         problems.extend(orientation_problems);
         orientations
     });
@@ -167,10 +174,11 @@ pub fn compile_with(
             .collect();
         problems.extend(down::place_down_poses(&mut project, &bodies));
     }
-    let (written, design_problems) = hand_placed_design(&project);
-    problems.extend(design_problems);
-    if let Some(meshes) = &meshes {
-        problems.extend(design::fabrication_problems(&project, meshes, &written));
+    if let (Some(meshes), Some(orientations)) = (&meshes, &orientations) {
+        let print = print_setup(&project, orientations);
+        problems.extend(design::fabrication_problems(
+            &project, meshes, &written, &print,
+        ));
     }
     let (meshes, orientations) = match (meshes, orientations) {
         (Some(meshes), Some(orientations)) if !problems.iter().any(Problem::is_error) => {
@@ -183,17 +191,18 @@ pub fn compile_with(
         .zip(&orientations)
         .map(|(mesh, o)| workspace.prints.volumes(&project, mesh, o.to_print))
         .collect();
+    let print = print_setup(&project, &orientations);
     let (design, source, optimization) = match (&project.optimize, &options.optimize) {
         (None, _) => (written, DesignSource::Written, None),
         (Some(settings), Some(run)) => {
             let (design, optimization) =
-                optimize_design(&project, settings, &meshes, &prints, run, workspace)
+                optimize_design(&project, settings, &meshes, &prints, &print, run, workspace)
                     .ok_or(Failure::Cancelled)?;
             (design, DesignSource::Optimized, Some(optimization))
         }
         (Some(_), None) => {
             let path = output_path(&project.output.solution, options.out_dir.as_deref());
-            match read_solution(&project, &path, &meshes) {
+            match read_solution(&project, &path, &meshes, &print) {
                 Ok(Some(design)) => (design, DesignSource::SolutionFile(path), None),
                 Ok(None) => {
                     problems.push(solution::missing(&path));

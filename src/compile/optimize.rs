@@ -8,6 +8,7 @@ use serde::Serialize;
 
 use super::workspace::{Stage, Workspace};
 use crate::design::Design;
+use crate::fabrication::PrintSetup;
 use crate::geometry::PrintVolumes;
 use crate::geometry::{DistanceGrid, Skeleton, TriMesh};
 use crate::objective::{GridInterior, Parameters};
@@ -136,6 +137,9 @@ pub struct CandidateReport {
     pub worst_tilt_margin: Option<f64>,
     /// Whether every goal is met and every capsule can be printed.
     pub meets_goals: bool,
+    /// Whether every capsule can be printed where it is: the fabrication checks pass, every
+    /// ball insertable at a pause in its component's print orientation.
+    pub printable: bool,
     /// Wall-clock seconds. Not deterministic, so never written to a file.
     #[serde(skip)]
     pub seconds: f64,
@@ -246,6 +250,7 @@ pub fn optimize_design(
     settings: &Optimize,
     meshes: &[TriMesh],
     prints: &[PrintVolumes],
+    print: &PrintSetup,
     options: &OptimizeOptions,
     workspace: &mut Workspace,
 ) -> Option<(Design, Optimization)> {
@@ -260,6 +265,7 @@ pub fn optimize_design(
             settings,
             meshes,
             prints,
+            print,
             options,
             workspace,
             Some(design),
@@ -268,7 +274,9 @@ pub fn optimize_design(
             return Some(optimized);
         }
     }
-    optimize_from(project, settings, meshes, prints, options, workspace, None)
+    optimize_from(
+        project, settings, meshes, prints, print, options, workspace, None,
+    )
 }
 
 /// [`optimize_design`] from the seeds [`prepare`] gives for `warm`.
@@ -278,6 +286,7 @@ fn optimize_from(
     settings: &Optimize,
     meshes: &[TriMesh],
     prints: &[PrintVolumes],
+    print: &PrintSetup,
     options: &OptimizeOptions,
     workspace: &mut Workspace,
     warm: Option<&Design>,
@@ -291,8 +300,15 @@ fn optimize_from(
     let precompute = clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
-    let problem = Problem::new(project, meshes, prints, interior.clone(), options.method)
-        .with_cancel(workspace.cancel.clone());
+    let problem = Problem::new(
+        project,
+        meshes,
+        prints,
+        print.clone(),
+        interior.clone(),
+        options.method,
+    )
+    .with_cancel(workspace.cancel.clone());
     let requested = options.capsules.or(settings.capsules);
     let mut candidates = run_heuristic(&problem, &seeds, requested, &|capsules| {
         workspace.report(Stage::Round { capsules })
@@ -351,6 +367,7 @@ fn optimize_from(
             project,
             meshes,
             prints,
+            print,
             &interior,
             &starts,
             &unmet,
@@ -549,6 +566,7 @@ fn candidate_report(candidate: &Candidate) -> CandidateReport {
         objective: candidate.outcome.value.to_degrees(),
         worst_tilt_margin: candidate.outcome.worst_tilt_margin,
         meets_goals: candidate.outcome.meets_goals,
+        printable: candidate.outcome.fabrication.is_empty(),
         seconds: candidate.seconds,
     }
 }

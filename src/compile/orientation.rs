@@ -1,13 +1,14 @@
 //! Each component's print orientation, once the meshes are loaded (the front end knows no
 //! meshes): its `print` block's, or the one ballast chooses; and the [`PrintPlan`] of a design.
 
-use nalgebra::{Point3, Vector3};
+use nalgebra::{Point3, Rotation3, Vector3};
 
 use crate::balance::up_to_print;
+use crate::design::Design;
 use crate::diagnostic::Problem;
 use crate::fabrication::{
-    choose, declared_down, declared_rotation, height, lay_out, Bed, ComponentPlan, Orientation,
-    OrientationChoice, PrintPlan,
+    choose, declared_down, declared_rotation, height, lay_out, plan_insertions, Bed, ComponentPlan,
+    InsertionRank, LayerGrid, Orientation, OrientationChoice, PrintFrame, PrintPlan, PrintSetup,
 };
 use crate::geometry::{convex_hull, mass_properties, TriMesh};
 use crate::spec::model::{PrintOrientation, Project};
@@ -21,19 +22,26 @@ pub const BED_CENTRE_MM: [f64; 2] = [125.0, 105.0];
 pub const BED_GAP_MM: f64 = 10.0;
 
 /// Every component's print orientation, in project order: declared by its `print` block, or
-/// chosen ([`choose`]) from its convex hull with its centroid (the whole solid's, uniform).
-/// An error at `down` when the mesh has no hull; a component without a hull and without a
-/// declaration is printed with the project's `up` axis up.
+/// chosen ([`choose`]) from its convex hull with its centroid (the whole solid's, uniform), the
+/// facets first ranked by how many of `known`'s capsules in the component can take their ball at
+/// a pause, then by the fewest pauses ([`insertion_rank`]). `known` holds the capsules fixed
+/// before any optimizing: the written ones without `optimize`, the pinned ones with it; a
+/// component with none of them is ranked by its facets alone. An error at `down` when the mesh
+/// has no hull; a component without a hull and without a declaration is printed with the
+/// project's `up` axis up.
 pub fn print_orientations(
     project: &Project,
     meshes: &[TriMesh],
+    known: &Design,
 ) -> (Vec<Orientation>, Vec<Problem>) {
+    let grid = layer_grid(project);
     let mut problems = Vec::new();
     let orientations = project
         .components
         .iter()
         .zip(meshes)
-        .map(|(component, mesh)| {
+        .enumerate()
+        .map(|(index, (component, mesh))| {
             let points = &mesh.positions;
             let centre = mass_properties(mesh).centroid;
             let Some(hull) = convex_hull(points) else {
@@ -60,13 +68,55 @@ pub fn print_orientations(
                 Some(PrintOrientation::Rotate(rotation)) => {
                     declared_rotation(&hull, points, rotation.value.to_rotation_matrix())
                 }
-                None => choose(&hull, points, &centre, &-project.up.unit_vector(), &|_| {
-                    None
+                None => choose(&hull, points, &centre, &-project.up.unit_vector(), &|r| {
+                    insertion_rank(known, index, mesh, r, &grid)
                 }),
             }
         })
         .collect();
     (orientations, problems)
+}
+
+/// How well printing component `component` (mesh `mesh`) turned by `to_print` lets `design`'s
+/// capsules in it take their balls: how many have a pause, and how many pauses they need;
+/// `None` when the component has none of the design's capsules.
+pub fn insertion_rank(
+    design: &Design,
+    component: usize,
+    mesh: &TriMesh,
+    to_print: &Rotation3<f64>,
+    grid: &LayerGrid,
+) -> Option<InsertionRank> {
+    let capsules: Vec<_> = design
+        .capsules
+        .iter()
+        .enumerate()
+        .filter(|(_, capsule)| capsule.component == component)
+        .collect();
+    if capsules.is_empty() {
+        return None;
+    }
+    let frame = PrintFrame::new(mesh, to_print.inverse() * Vector3::z());
+    let (insertions, pauses) = plan_insertions(&capsules, &frame, grid, &|_| String::new());
+    Some(InsertionRank {
+        insertable: insertions.iter().filter(|i| i.pause.is_some()).count(),
+        pauses: pauses.len(),
+    })
+}
+
+/// The layer grid of `project`'s print settings.
+pub fn layer_grid(project: &Project) -> LayerGrid {
+    LayerGrid {
+        first_layer_height: project.print.first_layer_height,
+        layer_height: project.print.layer_height,
+    }
+}
+
+/// How `orientations` print `project`'s components: each one's print direction and the layer
+/// grid (what [`PrintSetup::from_plan`] gives for the plan of these orientations).
+pub fn print_setup(project: &Project, orientations: &[Orientation]) -> PrintSetup {
+    let rotations: Vec<Rotation3<f64>> = orientations.iter().map(|o| o.to_print).collect();
+    PrintSetup::from_rotations(&rotations, layer_grid(project))
 }
 
 /// The orientation of a part without a hull: the declared rotation, else the project's `up`

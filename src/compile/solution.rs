@@ -8,6 +8,7 @@ use super::optimize::length_decimals;
 use crate::design::Design;
 use crate::diagnostic::{Problem, SourceFile};
 use crate::emit::{write_solution, Solution, SolutionCapsule};
+use crate::fabrication::PrintSetup;
 use crate::geometry::TriMesh;
 use crate::spec::model::Project;
 use crate::spec::parse_solution;
@@ -52,11 +53,13 @@ pub fn solution_text(
 }
 
 /// The design in the solution file at `path`: `Ok(None)` when there is no such file; every
-/// problem in it otherwise, its spans pointing into that file.
+/// problem in it otherwise, its spans pointing into that file. The components are printed as
+/// `print` says.
 pub fn read_solution(
     project: &Project,
     path: &Path,
     meshes: &[TriMesh],
+    print: &PrintSetup,
 ) -> Result<Option<Design>, Vec<Problem>> {
     let text = match std::fs::read_to_string(path) {
         Ok(text) => text,
@@ -89,7 +92,7 @@ pub fn read_solution(
     let (design, design_problems) = hand_placed_design(&solved);
     problems.extend(design_problems.into_iter().map(|p| p.in_file(file.clone())));
     problems.extend(
-        fabrication_problems(&solved, meshes, &design)
+        fabrication_problems(&solved, meshes, &design, print)
             .into_iter()
             .map(|p| p.in_file(file.clone())),
     );

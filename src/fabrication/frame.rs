@@ -1,7 +1,7 @@
 //! The print direction of each component and the layer grid: what the insertion windows are
 //! measured against.
 
-use nalgebra::{Point3, Vector3};
+use nalgebra::{Point3, Rotation3, Vector3};
 
 use super::PrintPlan;
 use crate::geometry::TriMesh;
@@ -87,6 +87,18 @@ pub struct PrintSetup {
 }
 
 impl PrintSetup {
+    /// How components are printed when each turns to its print frame (+z up) by its rotation in
+    /// `to_print` (rest frame to print frame), on `grid`.
+    pub fn from_rotations(to_print: &[Rotation3<f64>], grid: LayerGrid) -> PrintSetup {
+        PrintSetup {
+            up: to_print
+                .iter()
+                .map(|rotation| rotation.inverse() * Vector3::z())
+                .collect(),
+            grid,
+        }
+    }
+
     /// How the components of `plan` are printed: each along the rest-frame direction its
     /// `to_bed` turns to +z, on the plan's layers.
     pub fn from_plan(plan: &PrintPlan) -> PrintSetup {

@@ -38,6 +38,14 @@ pub fn insertion_window(capsule: &PlacedCapsule, frame: &PrintFrame) -> Option<(
     (window.0 <= window.1).then_some(window)
 }
 
+/// Whether `capsule`'s ball can go in at some pause on `grid`: its window holds a layer
+/// boundary (what [`plan_insertions`] gives a pause).
+pub fn has_window(capsule: &PlacedCapsule, frame: &PrintFrame, grid: &LayerGrid) -> bool {
+    insertion_window(capsule, frame)
+        .and_then(|(low, high)| grid.boundaries_in(low, high))
+        .is_some()
+}
+
 /// How far `capsule`'s axis rises along the print direction, and how far it must rise, with its
 /// lower end where it is, for its window to hold a boundary of `grid`.
 pub fn required_rise(capsule: &PlacedCapsule, frame: &PrintFrame, grid: &LayerGrid) -> (f64, f64) {

@@ -66,6 +66,18 @@ pub enum CapsuleIssue {
         /// The least distance allowed, `radius + wall`.
         required: f64,
     },
+    /// The capsule is inside its component, but no layer boundary lies in its insertion window
+    /// with the component printed as planned (the general eq. 16,
+    /// [`insertion_window`](super::insertion_window)): at no pause can the ball be dropped in and
+    /// lie below the printed height.
+    NoInsertionWindow {
+        /// The capsule.
+        capsule: usize,
+        /// How far the axis rises along the print direction.
+        rise: f64,
+        /// How far it must rise, its lower end kept, for the window to hold a layer boundary.
+        required: f64,
+    },
     /// Two capsules of the same component come closer than their radii plus the wall (eq. 14).
     Overlap {
         /// The capsule with the lower index.
@@ -89,7 +101,8 @@ impl CapsuleIssue {
             | CapsuleIssue::UnknownComponent { capsule, .. }
             | CapsuleIssue::Outside { capsule, .. }
             | CapsuleIssue::InOtherComponent { capsule, .. }
-            | CapsuleIssue::TooCloseToSurface { capsule, .. } => capsule,
+            | CapsuleIssue::TooCloseToSurface { capsule, .. }
+            | CapsuleIssue::NoInsertionWindow { capsule, .. } => capsule,
             CapsuleIssue::Overlap { first, .. } => first,
         }
     }

@@ -7,7 +7,9 @@
 //! - the ball fits with the ball clearance left around it;
 //! - the capsule, with a wall of material around it, lies inside the component it is assigned
 //!   to (eq. 15 with the wall added), and if not, which component it is in instead;
-//! - two capsules of one component keep a wall between them (eq. 14 with the wall added).
+//! - two capsules of one component keep a wall between them (eq. 14 with the wall added);
+//! - the ball can be dropped in at a pause on the layer grid and lie below the printed height,
+//!   the component printed as its [`PrintSetup`] says (eq. 16 in general, [`insertion_window`]).
 //!
 //! [`PrintPlan`] is how the design is printed: each component's orientation on the bed
 //! ([`choose`] or a declared one, `orientation.rs`; laid out by [`lay_out`], `bed.rs`), the pauses
@@ -34,7 +36,7 @@ mod tolerance;
 pub use bed::{lay_out, Bed};
 pub use check::check_design;
 pub use frame::{LayerGrid, PrintFrame, PrintSetup};
-pub use insertion::{ceiling_bridge, insertion_window, plan_insertions, required_rise};
+pub use insertion::{ceiling_bridge, has_window, insertion_window, plan_insertions, required_rise};
 pub use issue::CapsuleIssue;
 pub use orientation::{
     choose, declared_down, declared_rotation, height, InsertionRank, Orientation, AREA_TIE,

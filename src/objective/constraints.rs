@@ -1,5 +1,5 @@
-//! The constraints of the design, each written `g(x) ≥ 0` (paper eq. 3, 5, 14, 16 and 22, and
-//! the bounds on radius and infill).
+//! The constraints of the design, each written `g(x) ≥ 0` (paper eq. 3, 5, 14, 16 and 22, eq. 16
+//! in the print direction, and the bounds on radius and infill).
 
 use nalgebra::Vector3;
 
@@ -45,6 +45,45 @@ pub(crate) fn capsule_constraints<D: Scalar>(
             let z = axis_cosine(capsule, &pose.gravity_in(capsule.component));
             out.push(z.clone() * z - *bound);
         }
+    }
+}
+
+/// How the balls must be able to go in while printing: what the insertion constraint compares
+/// with.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Insertion {
+    /// Per capsule, in design order: the unit direction, rest frame, its component is printed
+    /// along (away from the bed), or `None` for a capsule not constrained (a pinned one).
+    pub up: Vec<Option<Vector3<f64>>>,
+    /// Ball clearance `c`: a ball of radius at most `r − c` goes in a void of radius `r`.
+    pub clearance: f64,
+    /// Height of a printed layer `h`.
+    pub layer_height: f64,
+    /// Added to the rise required, for what rounding the design may take from it (project
+    /// units).
+    pub slack: f64,
+}
+
+/// Per constrained capsule: `u·(q − p) − (r − 3c + h + slack) ≥ 0`, `u` its print direction.
+///
+/// The insertion window `[z_P − r + 2b, z_Q + r − b]` (heights along `u`, `b` the ball radius)
+/// holds a layer boundary whenever it is at least a layer `h` long, that is when the axis rises
+/// `z_Q − z_P ≥ 3b − 2r + h`; with `b ≤ r − c` this follows from `z_Q − z_P ≥ r − 3c + h`. Written
+/// with `q` as the upper end (linear, so its gradient never vanishes, even for an axis across
+/// `u`); the optimizer turns each capsule so that `q` is its upper end before it solves.
+pub(crate) fn insertion_constraints<D: Scalar>(
+    capsules: &[CapsuleVars<D>],
+    insertion: &Insertion,
+    out: &mut Vec<D>,
+) {
+    for (capsule, up) in capsules.iter().zip(&insertion.up) {
+        let Some(up) = up else {
+            continue;
+        };
+        let rise = capsule.q.sub(&capsule.p).dot_constant(up);
+        let needed = capsule.r.clone()
+            + (insertion.layer_height + insertion.slack - 3.0 * insertion.clearance);
+        out.push(rise - needed);
     }
 }
 

@@ -28,6 +28,7 @@ mod setup;
 mod smooth;
 mod uniqueness;
 
+pub use constraints::Insertion;
 pub use grid_interior::GridInterior;
 pub use interior::InteriorDistance;
 pub use layout::{DesignLayout, CAPSULE_STRIDE, P, Q, R};
@@ -57,6 +58,7 @@ pub struct Objective {
     min_angle: f64,
     limits: Limits,
     interior: Option<Box<dyn InteriorDistance>>,
+    insertion: Option<Insertion>,
 }
 
 impl Objective {
@@ -106,12 +108,20 @@ impl Objective {
             limits,
             parameters,
             interior: None,
+            insertion: None,
         }
     }
 
     /// The same objective with the interior constraints of eq. 15 evaluated by `interior`.
     pub fn with_interior(mut self, interior: Box<dyn InteriorDistance>) -> Objective {
         self.interior = Some(interior);
+        self
+    }
+
+    /// The same objective with the insertion constraints: each capsule `insertion` constrains can
+    /// take its ball at a pause with its component printed along its direction.
+    pub fn with_insertion(mut self, insertion: Insertion) -> Objective {
+        self.insertion = Some(insertion);
         self
     }
 
@@ -184,10 +194,14 @@ impl Objective {
     ///    ends other than the wanted one (all of them up to 6 capsules, those moving one or two
     ///    balls beyond): some ball leaves its assigned end where that assignment settles,
     ///    `smax(−σ_i â_i·g_A) − ln(n)/s − sin(φ_min + 1°) ≥ 0` (`docs/optimizer.md`, "Uniqueness");
-    /// 6. with an [`InteriorDistance`] ([`with_interior`](Self::with_interior)), per capsule per
+    /// 6. with an [`Insertion`] ([`with_insertion`](Self::with_insertion)), per capsule it
+    ///    constrains: `u·(q − p) − (r − 3c + h + slack) ≥ 0` (eq. 16 in the print direction `u`,
+    ///    project units; `docs/optimizer.md`);
+    /// 7. with an [`InteriorDistance`] ([`with_interior`](Self::with_interior)), per capsule per
     ///    axis sample: `d(x) − r − wall ≥ 0` (eq. 15).
     ///
-    /// The count depends only on the layout, the project and the parameters, never on `x`.
+    /// The count depends only on the layout, the project, the parameters and the insertion
+    /// directions, never on `x`.
     pub fn constraints(&self, x: &[f64]) -> Vec<(f64, Vec<f64>)> {
         let x = self.padded(x);
         let n = x.len();
@@ -247,6 +261,9 @@ impl Objective {
                 self.min_angle,
                 &mut out,
             );
+        }
+        if let Some(insertion) = &self.insertion {
+            constraints::insertion_constraints(&vars, insertion, &mut out);
         }
         out
     }

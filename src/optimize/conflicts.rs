@@ -8,6 +8,7 @@ use serde::Serialize;
 use super::problem::{Problem, StartCapsule};
 use super::solver::Method;
 use crate::cancel::Cancel;
+use crate::fabrication::PrintSetup;
 use crate::geometry::{PrintVolumes, TriMesh};
 use crate::objective::GridInterior;
 use crate::spec::model::Project;
@@ -40,6 +41,7 @@ pub fn explain(
     project: &Project,
     meshes: &[TriMesh],
     prints: &[PrintVolumes],
+    print: &PrintSetup,
     interior: &Arc<GridInterior>,
     starts: &[Vec<StartCapsule>],
     unmet: &[GoalRef],
@@ -53,8 +55,15 @@ pub fn explain(
         .collect();
     let attempt = |goals: &[GoalRef]| -> (bool, f64) {
         let only = with_only(project, goals);
-        let problem = Problem::new(&only, meshes, prints, interior.clone(), Method::Hybrid)
-            .with_cancel(cancel.clone());
+        let problem = Problem::new(
+            &only,
+            meshes,
+            prints,
+            print.clone(),
+            interior.clone(),
+            Method::Hybrid,
+        )
+        .with_cancel(cancel.clone());
         starts
             .iter()
             .map(|start| {

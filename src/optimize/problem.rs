@@ -11,9 +11,11 @@ use super::stock::{capsule_radius, grid_scale, length_decimals, snap};
 use crate::balance::{evaluate_pose, ComponentBody, GoalOutcome, PoseEvaluation};
 use crate::cancel::Cancel;
 use crate::design::{Design, PlacedCapsule};
-use crate::fabrication::{check_design, CapsuleIssue};
+use crate::fabrication::{check_design, CapsuleIssue, PrintSetup};
 use crate::geometry::{PrintVolumes, TriMesh};
-use crate::objective::{DesignLayout, GridInterior, Objective, Parameters, CAPSULE_STRIDE, R};
+use crate::objective::{
+    DesignLayout, GridInterior, Insertion, Objective, Parameters, CAPSULE_STRIDE, R,
+};
 use crate::spec::model::Project;
 
 /// A capsule the optimizer starts from: from a skeleton segment, from the project file, or
@@ -89,15 +91,19 @@ pub struct Problem<'a> {
     cancel: Cancel,
     /// Steps per unit of the solution file's length grid, which stock capsule radii sit on.
     scale: f64,
+    /// How each component is printed: the direction every ball must go in along.
+    print: PrintSetup,
 }
 
 impl<'a> Problem<'a> {
     /// The problem of `project` (its capsules are ignored: the start capsules replace them) over
-    /// `meshes` (one per component), with `interior` keeping capsules inside.
+    /// `meshes` (one per component), with `interior` keeping capsules inside and every ball
+    /// insertable at a pause with the components printed as `print` says.
     pub fn new(
         project: &'a Project,
         meshes: &'a [TriMesh],
         prints: &[PrintVolumes],
+        print: PrintSetup,
         interior: Arc<GridInterior>,
         method: Method,
     ) -> Problem<'a> {
@@ -115,6 +121,7 @@ impl<'a> Problem<'a> {
             budget_per_unknown: 100,
             cancel: Cancel::new(),
             scale: grid_scale(length_decimals(meshes)),
+            print,
         }
     }
 
@@ -144,8 +151,12 @@ impl<'a> Problem<'a> {
         &self.parameters
     }
 
-    /// Optimizes from `start` and judges the result.
+    /// Optimizes from `start` and judges the result. Each unpinned capsule is first turned end
+    /// for end when its `from` is the higher end along its component's print direction: the
+    /// insertion constraint wants `to` on top.
     pub fn optimize(&self, start: &[StartCapsule]) -> Outcome {
+        let start: Vec<StartCapsule> = start.iter().map(|c| self.upright(c)).collect();
+        let start = start.as_slice();
         let design = self.start_design(start);
         let layout = DesignLayout::for_design(self.project, &design);
         let objective = Objective::new(
@@ -154,7 +165,8 @@ impl<'a> Problem<'a> {
             layout.clone(),
             self.parameters.clone(),
         )
-        .with_interior(Box::new(self.interior.clone()));
+        .with_interior(Box::new(self.interior.clone()))
+        .with_insertion(self.insertion(start));
         let mut bounds = design_bounds(&objective, self.meshes);
         let x0 = layout.to_vector(&design);
         for (j, capsule) in start.iter().enumerate() {
@@ -236,6 +248,40 @@ impl<'a> Problem<'a> {
         outcome.feasible = solved.violation <= FEASIBLE;
         outcome.evaluations = solved.evaluations;
         outcome
+    }
+
+    /// `capsule` with `to` its upper end along its component's print direction, unless pinned.
+    fn upright(&self, capsule: &StartCapsule) -> StartCapsule {
+        let up = self.up(capsule.component);
+        let mut capsule = capsule.clone();
+        if !capsule.pinned && up.dot(&(capsule.to - capsule.from)) < 0.0 {
+            std::mem::swap(&mut capsule.from, &mut capsule.to);
+        }
+        capsule
+    }
+
+    /// The print direction of component `component` (+z past the list).
+    fn up(&self, component: usize) -> Vector3<f64> {
+        self.print
+            .up
+            .get(component)
+            .copied()
+            .unwrap_or_else(Vector3::z)
+    }
+
+    /// The insertion constraints of `start`: every unpinned capsule along its component's print
+    /// direction, with a slack of two steps of the solution file's length grid (what rounding
+    /// both ends there can take from the rise is at most √3 steps).
+    fn insertion(&self, start: &[StartCapsule]) -> Insertion {
+        Insertion {
+            up: start
+                .iter()
+                .map(|c| (!c.pinned).then(|| self.up(c.component)))
+                .collect(),
+            clearance: self.project.ball.clearance,
+            layer_height: self.print.grid.layer_height,
+            slack: 2.0 / self.scale,
+        }
     }
 
     /// `design` with its capsules' ends and the infill solved again from where they are, every
@@ -349,6 +395,7 @@ impl<'a> Problem<'a> {
             &design,
             self.project.wall,
             self.project.ball.clearance,
+            &self.print,
         );
         let printable = fabrication.is_empty();
         let goals_met = poses.iter().all(|p| p.goals.iter().all(|g| g.met));
