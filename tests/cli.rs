@@ -233,7 +233,9 @@ ball clearance=0.2
 infill 0.15
 wall 1.2
 optimize capsules=3
-component "T" mesh="meshes/t_shape.obj"
+component "T" mesh="meshes/t_shape.obj" {
+    print { down 1 0 0 }
+}
 pose "upright" { stand margin=2 }
 pose "on its right side" {
     rotate 0 36.8699 0
@@ -300,7 +302,9 @@ fn goals_that_cannot_hold_together_are_named_and_the_best_design_is_still_writte
         r#"
 infill 0.2
 optimize capsules=1
-component "T" mesh="meshes/t_shape.obj"
+component "T" mesh="meshes/t_shape.obj" {
+    print { down 1 0 0 }
+}
 pose "on its right side" {
     rotate 0 36.8699 0
     stand margin=2

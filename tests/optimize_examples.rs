@@ -67,8 +67,35 @@ fn optimized_and_current(name: &str) -> Compilation {
         "examples/{name}.solution.kdl is not what `ballast build` writes now"
     );
     every_ball_is_a_stock_ball(name, &compilation);
+    every_ball_goes_in_at_a_pause(name, &compilation);
     check_agrees_with_build(name, &compilation);
     compilation
+}
+
+/// Asserts that every capsule of the design takes its ball at a planned pause in its component's
+/// print orientation, with no `no_insertion_window` warning.
+fn every_ball_goes_in_at_a_pause(name: &str, compilation: &Compilation) {
+    let planned: Vec<_> = compilation
+        .print_plan
+        .components
+        .iter()
+        .flat_map(|component| &component.capsules)
+        .collect();
+    assert_eq!(planned.len(), compilation.design.capsules.len(), "{name}");
+    for insertion in planned {
+        assert!(
+            insertion.pause.is_some(),
+            "{name}: capsule {} has no pause: {insertion:?}",
+            insertion.capsule
+        );
+    }
+    assert!(
+        compilation
+            .warnings
+            .iter()
+            .all(|w| w.code != "ballast::capsule::no_insertion_window"),
+        "{name}"
+    );
 }
 
 /// Asserts that the project uses the stock ball list (it lists none) and that every capsule holds
