@@ -37,6 +37,7 @@ pub struct Conflict {
 /// that can be met alone. Each set of goals is optimized from every one of `starts` (e.g. the
 /// chosen design and the seeds), keeping the best. Returns the goals unreachable alone, then the
 /// pairs that conflict, in project order.
+#[allow(clippy::too_many_arguments)]
 pub fn explain(
     project: &Project,
     meshes: &[TriMesh],
