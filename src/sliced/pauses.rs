@@ -160,7 +160,8 @@ fn mismatch(pause: &PlannedPause, found: &FoundPause, layer_height: f64) -> Opti
     }
     let message = found.message.as_deref().unwrap_or("");
     let shown = match pause.messages.as_slice() {
-        [one] => message == one,
+        // On a bed of several parts the 3MF names the part before its message.
+        [one] => message == one || message.ends_with(&format!(": {one}")),
         many => many.iter().all(|m| message.contains(m.as_str())),
     };
     if !shown {
