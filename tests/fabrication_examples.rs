@@ -44,13 +44,14 @@ fn sliced(compilation: &Compilation, folder: &Path, name: &str) -> String {
     slice_with(&project, &["--dont-arrange"])
 }
 
-/// Examples whose goals the sliced mass does not meet yet. Their designs hang or float within a
-/// hair of their goal's limit (the hammer's centre of mass a few millimetres from the string, the
-/// fish's 1 mm under its centre of buoyancy), and the mass model's error against the slicer (a
-/// few per cent of the mass, 0.1 to 3 mm of the centre) is larger than that: `docs/fabrication.md`,
+/// Examples whose goals the sliced mass does not meet yet. Their designs hang, float or stand
+/// within a hair of their goal's limit (the hammer's centre of mass a few millimetres from the
+/// string, the fish's 1 mm under its centre of buoyancy, the T 0.1° past 2° on its sides), and the
+/// mass model's error against the slicer (a few per cent of the mass, 0.1 to 3 mm of the centre;
+/// 11% of the hammer's mass printed standing on its head) is larger than that: `docs/fabrication.md`,
 /// "Checking the sliced file". The test fails when one of them starts to pass, so that the list
 /// is kept true.
-const SHORT_WITH_THE_SLICED_MASS: &[&str] = &["fish", "hammer", "spot"];
+const SHORT_WITH_THE_SLICED_MASS: &[&str] = &["fish", "hammer", "t_shape"];
 
 #[test]
 fn every_example_sliced_from_its_3mf_is_as_planned() {
