@@ -77,6 +77,10 @@ pub enum Command {
         /// Write the outputs into this folder instead of the ones the project file names.
         #[arg(long, value_name = "DIR")]
         out_dir: Option<PathBuf>,
+        /// Accept output paths in the project file outside its folder (absolute, or through
+        /// `..`); refused otherwise.
+        #[arg(long)]
+        write_outside: bool,
         /// How to optimize.
         #[command(flatten)]
         optimize: OptimizeArgs,
@@ -114,6 +118,10 @@ pub enum Command {
         /// Write the outputs into this folder instead of the ones the project file names.
         #[arg(long, value_name = "DIR")]
         out_dir: Option<PathBuf>,
+        /// Accept output paths in the project file outside its folder (absolute, or through
+        /// `..`); refused otherwise.
+        #[arg(long)]
+        write_outside: bool,
         /// How to optimize.
         #[command(flatten)]
         optimize: OptimizeArgs,
