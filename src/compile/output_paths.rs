@@ -75,10 +75,21 @@ pub fn output_targets(project: &Project, out_dir: Option<&Path>) -> Vec<OutputTa
 /// The files a build of `project` (read from `project_path`) reads: the project file, every
 /// component's mesh, the external buffers of its glTF meshes.
 pub fn input_files(project: &Project, project_path: &Path) -> Vec<PathBuf> {
-    let mut inputs = vec![project_path.to_path_buf()];
+    spanned_inputs(project, project_path)
+        .into_iter()
+        .map(|(path, _)| path)
+        .collect()
+}
+
+/// [`input_files`], each with the span of the `mesh=` that reads it (none for the project file).
+fn spanned_inputs(project: &Project, project_path: &Path) -> Vec<(PathBuf, Option<SourceSpan>)> {
+    let mut inputs = vec![(project_path.to_path_buf(), None)];
     for component in &project.components {
-        inputs.push(component.mesh.value.clone());
-        inputs.extend(external_buffer_paths(&component.mesh.value));
+        let mesh = &component.mesh;
+        inputs.push((mesh.value.clone(), Some(mesh.span)));
+        for buffer in external_buffer_paths(&mesh.value) {
+            inputs.push((buffer, Some(mesh.span)));
+        }
     }
     inputs
 }
@@ -115,21 +126,12 @@ pub fn check_output_paths(
     // Read again only when a problem needs a span.
     let lazy = std::cell::OnceCell::new();
     let spans = || lazy.get_or_init(|| OutputSpans::of(source));
+    let inputs = spanned_inputs(project, project_path);
     let mut problems = Vec::new();
     for target in &targets {
         let shown = target.path.display();
-        let inputs = std::iter::once((project_path.to_path_buf(), None)).chain(
-            project.components.iter().flat_map(|component| {
-                let mesh = &component.mesh;
-                std::iter::once((mesh.value.clone(), Some(mesh.span))).chain(
-                    external_buffer_paths(&mesh.value)
-                        .into_iter()
-                        .map(move |buffer| (buffer, Some(mesh.span))),
-                )
-            }),
-        );
-        for (input, input_span) in inputs {
-            if !same_file(&target.path, &input) {
+        for (input, input_span) in &inputs {
+            if !same_file(&target.path, input) {
                 continue;
             }
             let mut problem = Problem::error(
@@ -144,7 +146,7 @@ pub fn check_output_paths(
                 "name another path in `output {{ {} \"...\" }}`",
                 target.node
             ));
-            match (spans().get(target.node), input_span) {
+            match (spans().get(target.node), *input_span) {
                 (Some(span), _) => problem = problem.with_label(span, "this output"),
                 (None, Some(span)) => {
                     problem = problem.with_label(
