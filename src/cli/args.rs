@@ -16,7 +16,8 @@ pub struct Cli {
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Check a project and show what the object does in every pose. Writes nothing.
+    /// Check a project and show what the object does in every pose. Writes nothing (but
+    /// finishes replacing the outputs of a build killed while it replaced them).
     ///
     /// Exit status: 0 every goal met, 1 the project is valid but some goal is not met,
     /// 2 invalid project or failure.
@@ -32,7 +33,8 @@ pub enum Command {
         out_dir: Option<PathBuf>,
     },
     /// Re-check every goal with a rigid-body simulation (rapier) instead of ballast's own physics,
-    /// and print the simulated value beside the computed one. Writes nothing.
+    /// and print the simulated value beside the computed one. Writes nothing (but finishes
+    /// replacing the outputs of a build killed while it replaced them).
     ///
     /// The design is the one `check` evaluates (the written capsules, or the solution file). A
     /// stand goal is set down and the ground tilted slowly until the model topples (in the worst
@@ -77,6 +79,10 @@ pub enum Command {
         /// Write the outputs into this folder instead of the ones the project file names.
         #[arg(long, value_name = "DIR")]
         out_dir: Option<PathBuf>,
+        /// Accept output paths in the project file outside its folder (absolute, or through
+        /// `..`); refused otherwise.
+        #[arg(long)]
+        write_outside: bool,
         /// How to optimize.
         #[command(flatten)]
         optimize: OptimizeArgs,
@@ -114,6 +120,10 @@ pub enum Command {
         /// Write the outputs into this folder instead of the ones the project file names.
         #[arg(long, value_name = "DIR")]
         out_dir: Option<PathBuf>,
+        /// Accept output paths in the project file outside its folder (absolute, or through
+        /// `..`); refused otherwise.
+        #[arg(long)]
+        write_outside: bool,
         /// How to optimize.
         #[command(flatten)]
         optimize: OptimizeArgs,

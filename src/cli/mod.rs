@@ -22,7 +22,8 @@ use clap::Parser;
 pub use args::{Cli, Command, OptimizeArgs, Solver};
 
 use crate::compile::{
-    compile_with, Compilation, CompileOptions, Failure, OptimizeOptions, Workspace,
+    compile_with, finish_interrupted_outputs, Compilation, CompileOptions, Failure,
+    OptimizeOptions, Workspace, WriteOptions,
 };
 use crate::optimize::{DiskCache, Method, PrecomputeCache};
 use crate::sliced::SlicedOptions;
@@ -59,6 +60,7 @@ pub fn run() -> i32 {
             &CompileOptions {
                 out_dir,
                 optimize: None,
+                writes: None,
             },
         ),
         Command::Verify {
@@ -72,6 +74,7 @@ pub fn run() -> i32 {
             let options = CompileOptions {
                 out_dir,
                 optimize: None,
+                writes: None,
             };
             match gcode {
                 None => verify::run(&project, json, &options),
@@ -87,10 +90,11 @@ pub fn run() -> i32 {
         Command::Build {
             project,
             out_dir,
+            write_outside,
             optimize,
         } => build::run(
             &project,
-            &optimize_options(out_dir, &optimize),
+            &optimize_options(out_dir, write_outside, &optimize),
             precompute_cache(&optimize),
         ),
         Command::Poses {
@@ -103,24 +107,33 @@ pub fn run() -> i32 {
             &CompileOptions {
                 out_dir,
                 optimize: None,
+                writes: None,
             },
         ),
         Command::Watch {
             project,
             out_dir,
+            write_outside,
             optimize,
         } => watch::run(
             &project,
-            &optimize_options(out_dir, &optimize),
+            &optimize_options(out_dir, write_outside, &optimize),
             precompute_cache(&optimize),
         ),
     }
 }
 
-/// The options of a command that optimizes.
-fn optimize_options(out_dir: Option<std::path::PathBuf>, args: &OptimizeArgs) -> CompileOptions {
+/// The options of a command that optimizes and writes its outputs.
+fn optimize_options(
+    out_dir: Option<std::path::PathBuf>,
+    write_outside: bool,
+    args: &OptimizeArgs,
+) -> CompileOptions {
     CompileOptions {
         out_dir,
+        writes: Some(WriteOptions {
+            outside_project: write_outside,
+        }),
         optimize: Some(OptimizeOptions {
             method: match args.solver {
                 Solver::Hybrid => Method::Hybrid,
@@ -158,6 +171,11 @@ fn compile_file(
     options: &CompileOptions,
     workspace: &mut Workspace,
 ) -> Result<Compilation, NotCompiled> {
+    // A build killed while it replaced its outputs left a journal: finishing it first means
+    // every command sees one build's outputs (the solution file `check` reads among them).
+    if let Err(error) = finish_interrupted_outputs(path, options.out_dir.as_deref()) {
+        eprintln!("warning: cannot finish replacing the outputs of an interrupted build: {error}");
+    }
     let source = match std::fs::read_to_string(path) {
         Ok(source) => source,
         Err(error) => {

@@ -20,6 +20,7 @@ mod mesh_cache;
 mod meshes;
 mod optimize;
 mod orientation;
+mod output_paths;
 mod outputs;
 mod print_cache;
 mod print_files;
@@ -39,7 +40,11 @@ pub use optimize::{
     Preparation, SeedReport, Timings, WarmStart,
 };
 pub use orientation::{print_orientations, print_plan, BED_CENTRE_MM, BED_GAP_MM};
-pub use outputs::write_outputs;
+pub use output_paths::{
+    check_output_paths, input_files, output_targets, OutputTarget, WriteOptions, DUPLICATE_OUTPUT,
+    OUTSIDE_PROJECT, OVERWRITES_INPUT,
+};
+pub use outputs::{finish_interrupted_outputs, journal_path, write_outputs};
 pub use print_cache::PrintCache;
 pub use print_files::{bed_parts, print_settings};
 pub use report::{Report, REPORT_FORMAT};
@@ -77,6 +82,9 @@ pub struct CompileOptions {
     /// Run the optimizer (for a project with `optimize`) with these options; `None` reads the
     /// solution file instead.
     pub optimize: Option<OptimizeOptions>,
+    /// The outputs will be written, as these options allow: their paths are checked before
+    /// anything is computed ([`check_output_paths`]). `None`: the command writes nothing.
+    pub writes: Option<WriteOptions>,
 }
 
 /// A valid project and what its design does in every pose.
@@ -142,6 +150,15 @@ pub fn compile_with(
     let Some(mut project) = parsed.project else {
         return Err(Failure::Invalid(problems));
     };
+    if let Some(writes) = options.writes {
+        problems.extend(check_output_paths(
+            &project,
+            source,
+            project_path,
+            options.out_dir.as_deref(),
+            writes,
+        ));
+    }
     let (meshes, mesh_problems) = load_components(&project, &mut workspace.meshes);
     problems.extend(mesh_problems);
     let orientations = meshes.as_ref().map(|meshes| {
