@@ -19,11 +19,12 @@ use std::path::Path;
 
 use clap::Parser;
 
-pub use args::{Cli, Command, OptimizeArgs, Solver};
+pub use args::{Cli, Command, InputArgs, OptimizeArgs, Solver};
 
 use crate::compile::{
     compile_with, Compilation, CompileOptions, Failure, OptimizeOptions, Workspace,
 };
+use crate::geometry::MeshLimits;
 use crate::optimize::{DiskCache, Method, PrecomputeCache};
 use crate::sliced::SlicedOptions;
 
@@ -51,6 +52,7 @@ pub fn run() -> i32 {
     match cli.command {
         Command::Check {
             project,
+            inputs,
             json,
             out_dir,
         } => check::run(
@@ -58,11 +60,12 @@ pub fn run() -> i32 {
             json,
             &CompileOptions {
                 out_dir,
-                optimize: None,
+                ..input_options(&inputs)
             },
         ),
         Command::Verify {
             project,
+            inputs,
             json,
             out_dir,
             gcode,
@@ -71,7 +74,7 @@ pub fn run() -> i32 {
         } => {
             let options = CompileOptions {
                 out_dir,
-                optimize: None,
+                ..input_options(&inputs)
             };
             match gcode {
                 None => verify::run(&project, json, &options),
@@ -86,15 +89,17 @@ pub fn run() -> i32 {
         }
         Command::Build {
             project,
+            inputs,
             out_dir,
             optimize,
         } => build::run(
             &project,
-            &optimize_options(out_dir, &optimize),
+            &optimize_options(out_dir, &optimize, &inputs),
             precompute_cache(&optimize),
         ),
         Command::Poses {
             project,
+            inputs,
             pose,
             out_dir,
         } => poses::run(
@@ -102,23 +107,41 @@ pub fn run() -> i32 {
             pose.as_deref(),
             &CompileOptions {
                 out_dir,
-                optimize: None,
+                ..input_options(&inputs)
             },
         ),
         Command::Watch {
             project,
+            inputs,
             out_dir,
             optimize,
         } => watch::run(
             &project,
-            &optimize_options(out_dir, &optimize),
+            &optimize_options(out_dir, &optimize, &inputs),
             precompute_cache(&optimize),
         ),
     }
 }
 
+/// The options of a command that reads the solution file, from its input options.
+fn input_options(inputs: &InputArgs) -> CompileOptions {
+    CompileOptions {
+        out_dir: None,
+        optimize: None,
+        read_outside: inputs.read_outside,
+        mesh_limits: MeshLimits {
+            max_bytes: inputs.max_mesh_mb.saturating_mul(1 << 20),
+            max_triangles: inputs.max_triangles,
+        },
+    }
+}
+
 /// The options of a command that optimizes.
-fn optimize_options(out_dir: Option<std::path::PathBuf>, args: &OptimizeArgs) -> CompileOptions {
+fn optimize_options(
+    out_dir: Option<std::path::PathBuf>,
+    args: &OptimizeArgs,
+    inputs: &InputArgs,
+) -> CompileOptions {
     CompileOptions {
         out_dir,
         optimize: Some(OptimizeOptions {
@@ -131,6 +154,7 @@ fn optimize_options(out_dir: Option<std::path::PathBuf>, args: &OptimizeArgs) ->
             exhaustive: args.exhaustive,
             warm_start: None,
         }),
+        ..input_options(inputs)
     }
 }
 

@@ -6,26 +6,28 @@ use std::path::Path;
 use super::design::round;
 use super::mesh_cache::MeshCache;
 use crate::diagnostic::Problem;
-use crate::geometry::{LoadError, MeshCheck, TriMesh};
+use crate::geometry::{LoadError, LoadedMesh, MeshCheck, ReadPolicy, TriMesh};
 use crate::spec::model::{Component, Project};
 
 /// How many offending edges or triangles a diagnostic lists before it only counts the rest.
 const LISTED: usize = 3;
 
-/// Loads and checks the mesh of every component, in order, through `cache`. Returns the meshes
-/// when all of them are usable, and the problems found (every component is tried, so all are
-/// reported at once).
+/// Loads and checks the mesh of every component, in order, through `cache`, reading only what
+/// `policy` allows. Returns the meshes when all of them are usable, and the problems found
+/// (every component is tried, so all are reported at once), warnings included.
 pub fn load_components(
     project: &Project,
     cache: &mut MeshCache,
+    policy: &ReadPolicy,
 ) -> (Option<Vec<TriMesh>>, Vec<Problem>) {
     let mut meshes = Vec::with_capacity(project.components.len());
     let mut problems = Vec::new();
     for component in &project.components {
-        match cache.load(&component.mesh.value, &component.selector) {
-            Ok((mesh, check)) => {
+        match cache.load(&component.mesh.value, &component.selector, policy) {
+            Ok((LoadedMesh { mesh, short_faces }, check)) => {
+                problems.extend(short_face_warning(component, &short_faces));
                 let found = mesh_problems(component, &mesh, &check);
-                if found.is_empty() {
+                if found.iter().all(|problem| !problem.is_error()) {
                     meshes.push(mesh);
                 }
                 problems.extend(found);
@@ -66,6 +68,63 @@ fn load_problem(component: &Component, error: &LoadError) -> Problem {
             });
             problem
         }
+        LoadError::OutsideFolder { path, folder } => Problem::error(
+            "ballast::mesh::outside_project",
+            format!(
+                "the mesh of component `{name}` reads `{}`, which is outside the project's folder {}",
+                path.display(),
+                folder.display()
+            ),
+        )
+        .with_label(span, "this mesh")
+        .with_help(
+            "move the file into the project's folder, or pass `--read-outside` to let meshes and \
+             glTF buffers be read from any folder",
+        ),
+        LoadError::NotAFile { path } => Problem::error(
+            "ballast::mesh::not_a_file",
+            format!(
+                "the mesh of component `{name}` reads `{}`, which is not a regular file",
+                path.display()
+            ),
+        )
+        .with_label(span, "this mesh")
+        .with_help(
+            "ballast reads only regular files: never folders, devices, pipes, or files under \
+             /proc, /sys or /dev",
+        ),
+        LoadError::TooLarge { path, limit } => Problem::error(
+            "ballast::mesh::too_large",
+            format!(
+                "the mesh of component `{name}` is larger than the limit of {} MiB (at `{}`)",
+                limit >> 20,
+                path.display()
+            ),
+        )
+        .with_label(span, "this mesh")
+        .with_help(
+            "the limit counts the mesh file and its glTF buffer files together; raise it with \
+             `--max-mesh-mb N`",
+        ),
+        LoadError::TooMany { what, limit } => Problem::error(
+            "ballast::mesh::too_many_triangles",
+            format!("the mesh of component `{name}` has more than {limit} {what}"),
+        )
+        .with_label(span, "this mesh")
+        .with_help(
+            "simplify the mesh (decimate it), or raise the limit with `--max-triangles N` \
+             (a mesh may read three vertices per triangle)",
+        ),
+        LoadError::NonFinite { index } => Problem::error(
+            "ballast::mesh::not_finite",
+            format!(
+                "vertex {} of the mesh of component `{name}` has a coordinate that is infinite, \
+                 NaN or too large",
+                index + 1
+            ),
+        )
+        .with_label(span, "this mesh")
+        .with_help("every coordinate must be a finite number"),
         other => Problem::error(
             "ballast::mesh::unreadable",
             format!("cannot load the mesh of component `{name}`: {other}"),
@@ -73,6 +132,25 @@ fn load_problem(component: &Component, error: &LoadError) -> Problem {
         .with_label(span, "this mesh"),
     }
     .with_label(component.name.span, "component")
+}
+
+/// A warning naming the OBJ faces with fewer than three vertices, which the mesh leaves out.
+fn short_face_warning(component: &Component, lines: &[usize]) -> Option<Problem> {
+    let first = lines.first()?;
+    let count = lines.len();
+    Some(
+        Problem::warning(
+            "ballast::mesh::short_face",
+            format!(
+                "the mesh of component `{}` has {count} face{} with fewer than three vertices \
+                 (the first on line {first}), left out of the solid",
+                component.name.value,
+                if count == 1 { "" } else { "s" }
+            ),
+        )
+        .with_label(component.mesh.span, "this mesh")
+        .with_help("a face needs three or more vertices; delete these lines or fix their indices"),
+    )
 }
 
 /// The problems that make `mesh` unusable as the solid of `component`.

@@ -53,7 +53,7 @@ use crate::balance::{
 use crate::design::Design;
 use crate::diagnostic::Problem;
 use crate::fabrication::{Orientation, PrintPlan};
-use crate::geometry::{MassProperties, PrintVolumes, TriMesh};
+use crate::geometry::{MassProperties, MeshLimits, PrintVolumes, ReadPolicy, TriMesh};
 use crate::spec::model::Project;
 use crate::spec::parse_project;
 
@@ -77,6 +77,26 @@ pub struct CompileOptions {
     /// Run the optimizer (for a project with `optimize`) with these options; `None` reads the
     /// solution file instead.
     pub optimize: Option<OptimizeOptions>,
+    /// Let mesh files and glTF buffer files be read from any folder, not only from inside the
+    /// project's folder (`--read-outside`).
+    pub read_outside: bool,
+    /// How large each mesh may be (`--max-mesh-mb`, `--max-triangles`).
+    pub mesh_limits: MeshLimits,
+}
+
+impl CompileOptions {
+    /// Which files the meshes of the project at `project_path` may be read from, and how much:
+    /// inside the project's folder (symbolic links followed) unless [`Self::read_outside`].
+    pub fn read_policy(&self, project_path: &Path) -> ReadPolicy {
+        let folder = match project_path.parent() {
+            Some(folder) if !folder.as_os_str().is_empty() => folder,
+            _ => Path::new("."),
+        };
+        ReadPolicy {
+            within: (!self.read_outside).then(|| folder.to_path_buf()),
+            limits: self.mesh_limits,
+        }
+    }
 }
 
 /// A valid project and what its design does in every pose.
@@ -142,7 +162,8 @@ pub fn compile_with(
     let Some(mut project) = parsed.project else {
         return Err(Failure::Invalid(problems));
     };
-    let (meshes, mesh_problems) = load_components(&project, &mut workspace.meshes);
+    let policy = options.read_policy(project_path);
+    let (meshes, mesh_problems) = load_components(&project, &mut workspace.meshes, &policy);
     problems.extend(mesh_problems);
     let orientations = meshes.as_ref().map(|meshes| {
         let (orientations, orientation_problems) = print_orientations(&project, meshes);
