@@ -32,14 +32,14 @@ pub fn load_components(
                 }
                 problems.extend(found);
             }
-            Err(error) => problems.push(load_problem(component, &error)),
+            Err(error) => problems.push(load_problem(component, &error, policy)),
         }
     }
     let usable = meshes.len() == project.components.len();
     (usable.then_some(meshes), problems)
 }
 
-fn load_problem(component: &Component, error: &LoadError) -> Problem {
+fn load_problem(component: &Component, error: &LoadError, policy: &ReadPolicy) -> Problem {
     let name = &component.name.value;
     let span = component.mesh.span;
     let shown = display_path(&component.mesh.value);
@@ -68,12 +68,11 @@ fn load_problem(component: &Component, error: &LoadError) -> Problem {
             });
             problem
         }
-        LoadError::OutsideFolder { path, folder } => Problem::error(
+        LoadError::OutsideFolder { path, .. } => Problem::error(
             "ballast::mesh::outside_project",
             format!(
-                "the mesh of component `{name}` reads `{}`, which is outside the project's folder {}",
-                path.display(),
-                folder.display()
+                "the mesh of component `{name}` reads `{}`, which is outside the project's folder",
+                relative(path, policy)
             ),
         )
         .with_label(span, "this mesh")
@@ -85,7 +84,7 @@ fn load_problem(component: &Component, error: &LoadError) -> Problem {
             "ballast::mesh::not_a_file",
             format!(
                 "the mesh of component `{name}` reads `{}`, which is not a regular file",
-                path.display()
+                relative(path, policy)
             ),
         )
         .with_label(span, "this mesh")
@@ -98,7 +97,7 @@ fn load_problem(component: &Component, error: &LoadError) -> Problem {
             format!(
                 "the mesh of component `{name}` is larger than the limit of {} MiB (at `{}`)",
                 limit >> 20,
-                path.display()
+                relative(path, policy)
             ),
         )
         .with_label(span, "this mesh")
@@ -223,6 +222,64 @@ fn solid_problems(component: &Component, mesh: &TriMesh, check: &MeshCheck) -> V
             .with_help("remove the degenerate triangles (merge by distance, then dissolve degenerate)"),
         );
     }
+    if let Some(&[a, b]) = check.crossing_triangles.first() {
+        let count = check.crossing_triangles.len();
+        problems.push(
+            Problem::error(
+                "ballast::mesh::self_intersecting",
+                format!(
+                    "the mesh of component `{name}` intersects itself: {count} pair{} of triangles \
+                     cross, the first at {} and {}",
+                    if count == 1 { "" } else { "s" },
+                    format_triangle(mesh, a),
+                    format_triangle(mesh, b)
+                ),
+            )
+            .with_label(span, "this mesh")
+            .with_help(
+                "where surfaces cross, the volume and the mass are wrong: join overlapping \
+                 shells with a boolean union, or remove the fold, in a mesh editor",
+            ),
+        );
+    }
+    if let Some(fault) = check.shell_faults.first() {
+        let count = check.shell_faults.len();
+        let what = if fault.winding > 1 {
+            "inside another shell that faces the same way, so the solid there counts more than once"
+        } else {
+            "facing inwards without being inside another shell, so it encloses a negative volume"
+        };
+        problems.push(
+            Problem::error(
+                "ballast::mesh::nested_shells",
+                format!(
+                    "the mesh of component `{name}` has {count} shell{} not nested right; the \
+                     first, through {}, is {what} (winding number {})",
+                    if count == 1 { "" } else { "s" },
+                    format_triangle(mesh, fault.triangle),
+                    fault.winding
+                ),
+            )
+            .with_label(span, "this mesh")
+            .with_help(
+                "a cavity must face inwards and be inside the shell around it; a separate part \
+                 inside another belongs in its own component, or joined by a boolean union",
+            ),
+        );
+    }
+    if check.shells_unchecked {
+        problems.push(
+            Problem::warning(
+                "ballast::mesh::unchecked_shells",
+                format!(
+                    "the mesh of component `{name}` was not fully checked for crossing triangles \
+                     and nested shells: too many triangles overlap in one place"
+                ),
+            )
+            .with_label(span, "this mesh")
+            .with_help("its volume is right only if no two of its surfaces cross"),
+        );
+    }
     if check.is_closed() && check.is_oriented() {
         if check.is_inverted() {
             problems.push(
@@ -262,11 +319,35 @@ fn list_edges(mesh: &TriMesh, edges: &[[u32; 2]]) -> String {
     listed.join(", ")
 }
 
+/// `(x, y, z)–(x, y, z)–(x, y, z)`: the corners of a triangle.
+fn format_triangle(mesh: &TriMesh, index: u32) -> String {
+    let corners: Vec<String> = mesh
+        .triangles
+        .get(index as usize)
+        .into_iter()
+        .flatten()
+        .map(|&corner| format_point(mesh, corner))
+        .collect();
+    corners.join("–")
+}
+
 fn format_point(mesh: &TriMesh, index: u32) -> String {
     match mesh.positions.get(index as usize) {
         Some(p) => format!("({}, {}, {})", round(p.x), round(p.y), round(p.z)),
         None => "(?)".to_string(),
     }
+}
+
+/// `path` relative to the folder `policy` confines reads to, when it is in it lexically (as
+/// mesh paths, joined to the project's folder, are); else as it is.
+fn relative(path: &Path, policy: &ReadPolicy) -> String {
+    policy
+        .within
+        .as_deref()
+        .and_then(|folder| path.strip_prefix(folder).ok())
+        .unwrap_or(path)
+        .display()
+        .to_string()
 }
 
 fn display_path(path: &Path) -> String {
