@@ -118,7 +118,7 @@ fn options(warm_start: Option<WarmStart>) -> CompileOptions {
             warm_start,
             ..OptimizeOptions::default()
         }),
-        writes: None,
+        ..CompileOptions::default()
     }
 }
 

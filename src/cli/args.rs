@@ -24,6 +24,9 @@ pub enum Command {
     Check {
         /// The project file (.kdl).
         project: PathBuf,
+        /// Where meshes may be read from, and how large they may be.
+        #[command(flatten)]
+        inputs: InputArgs,
         /// Print the JSON report on standard output instead of the table.
         #[arg(long)]
         json: bool,
@@ -52,6 +55,9 @@ pub enum Command {
     Verify {
         /// The project file (.kdl).
         project: PathBuf,
+        /// Where meshes may be read from, and how large they may be.
+        #[command(flatten)]
+        inputs: InputArgs,
         /// Print the verification as JSON on standard output instead of the table.
         #[arg(long)]
         json: bool,
@@ -76,6 +82,9 @@ pub enum Command {
     Build {
         /// The project file (.kdl).
         project: PathBuf,
+        /// Where meshes may be read from, and how large they may be.
+        #[command(flatten)]
+        inputs: InputArgs,
         /// Write the outputs into this folder instead of the ones the project file names.
         #[arg(long, value_name = "DIR")]
         out_dir: Option<PathBuf>,
@@ -96,6 +105,9 @@ pub enum Command {
     Poses {
         /// The project file (.kdl).
         project: PathBuf,
+        /// Where meshes may be read from, and how large they may be.
+        #[command(flatten)]
+        inputs: InputArgs,
         /// Place the components as this pose does (default: the first pose), for a project whose
         /// poses move components.
         #[arg(long, value_name = "NAME")]
@@ -117,6 +129,9 @@ pub enum Command {
     Watch {
         /// The project file (.kdl).
         project: PathBuf,
+        /// Where meshes may be read from, and how large they may be.
+        #[command(flatten)]
+        inputs: InputArgs,
         /// Write the outputs into this folder instead of the ones the project file names.
         #[arg(long, value_name = "DIR")]
         out_dir: Option<PathBuf>,
@@ -148,6 +163,21 @@ pub struct OptimizeArgs {
     /// user's cache folder, or `BALLAST_CACHE_DIR`; `off` there disables it too).
     #[arg(long)]
     pub no_cache: bool,
+}
+
+/// Where meshes may be read from and how large they may be: options of every command.
+#[derive(Debug, Clone, clap::Args)]
+pub struct InputArgs {
+    /// Let mesh paths and glTF buffer URIs point outside the project file's folder (by default
+    /// every mesh and buffer file must be inside it, symbolic links followed).
+    #[arg(long)]
+    pub read_outside: bool,
+    /// The most one mesh may read, in MiB: its file and its glTF buffer files together.
+    #[arg(long, value_name = "MB", default_value_t = crate::geometry::DEFAULT_MAX_MESH_BYTES >> 20)]
+    pub max_mesh_mb: u64,
+    /// The most triangles one mesh may have (and three times as many vertices read).
+    #[arg(long, value_name = "N", default_value_t = crate::geometry::DEFAULT_MAX_TRIANGLES)]
+    pub max_triangles: usize,
 }
 
 /// The local solvers `build --solver` offers.

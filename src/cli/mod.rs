@@ -19,12 +19,13 @@ use std::path::Path;
 
 use clap::Parser;
 
-pub use args::{Cli, Command, OptimizeArgs, Solver};
+pub use args::{Cli, Command, InputArgs, OptimizeArgs, Solver};
 
 use crate::compile::{
     compile_with, finish_interrupted_outputs, Compilation, CompileOptions, Failure,
     OptimizeOptions, Workspace, WriteOptions,
 };
+use crate::geometry::MeshLimits;
 use crate::optimize::{DiskCache, Method, PrecomputeCache};
 use crate::sliced::SlicedOptions;
 
@@ -52,6 +53,7 @@ pub fn run() -> i32 {
     match cli.command {
         Command::Check {
             project,
+            inputs,
             json,
             out_dir,
         } => check::run(
@@ -59,12 +61,12 @@ pub fn run() -> i32 {
             json,
             &CompileOptions {
                 out_dir,
-                optimize: None,
-                writes: None,
+                ..input_options(&inputs)
             },
         ),
         Command::Verify {
             project,
+            inputs,
             json,
             out_dir,
             gcode,
@@ -73,8 +75,7 @@ pub fn run() -> i32 {
         } => {
             let options = CompileOptions {
                 out_dir,
-                optimize: None,
-                writes: None,
+                ..input_options(&inputs)
             };
             match gcode {
                 None => verify::run(&project, json, &options),
@@ -89,16 +90,18 @@ pub fn run() -> i32 {
         }
         Command::Build {
             project,
+            inputs,
             out_dir,
             write_outside,
             optimize,
         } => build::run(
             &project,
-            &optimize_options(out_dir, write_outside, &optimize),
+            &optimize_options(out_dir, write_outside, &optimize, &inputs),
             precompute_cache(&optimize),
         ),
         Command::Poses {
             project,
+            inputs,
             pose,
             out_dir,
         } => poses::run(
@@ -106,20 +109,34 @@ pub fn run() -> i32 {
             pose.as_deref(),
             &CompileOptions {
                 out_dir,
-                optimize: None,
-                writes: None,
+                ..input_options(&inputs)
             },
         ),
         Command::Watch {
             project,
+            inputs,
             out_dir,
             write_outside,
             optimize,
         } => watch::run(
             &project,
-            &optimize_options(out_dir, write_outside, &optimize),
+            &optimize_options(out_dir, write_outside, &optimize, &inputs),
             precompute_cache(&optimize),
         ),
+    }
+}
+
+/// The options of a command that reads the solution file, from its input options.
+fn input_options(inputs: &InputArgs) -> CompileOptions {
+    CompileOptions {
+        out_dir: None,
+        optimize: None,
+        read_outside: inputs.read_outside,
+        mesh_limits: MeshLimits {
+            max_bytes: inputs.max_mesh_mb.saturating_mul(1 << 20),
+            max_triangles: inputs.max_triangles,
+        },
+        writes: None,
     }
 }
 
@@ -128,6 +145,7 @@ fn optimize_options(
     out_dir: Option<std::path::PathBuf>,
     write_outside: bool,
     args: &OptimizeArgs,
+    inputs: &InputArgs,
 ) -> CompileOptions {
     CompileOptions {
         out_dir,
@@ -144,6 +162,7 @@ fn optimize_options(
             exhaustive: args.exhaustive,
             warm_start: None,
         }),
+        ..input_options(inputs)
     }
 }
 

@@ -58,7 +58,7 @@ use crate::balance::{
 use crate::design::Design;
 use crate::diagnostic::Problem;
 use crate::fabrication::{Orientation, PrintPlan};
-use crate::geometry::{MassProperties, PrintVolumes, TriMesh};
+use crate::geometry::{MassProperties, MeshLimits, PrintVolumes, ReadPolicy, TriMesh};
 use crate::spec::model::Project;
 use crate::spec::parse_project;
 
@@ -85,6 +85,26 @@ pub struct CompileOptions {
     /// The outputs will be written, as these options allow: their paths are checked before
     /// anything is computed ([`check_output_paths`]). `None`: the command writes nothing.
     pub writes: Option<WriteOptions>,
+    /// Let mesh files and glTF buffer files be read from any folder, not only from inside the
+    /// project's folder (`--read-outside`).
+    pub read_outside: bool,
+    /// How large each mesh may be (`--max-mesh-mb`, `--max-triangles`).
+    pub mesh_limits: MeshLimits,
+}
+
+impl CompileOptions {
+    /// Which files the meshes of the project at `project_path` may be read from, and how much:
+    /// inside the project's folder (symbolic links followed) unless [`Self::read_outside`].
+    pub fn read_policy(&self, project_path: &Path) -> ReadPolicy {
+        let folder = match project_path.parent() {
+            Some(folder) if !folder.as_os_str().is_empty() => folder,
+            _ => Path::new("."),
+        };
+        ReadPolicy {
+            within: (!self.read_outside).then(|| folder.to_path_buf()),
+            limits: self.mesh_limits,
+        }
+    }
 }
 
 /// A valid project and what its design does in every pose.
@@ -150,6 +170,7 @@ pub fn compile_with(
     let Some(mut project) = parsed.project else {
         return Err(Failure::Invalid(problems));
     };
+    let policy = options.read_policy(project_path);
     if let Some(writes) = options.writes {
         problems.extend(check_output_paths(
             &project,
@@ -157,9 +178,10 @@ pub fn compile_with(
             project_path,
             options.out_dir.as_deref(),
             writes,
+            &policy,
         ));
     }
-    let (meshes, mesh_problems) = load_components(&project, &mut workspace.meshes);
+    let (meshes, mesh_problems) = load_components(&project, &mut workspace.meshes, &policy);
     problems.extend(mesh_problems);
     let orientations = meshes.as_ref().map(|meshes| {
         let (orientations, orientation_problems) = print_orientations(&project, meshes);

@@ -14,7 +14,7 @@ use miette::SourceSpan;
 use super::output_path;
 use crate::diagnostic::Problem;
 use crate::emit::print_files::file_name;
-use crate::geometry::external_buffer_paths;
+use crate::geometry::{external_buffer_paths, ReadPolicy};
 use crate::spec::model::Project;
 
 /// An output path is a file the build reads: the project, a mesh or a glTF buffer.
@@ -73,21 +73,25 @@ pub fn output_targets(project: &Project, out_dir: Option<&Path>) -> Vec<OutputTa
 }
 
 /// The files a build of `project` (read from `project_path`) reads: the project file, every
-/// component's mesh, the external buffers of its glTF meshes.
-pub fn input_files(project: &Project, project_path: &Path) -> Vec<PathBuf> {
-    spanned_inputs(project, project_path)
+/// component's mesh, the external buffers of its glTF meshes that `policy` lets it read.
+pub fn input_files(project: &Project, project_path: &Path, policy: &ReadPolicy) -> Vec<PathBuf> {
+    spanned_inputs(project, project_path, policy)
         .into_iter()
         .map(|(path, _)| path)
         .collect()
 }
 
 /// [`input_files`], each with the span of the `mesh=` that reads it (none for the project file).
-fn spanned_inputs(project: &Project, project_path: &Path) -> Vec<(PathBuf, Option<SourceSpan>)> {
+fn spanned_inputs(
+    project: &Project,
+    project_path: &Path,
+    policy: &ReadPolicy,
+) -> Vec<(PathBuf, Option<SourceSpan>)> {
     let mut inputs = vec![(project_path.to_path_buf(), None)];
     for component in &project.components {
         let mesh = &component.mesh;
         inputs.push((mesh.value.clone(), Some(mesh.span)));
-        for buffer in external_buffer_paths(&mesh.value) {
+        for buffer in external_buffer_paths(&mesh.value, policy) {
             inputs.push((buffer, Some(mesh.span)));
         }
     }
@@ -121,12 +125,13 @@ pub fn check_output_paths(
     project_path: &Path,
     out_dir: Option<&Path>,
     options: WriteOptions,
+    policy: &ReadPolicy,
 ) -> Vec<Problem> {
     let targets = output_targets(project, out_dir);
     // Read again only when a problem needs a span.
     let lazy = std::cell::OnceCell::new();
     let spans = || lazy.get_or_init(|| OutputSpans::of(source));
-    let inputs = spanned_inputs(project, project_path);
+    let inputs = spanned_inputs(project, project_path, policy);
     let mut problems = Vec::new();
     for target in &targets {
         let shown = target.path.display();

@@ -13,6 +13,7 @@ use super::{
 };
 use crate::emit::print_files::{file_name, write_prusa_3mf, write_sheet, write_stl};
 use crate::emit::{finish_interrupted, replace_set, write_glb};
+use crate::geometry::{MeshLimits, ReadPolicy};
 
 /// Encodes every output of `compilation` (the project read from `path`), then replaces them as
 /// one set where the project says, or in `out_dir`; returns the paths written, in order. Nothing
@@ -24,7 +25,13 @@ pub fn write_outputs(
     out_dir: Option<&Path>,
 ) -> Result<Vec<PathBuf>, String> {
     let targets = encode_outputs(compilation, path, out_dir)?;
-    let inputs = input_files(&compilation.project, path);
+    // Every buffer counts as an input here, wherever it is: refusing to overwrite one more file
+    // is safe.
+    let anywhere = ReadPolicy {
+        within: None,
+        limits: MeshLimits::default(),
+    };
+    let inputs = input_files(&compilation.project, path, &anywhere);
     for (target, _) in &targets {
         if let Some(input) = inputs.iter().find(|input| same_file(target, input)) {
             return Err(format!(
