@@ -469,6 +469,7 @@ fn main() {
             let options = CompileOptions {
                 out_dir: None,
                 optimize: Some(OptimizeOptions::default()),
+                ..CompileOptions::default()
             };
             let clock = Instant::now();
             let compiled = compile_with(&source, &path, &options, &mut Workspace::new())

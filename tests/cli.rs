@@ -370,7 +370,11 @@ fn cache_files(cache: &Path) -> Vec<PathBuf> {
     };
     let mut files = Vec::new();
     for folder in folders {
-        for file in fs::read_dir(folder.unwrap().path()).unwrap() {
+        let folder = folder.unwrap().path();
+        if !folder.is_dir() {
+            continue;
+        }
+        for file in fs::read_dir(folder).unwrap() {
             files.push(file.unwrap().path());
         }
     }

@@ -70,6 +70,11 @@ fn every_mesh_problem_is_reported_at_once() {
             "ballast::mesh::degenerate",
             "ballast::mesh::unreadable",
             "ballast::mesh::unknown_part",
+            "ballast::mesh::self_intersecting",
+            "ballast::mesh::nested_shells",
+            "ballast::mesh::not_finite",
+            "ballast::mesh::outside_project",
+            "ballast::mesh::short_face",
         ]
     );
 }

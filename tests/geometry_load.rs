@@ -283,13 +283,13 @@ fn missing_file_is_not_found() {
 }
 
 #[test]
-fn directory_is_an_io_error() {
+fn directory_is_not_a_file() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("folder.obj");
     std::fs::create_dir(&path).unwrap();
     assert!(matches!(
         load_mesh(&path, &MeshSelector::Whole),
-        Err(LoadError::Io { .. })
+        Err(LoadError::NotAFile { .. })
     ));
 }
 

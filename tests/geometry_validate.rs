@@ -150,3 +150,89 @@ fn real_single_body_meshes_are_clean() {
         assert!(check.degenerate_triangles.is_empty(), "{name}");
     }
 }
+
+fn solid_fixture(name: &str) -> TriMesh {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/compile/err/meshes")
+        .join(name);
+    load_mesh(&path, &MeshSelector::Whole).unwrap()
+}
+
+#[test]
+fn overlapping_cubes_cross_and_their_signed_volume_is_not_the_solid_s() {
+    let check = check_mesh(&solid_fixture("overlapping_cubes.obj"));
+    // Closed and oriented, so the old checks pass; the signed volume counts the overlap twice.
+    assert!(check.is_closed() && check.is_oriented() && !check.is_inverted());
+    assert!((check.signed_volume - 2000.0).abs() < 1e-9);
+    assert!(!check.is_solid());
+    assert!(!check.crossing_triangles.is_empty());
+    assert!(!check.shells_unchecked);
+    // Every crossing pair joins the two cubes (triangles 0-11 and 12-23).
+    for &[a, b] in &check.crossing_triangles {
+        assert!(a < 12 && b >= 12, "{a} {b}");
+    }
+}
+
+#[test]
+fn a_cube_inside_a_cube_both_outward_is_a_nesting_fault() {
+    let check = check_mesh(&solid_fixture("nested_cubes.obj"));
+    assert!((check.signed_volume - 1216.0).abs() < 1e-9);
+    assert!(check.crossing_triangles.is_empty());
+    assert_eq!(
+        check.shell_faults,
+        vec![ballast::geometry::ShellFault {
+            triangle: 12,
+            winding: 2
+        }]
+    );
+    assert!(!check.is_solid());
+}
+
+#[test]
+fn a_cavity_facing_inwards_is_a_solid() {
+    let check = check_mesh(&solid_fixture("hollow_cube.obj"));
+    assert!((check.signed_volume - 784.0).abs() < 1e-9);
+    assert!(check.is_solid(), "{check:?}");
+    assert!(!check.shells_unchecked);
+}
+
+#[test]
+fn separate_parts_and_an_inward_shell_alone() {
+    // Two cubes side by side: a valid solid of two shells.
+    let mut two = geometry_support::box_mesh(1.0, 1.0, 1.0);
+    let other = geometry_support::box_mesh(1.0, 1.0, 1.0);
+    let offset = two.positions.len() as u32;
+    two.positions.extend(
+        other
+            .positions
+            .iter()
+            .map(|p| p + nalgebra::Vector3::new(3.0, 0.0, 0.0)),
+    );
+    two.triangles
+        .extend(other.triangles.iter().map(|t| t.map(|i| i + offset)));
+    assert!(check_mesh(&two).is_solid());
+    // The second one inside out, beside the first: -1 inside it.
+    let first_of_second = unit_cube().triangles.len();
+    for t in &mut two.triangles[first_of_second..] {
+        t.swap(1, 2);
+    }
+    let check = check_mesh(&two);
+    assert_eq!(check.shell_faults.len(), 1);
+    assert_eq!(check.shell_faults[0].winding, -1);
+}
+
+#[test]
+fn the_example_meshes_are_solids() {
+    let folder = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/meshes");
+    let mut checked = 0;
+    for entry in std::fs::read_dir(folder).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "obj") {
+            let check = check_mesh(&load_mesh(&path, &MeshSelector::Whole).unwrap());
+            assert!(check.is_solid(), "{}: {check:?}", path.display());
+            assert!(!check.shells_unchecked, "{}", path.display());
+            checked += 1;
+        }
+    }
+    assert!(checked >= 5);
+}

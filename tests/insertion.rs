@@ -7,7 +7,7 @@ use std::path::Path;
 use ballast::compile::{compile, Report};
 
 const PROJECT: &str = r#"
-component "box" mesh="../meshes/box.obj" {
+component "box" mesh="meshes/box.obj" {
     print { down 0 0 -1 }
 }
 wall 1

@@ -23,6 +23,7 @@ fn optimized(name: &str, options: OptimizeOptions) -> Compilation {
     let options = CompileOptions {
         out_dir: None,
         optimize: Some(options),
+        ..CompileOptions::default()
     };
     compile_with(&source, &path, &options, &mut Workspace::new())
         .unwrap_or_else(|failure| panic!("{name} did not compile: {failure:?}"))
@@ -274,6 +275,7 @@ fn a_pinned_capsule_is_kept_exactly_and_a_written_seed_may_move() {
     let options = CompileOptions {
         out_dir: None,
         optimize: Some(OptimizeOptions::default()),
+        ..CompileOptions::default()
     };
     let compilation = compile_with(&source, &path, &options, &mut Workspace::new()).unwrap();
     let capsules = &compilation.design.capsules;

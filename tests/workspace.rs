@@ -25,6 +25,7 @@ fn options(warm_start: Option<WarmStart>) -> CompileOptions {
             warm_start,
             ..OptimizeOptions::default()
         }),
+        ..CompileOptions::default()
     }
 }
 

@@ -16,13 +16,17 @@ pub struct Cli {
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Check a project and show what the object does in every pose. Writes nothing.
+    /// Check a project and show what the object does in every pose. Writes nothing (but
+    /// finishes replacing the outputs of a build killed while it replaced them).
     ///
     /// Exit status: 0 every goal met, 1 the project is valid but some goal is not met,
     /// 2 invalid project or failure.
     Check {
         /// The project file (.kdl).
         project: PathBuf,
+        /// Where meshes may be read from, and how large they may be.
+        #[command(flatten)]
+        inputs: InputArgs,
         /// Print the JSON report on standard output instead of the table.
         #[arg(long)]
         json: bool,
@@ -32,7 +36,8 @@ pub enum Command {
         out_dir: Option<PathBuf>,
     },
     /// Re-check every goal with a rigid-body simulation (rapier) instead of ballast's own physics,
-    /// and print the simulated value beside the computed one. Writes nothing.
+    /// and print the simulated value beside the computed one. Writes nothing (but finishes
+    /// replacing the outputs of a build killed while it replaced them).
     ///
     /// The design is the one `check` evaluates (the written capsules, or the solution file). A
     /// stand goal is set down and the ground tilted slowly until the model topples (in the worst
@@ -50,6 +55,9 @@ pub enum Command {
     Verify {
         /// The project file (.kdl).
         project: PathBuf,
+        /// Where meshes may be read from, and how large they may be.
+        #[command(flatten)]
+        inputs: InputArgs,
         /// Print the verification as JSON on standard output instead of the table.
         #[arg(long)]
         json: bool,
@@ -74,9 +82,16 @@ pub enum Command {
     Build {
         /// The project file (.kdl).
         project: PathBuf,
+        /// Where meshes may be read from, and how large they may be.
+        #[command(flatten)]
+        inputs: InputArgs,
         /// Write the outputs into this folder instead of the ones the project file names.
         #[arg(long, value_name = "DIR")]
         out_dir: Option<PathBuf>,
+        /// Accept output paths in the project file outside its folder (absolute, or through
+        /// `..`); refused otherwise.
+        #[arg(long)]
+        write_outside: bool,
         /// How to optimize.
         #[command(flatten)]
         optimize: OptimizeArgs,
@@ -90,6 +105,9 @@ pub enum Command {
     Poses {
         /// The project file (.kdl).
         project: PathBuf,
+        /// Where meshes may be read from, and how large they may be.
+        #[command(flatten)]
+        inputs: InputArgs,
         /// Place the components as this pose does (default: the first pose), for a project whose
         /// poses move components.
         #[arg(long, value_name = "NAME")]
@@ -111,9 +129,16 @@ pub enum Command {
     Watch {
         /// The project file (.kdl).
         project: PathBuf,
+        /// Where meshes may be read from, and how large they may be.
+        #[command(flatten)]
+        inputs: InputArgs,
         /// Write the outputs into this folder instead of the ones the project file names.
         #[arg(long, value_name = "DIR")]
         out_dir: Option<PathBuf>,
+        /// Accept output paths in the project file outside its folder (absolute, or through
+        /// `..`); refused otherwise.
+        #[arg(long)]
+        write_outside: bool,
         /// How to optimize.
         #[command(flatten)]
         optimize: OptimizeArgs,
@@ -138,6 +163,21 @@ pub struct OptimizeArgs {
     /// user's cache folder, or `BALLAST_CACHE_DIR`; `off` there disables it too).
     #[arg(long)]
     pub no_cache: bool,
+}
+
+/// Where meshes may be read from and how large they may be: options of every command.
+#[derive(Debug, Clone, clap::Args)]
+pub struct InputArgs {
+    /// Let mesh paths and glTF buffer URIs point outside the project file's folder (by default
+    /// every mesh and buffer file must be inside it, symbolic links followed).
+    #[arg(long)]
+    pub read_outside: bool,
+    /// The most one mesh may read, in MiB: its file and its glTF buffer files together.
+    #[arg(long, value_name = "MB", default_value_t = crate::geometry::DEFAULT_MAX_MESH_BYTES >> 20)]
+    pub max_mesh_mb: u64,
+    /// The most triangles one mesh may have (and three times as many vertices read).
+    #[arg(long, value_name = "N", default_value_t = crate::geometry::DEFAULT_MAX_TRIANGLES)]
+    pub max_triangles: usize,
 }
 
 /// The local solvers `build --solver` offers.

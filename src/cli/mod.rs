@@ -19,11 +19,13 @@ use std::path::Path;
 
 use clap::Parser;
 
-pub use args::{Cli, Command, OptimizeArgs, Solver};
+pub use args::{Cli, Command, InputArgs, OptimizeArgs, Solver};
 
 use crate::compile::{
-    compile_with, Compilation, CompileOptions, Failure, OptimizeOptions, Workspace,
+    compile_with, finish_interrupted_outputs, Compilation, CompileOptions, Failure,
+    OptimizeOptions, Workspace, WriteOptions,
 };
+use crate::geometry::MeshLimits;
 use crate::optimize::{DiskCache, Method, PrecomputeCache};
 use crate::sliced::SlicedOptions;
 
@@ -51,6 +53,7 @@ pub fn run() -> i32 {
     match cli.command {
         Command::Check {
             project,
+            inputs,
             json,
             out_dir,
         } => check::run(
@@ -58,11 +61,12 @@ pub fn run() -> i32 {
             json,
             &CompileOptions {
                 out_dir,
-                optimize: None,
+                ..input_options(&inputs)
             },
         ),
         Command::Verify {
             project,
+            inputs,
             json,
             out_dir,
             gcode,
@@ -71,7 +75,7 @@ pub fn run() -> i32 {
         } => {
             let options = CompileOptions {
                 out_dir,
-                optimize: None,
+                ..input_options(&inputs)
             };
             match gcode {
                 None => verify::run(&project, json, &options),
@@ -86,15 +90,18 @@ pub fn run() -> i32 {
         }
         Command::Build {
             project,
+            inputs,
             out_dir,
+            write_outside,
             optimize,
         } => build::run(
             &project,
-            &optimize_options(out_dir, &optimize),
+            &optimize_options(out_dir, write_outside, &optimize, &inputs),
             precompute_cache(&optimize),
         ),
         Command::Poses {
             project,
+            inputs,
             pose,
             out_dir,
         } => poses::run(
@@ -102,25 +109,49 @@ pub fn run() -> i32 {
             pose.as_deref(),
             &CompileOptions {
                 out_dir,
-                optimize: None,
+                ..input_options(&inputs)
             },
         ),
         Command::Watch {
             project,
+            inputs,
             out_dir,
+            write_outside,
             optimize,
         } => watch::run(
             &project,
-            &optimize_options(out_dir, &optimize),
+            &optimize_options(out_dir, write_outside, &optimize, &inputs),
             precompute_cache(&optimize),
         ),
     }
 }
 
-/// The options of a command that optimizes.
-fn optimize_options(out_dir: Option<std::path::PathBuf>, args: &OptimizeArgs) -> CompileOptions {
+/// The options of a command that reads the solution file, from its input options.
+fn input_options(inputs: &InputArgs) -> CompileOptions {
+    CompileOptions {
+        out_dir: None,
+        optimize: None,
+        read_outside: inputs.read_outside,
+        mesh_limits: MeshLimits {
+            max_bytes: inputs.max_mesh_mb.saturating_mul(1 << 20),
+            max_triangles: inputs.max_triangles,
+        },
+        writes: None,
+    }
+}
+
+/// The options of a command that optimizes and writes its outputs.
+fn optimize_options(
+    out_dir: Option<std::path::PathBuf>,
+    write_outside: bool,
+    args: &OptimizeArgs,
+    inputs: &InputArgs,
+) -> CompileOptions {
     CompileOptions {
         out_dir,
+        writes: Some(WriteOptions {
+            outside_project: write_outside,
+        }),
         optimize: Some(OptimizeOptions {
             method: match args.solver {
                 Solver::Hybrid => Method::Hybrid,
@@ -131,6 +162,7 @@ fn optimize_options(out_dir: Option<std::path::PathBuf>, args: &OptimizeArgs) ->
             exhaustive: args.exhaustive,
             warm_start: None,
         }),
+        ..input_options(inputs)
     }
 }
 
@@ -158,6 +190,11 @@ fn compile_file(
     options: &CompileOptions,
     workspace: &mut Workspace,
 ) -> Result<Compilation, NotCompiled> {
+    // A build killed while it replaced its outputs left a journal: finishing it first means
+    // every command sees one build's outputs (the solution file `check` reads among them).
+    if let Err(error) = finish_interrupted_outputs(path, options.out_dir.as_deref()) {
+        eprintln!("warning: cannot finish replacing the outputs of an interrupted build: {error}");
+    }
     let source = match std::fs::read_to_string(path) {
         Ok(source) => source,
         Err(error) => {

@@ -31,7 +31,7 @@ pub fn run(path: &Path, options: &CompileOptions, cache: PrecomputeCache) -> i32
             ..Workspace::new()
         },
         last: None,
-        files: referenced_files(path, None),
+        files: referenced_files(path, None, &options.read_policy(path)),
     };
     // Watched from before the first build, so a save during it is not missed.
     session.follow_parsed();
@@ -125,7 +125,11 @@ impl Session<'_> {
         };
         // Only what this build used stays cached.
         self.workspace.prune();
-        self.files = referenced_files(self.path, Some(&compilation.project));
+        self.files = referenced_files(
+            self.path,
+            Some(&compilation.project),
+            &options.read_policy(self.path),
+        );
         let write_start = Instant::now();
         let written = match write_outputs(&compilation, self.path, options.out_dir.as_deref()) {
             Ok(written) => written,
@@ -177,7 +181,11 @@ impl Session<'_> {
             return;
         };
         if let Some(project) = parse_project(&source, self.path).project {
-            self.files = referenced_files(self.path, Some(&project));
+            self.files = referenced_files(
+                self.path,
+                Some(&project),
+                &self.options.read_policy(self.path),
+            );
         }
     }
 }

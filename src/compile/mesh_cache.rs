@@ -8,8 +8,8 @@ use std::collections::HashMap;
 use std::hash::{DefaultHasher, Hasher};
 use std::path::{Path, PathBuf};
 
-use crate::geometry::{check_mesh, external_buffer_paths, load_mesh, LoadError, MeshCheck};
-use crate::geometry::{MeshSelector, TriMesh};
+use crate::geometry::{check_mesh, external_buffer_paths, load_mesh_with, LoadError, MeshCheck};
+use crate::geometry::{FileReader, LoadedMesh, MeshSelector, ReadPolicy};
 
 /// Loaded meshes and their checks. Entries not asked for since [`start_build`] can be dropped
 /// with [`prune`].
@@ -25,7 +25,7 @@ pub struct MeshCache {
 
 #[derive(Debug)]
 struct Entry {
-    mesh: TriMesh,
+    mesh: LoadedMesh,
     check: MeshCheck,
     /// The build that last asked for it.
     used: u64,
@@ -66,18 +66,20 @@ impl MeshCache {
     }
 
     /// The mesh at `path` (the part `selector` picks) and its check: from the cache when the
-    /// files it is read from hold the same bytes as when it was cached, else loaded now. A mesh
-    /// that fails to load is not cached.
+    /// files it is read from hold the same bytes as when it was cached, else loaded now. Files
+    /// are read only as `policy` allows, the cached ones too. A mesh that fails to load is not
+    /// cached.
     pub fn load(
         &mut self,
         path: &Path,
         selector: &MeshSelector,
-    ) -> Result<(TriMesh, MeshCheck), LoadError> {
-        let Some(hash) = content_hash(path) else {
-            // Unreadable: the loader says why.
+        policy: &ReadPolicy,
+    ) -> Result<(LoadedMesh, MeshCheck), LoadError> {
+        let Some(hash) = content_hash(path, policy) else {
+            // Unreadable or not allowed: the loader says why.
             self.loaded += 1;
-            let mesh = load_mesh(path, selector)?;
-            let check = check_mesh(&mesh);
+            let mesh = load_mesh_with(path, selector, policy)?;
+            let check = check_mesh(&mesh.mesh);
             return Ok((mesh, check));
         };
         let key = (path.to_path_buf(), selector.clone(), hash);
@@ -87,8 +89,8 @@ impl MeshCache {
             return Ok((entry.mesh.clone(), entry.check.clone()));
         }
         self.loaded += 1;
-        let mesh = load_mesh(path, selector)?;
-        let check = check_mesh(&mesh);
+        let mesh = load_mesh_with(path, selector, policy)?;
+        let check = check_mesh(&mesh.mesh);
         self.entries.insert(
             key,
             Entry {
@@ -102,11 +104,12 @@ impl MeshCache {
 }
 
 /// A hash of the bytes of `path` and of each external buffer file it names, in order; `None`
-/// when one of them cannot be read.
-fn content_hash(path: &Path) -> Option<u64> {
+/// when one of them cannot be read or `policy` does not allow it.
+fn content_hash(path: &Path, policy: &ReadPolicy) -> Option<u64> {
     let mut hasher = DefaultHasher::new();
-    for file in std::iter::once(path.to_path_buf()).chain(external_buffer_paths(path)) {
-        let bytes = std::fs::read(&file).ok()?;
+    let mut reader = FileReader::new(policy);
+    for file in std::iter::once(path.to_path_buf()).chain(external_buffer_paths(path, policy)) {
+        let bytes = reader.read(&file).ok()?;
         hasher.write_usize(bytes.len());
         hasher.write(&bytes);
     }
@@ -125,20 +128,21 @@ mod tests {
         let folder = tempfile::tempdir().unwrap();
         let path = folder.path().join("t.obj");
         std::fs::write(&path, TETRAHEDRON).unwrap();
+        let policy = ReadPolicy::within(folder.path());
         let mut cache = MeshCache::new();
         cache.start_build();
-        let (first, check) = cache.load(&path, &MeshSelector::Whole).unwrap();
+        let (first, check) = cache.load(&path, &MeshSelector::Whole, &policy).unwrap();
         assert!(check.is_closed());
         assert_eq!(cache.loaded(), 1);
 
         cache.start_build();
-        let (again, _) = cache.load(&path, &MeshSelector::Whole).unwrap();
+        let (again, _) = cache.load(&path, &MeshSelector::Whole, &policy).unwrap();
         assert_eq!(again, first);
         assert_eq!(cache.loaded(), 0);
 
         std::fs::write(&path, TETRAHEDRON.replace("v 0 0 1", "v 0 0 2")).unwrap();
         cache.start_build();
-        let (moved, _) = cache.load(&path, &MeshSelector::Whole).unwrap();
+        let (moved, _) = cache.load(&path, &MeshSelector::Whole, &policy).unwrap();
         assert_ne!(moved, first);
         assert_eq!(cache.loaded(), 1);
         assert_eq!(cache.len(), 2);
@@ -150,7 +154,11 @@ mod tests {
     fn a_missing_file_is_the_loader_s_error_and_is_not_cached() {
         let folder = tempfile::tempdir().unwrap();
         let mut cache = MeshCache::new();
-        let missing = cache.load(&folder.path().join("none.obj"), &MeshSelector::Whole);
+        let missing = cache.load(
+            &folder.path().join("none.obj"),
+            &MeshSelector::Whole,
+            &ReadPolicy::within(folder.path()),
+        );
         assert!(
             matches!(missing, Err(LoadError::NotFound { .. })),
             "{missing:?}"

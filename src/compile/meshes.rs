@@ -6,38 +6,40 @@ use std::path::Path;
 use super::design::round;
 use super::mesh_cache::MeshCache;
 use crate::diagnostic::Problem;
-use crate::geometry::{LoadError, MeshCheck, TriMesh};
+use crate::geometry::{LoadError, LoadedMesh, MeshCheck, ReadPolicy, TriMesh};
 use crate::spec::model::{Component, Project};
 
 /// How many offending edges or triangles a diagnostic lists before it only counts the rest.
 const LISTED: usize = 3;
 
-/// Loads and checks the mesh of every component, in order, through `cache`. Returns the meshes
-/// when all of them are usable, and the problems found (every component is tried, so all are
-/// reported at once).
+/// Loads and checks the mesh of every component, in order, through `cache`, reading only what
+/// `policy` allows. Returns the meshes when all of them are usable, and the problems found
+/// (every component is tried, so all are reported at once), warnings included.
 pub fn load_components(
     project: &Project,
     cache: &mut MeshCache,
+    policy: &ReadPolicy,
 ) -> (Option<Vec<TriMesh>>, Vec<Problem>) {
     let mut meshes = Vec::with_capacity(project.components.len());
     let mut problems = Vec::new();
     for component in &project.components {
-        match cache.load(&component.mesh.value, &component.selector) {
-            Ok((mesh, check)) => {
+        match cache.load(&component.mesh.value, &component.selector, policy) {
+            Ok((LoadedMesh { mesh, short_faces }, check)) => {
+                problems.extend(short_face_warning(component, &short_faces));
                 let found = mesh_problems(component, &mesh, &check);
-                if found.is_empty() {
+                if found.iter().all(|problem| !problem.is_error()) {
                     meshes.push(mesh);
                 }
                 problems.extend(found);
             }
-            Err(error) => problems.push(load_problem(component, &error)),
+            Err(error) => problems.push(load_problem(component, &error, policy)),
         }
     }
     let usable = meshes.len() == project.components.len();
     (usable.then_some(meshes), problems)
 }
 
-fn load_problem(component: &Component, error: &LoadError) -> Problem {
+fn load_problem(component: &Component, error: &LoadError, policy: &ReadPolicy) -> Problem {
     let name = &component.name.value;
     let span = component.mesh.span;
     let shown = display_path(&component.mesh.value);
@@ -66,6 +68,62 @@ fn load_problem(component: &Component, error: &LoadError) -> Problem {
             });
             problem
         }
+        LoadError::OutsideFolder { path, .. } => Problem::error(
+            "ballast::mesh::outside_project",
+            format!(
+                "the mesh of component `{name}` reads `{}`, which is outside the project's folder",
+                relative(path, policy)
+            ),
+        )
+        .with_label(span, "this mesh")
+        .with_help(
+            "move the file into the project's folder, or pass `--read-outside` to let meshes and \
+             glTF buffers be read from any folder",
+        ),
+        LoadError::NotAFile { path } => Problem::error(
+            "ballast::mesh::not_a_file",
+            format!(
+                "the mesh of component `{name}` reads `{}`, which is not a regular file",
+                relative(path, policy)
+            ),
+        )
+        .with_label(span, "this mesh")
+        .with_help(
+            "ballast reads only regular files: never folders, devices, pipes, or files under \
+             /proc, /sys or /dev",
+        ),
+        LoadError::TooLarge { path, limit } => Problem::error(
+            "ballast::mesh::too_large",
+            format!(
+                "the mesh of component `{name}` is larger than the limit of {} MiB (at `{}`)",
+                limit >> 20,
+                relative(path, policy)
+            ),
+        )
+        .with_label(span, "this mesh")
+        .with_help(
+            "the limit counts the mesh file and its glTF buffer files together; raise it with \
+             `--max-mesh-mb N`",
+        ),
+        LoadError::TooMany { what, limit } => Problem::error(
+            "ballast::mesh::too_many_triangles",
+            format!("the mesh of component `{name}` has more than {limit} {what}"),
+        )
+        .with_label(span, "this mesh")
+        .with_help(
+            "simplify the mesh (decimate it), or raise the limit with `--max-triangles N` \
+             (a mesh may read three vertices per triangle)",
+        ),
+        LoadError::NonFinite { index } => Problem::error(
+            "ballast::mesh::not_finite",
+            format!(
+                "vertex {} of the mesh of component `{name}` has a coordinate that is infinite, \
+                 NaN or too large",
+                index + 1
+            ),
+        )
+        .with_label(span, "this mesh")
+        .with_help("every coordinate must be a finite number"),
         other => Problem::error(
             "ballast::mesh::unreadable",
             format!("cannot load the mesh of component `{name}`: {other}"),
@@ -73,6 +131,25 @@ fn load_problem(component: &Component, error: &LoadError) -> Problem {
         .with_label(span, "this mesh"),
     }
     .with_label(component.name.span, "component")
+}
+
+/// A warning naming the OBJ faces with fewer than three vertices, which the mesh leaves out.
+fn short_face_warning(component: &Component, lines: &[usize]) -> Option<Problem> {
+    let first = lines.first()?;
+    let count = lines.len();
+    Some(
+        Problem::warning(
+            "ballast::mesh::short_face",
+            format!(
+                "the mesh of component `{}` has {count} face{} with fewer than three vertices \
+                 (the first on line {first}), left out of the solid",
+                component.name.value,
+                if count == 1 { "" } else { "s" }
+            ),
+        )
+        .with_label(component.mesh.span, "this mesh")
+        .with_help("a face needs three or more vertices; delete these lines or fix their indices"),
+    )
 }
 
 /// The problems that make `mesh` unusable as the solid of `component`.
@@ -145,6 +222,64 @@ fn solid_problems(component: &Component, mesh: &TriMesh, check: &MeshCheck) -> V
             .with_help("remove the degenerate triangles (merge by distance, then dissolve degenerate)"),
         );
     }
+    if let Some(&[a, b]) = check.crossing_triangles.first() {
+        let count = check.crossing_triangles.len();
+        problems.push(
+            Problem::error(
+                "ballast::mesh::self_intersecting",
+                format!(
+                    "the mesh of component `{name}` intersects itself: {count} pair{} of triangles \
+                     cross, the first at {} and {}",
+                    if count == 1 { "" } else { "s" },
+                    format_triangle(mesh, a),
+                    format_triangle(mesh, b)
+                ),
+            )
+            .with_label(span, "this mesh")
+            .with_help(
+                "where surfaces cross, the volume and the mass are wrong: join overlapping \
+                 shells with a boolean union, or remove the fold, in a mesh editor",
+            ),
+        );
+    }
+    if let Some(fault) = check.shell_faults.first() {
+        let count = check.shell_faults.len();
+        let what = if fault.winding > 1 {
+            "inside another shell that faces the same way, so the solid there counts more than once"
+        } else {
+            "facing inwards without being inside another shell, so it encloses a negative volume"
+        };
+        problems.push(
+            Problem::error(
+                "ballast::mesh::nested_shells",
+                format!(
+                    "the mesh of component `{name}` has {count} shell{} not nested right; the \
+                     first, through {}, is {what} (winding number {})",
+                    if count == 1 { "" } else { "s" },
+                    format_triangle(mesh, fault.triangle),
+                    fault.winding
+                ),
+            )
+            .with_label(span, "this mesh")
+            .with_help(
+                "a cavity must face inwards and be inside the shell around it; a separate part \
+                 inside another belongs in its own component, or joined by a boolean union",
+            ),
+        );
+    }
+    if check.shells_unchecked {
+        problems.push(
+            Problem::warning(
+                "ballast::mesh::unchecked_shells",
+                format!(
+                    "the mesh of component `{name}` was not fully checked for crossing triangles \
+                     and nested shells: too many triangles overlap in one place"
+                ),
+            )
+            .with_label(span, "this mesh")
+            .with_help("its volume is right only if no two of its surfaces cross"),
+        );
+    }
     if check.is_closed() && check.is_oriented() {
         if check.is_inverted() {
             problems.push(
@@ -184,11 +319,35 @@ fn list_edges(mesh: &TriMesh, edges: &[[u32; 2]]) -> String {
     listed.join(", ")
 }
 
+/// `(x, y, z)–(x, y, z)–(x, y, z)`: the corners of a triangle.
+fn format_triangle(mesh: &TriMesh, index: u32) -> String {
+    let corners: Vec<String> = mesh
+        .triangles
+        .get(index as usize)
+        .into_iter()
+        .flatten()
+        .map(|&corner| format_point(mesh, corner))
+        .collect();
+    corners.join("–")
+}
+
 fn format_point(mesh: &TriMesh, index: u32) -> String {
     match mesh.positions.get(index as usize) {
         Some(p) => format!("({}, {}, {})", round(p.x), round(p.y), round(p.z)),
         None => "(?)".to_string(),
     }
+}
+
+/// `path` relative to the folder `policy` confines reads to, when it is in it lexically (as
+/// mesh paths, joined to the project's folder, are); else as it is.
+fn relative(path: &Path, policy: &ReadPolicy) -> String {
+    policy
+        .within
+        .as_deref()
+        .and_then(|folder| path.strip_prefix(folder).ok())
+        .unwrap_or(path)
+        .display()
+        .to_string()
 }
 
 fn display_path(path: &Path) -> String {

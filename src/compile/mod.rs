@@ -20,6 +20,7 @@ mod mesh_cache;
 mod meshes;
 mod optimize;
 mod orientation;
+mod output_paths;
 mod outputs;
 mod print_cache;
 mod print_files;
@@ -42,7 +43,11 @@ pub use orientation::{
     insertion_rank, layer_grid, print_orientations, print_plan, print_setup, BED_CENTRE_MM,
     BED_GAP_MM,
 };
-pub use outputs::write_outputs;
+pub use output_paths::{
+    check_output_paths, input_files, output_targets, OutputTarget, WriteOptions, DUPLICATE_OUTPUT,
+    OUTSIDE_PROJECT, OVERWRITES_INPUT,
+};
+pub use outputs::{finish_interrupted_outputs, journal_path, write_outputs};
 pub use print_cache::PrintCache;
 pub use print_files::{bed_parts, print_settings};
 pub use report::{Report, REPORT_FORMAT};
@@ -56,7 +61,7 @@ use crate::balance::{
 use crate::design::Design;
 use crate::diagnostic::Problem;
 use crate::fabrication::{Orientation, PrintPlan};
-use crate::geometry::{MassProperties, PrintVolumes, TriMesh};
+use crate::geometry::{MassProperties, MeshLimits, PrintVolumes, ReadPolicy, TriMesh};
 use crate::spec::model::Project;
 use crate::spec::parse_project;
 
@@ -80,6 +85,29 @@ pub struct CompileOptions {
     /// Run the optimizer (for a project with `optimize`) with these options; `None` reads the
     /// solution file instead.
     pub optimize: Option<OptimizeOptions>,
+    /// The outputs will be written, as these options allow: their paths are checked before
+    /// anything is computed ([`check_output_paths`]). `None`: the command writes nothing.
+    pub writes: Option<WriteOptions>,
+    /// Let mesh files and glTF buffer files be read from any folder, not only from inside the
+    /// project's folder (`--read-outside`).
+    pub read_outside: bool,
+    /// How large each mesh may be (`--max-mesh-mb`, `--max-triangles`).
+    pub mesh_limits: MeshLimits,
+}
+
+impl CompileOptions {
+    /// Which files the meshes of the project at `project_path` may be read from, and how much:
+    /// inside the project's folder (symbolic links followed) unless [`Self::read_outside`].
+    pub fn read_policy(&self, project_path: &Path) -> ReadPolicy {
+        let folder = match project_path.parent() {
+            Some(folder) if !folder.as_os_str().is_empty() => folder,
+            _ => Path::new("."),
+        };
+        ReadPolicy {
+            within: (!self.read_outside).then(|| folder.to_path_buf()),
+            limits: self.mesh_limits,
+        }
+    }
 }
 
 /// A valid project and what its design does in every pose.
@@ -145,7 +173,18 @@ pub fn compile_with(
     let Some(mut project) = parsed.project else {
         return Err(Failure::Invalid(problems));
     };
-    let (meshes, mesh_problems) = load_components(&project, &mut workspace.meshes);
+    let policy = options.read_policy(project_path);
+    if let Some(writes) = options.writes {
+        problems.extend(check_output_paths(
+            &project,
+            source,
+            project_path,
+            options.out_dir.as_deref(),
+            writes,
+            &policy,
+        ));
+    }
+    let (meshes, mesh_problems) = load_components(&project, &mut workspace.meshes, &policy);
     problems.extend(mesh_problems);
     let (written, design_problems) = hand_placed_design(&project);
     problems.extend(design_problems);

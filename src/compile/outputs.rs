@@ -1,23 +1,75 @@
 //! Writing a compilation's outputs: the glTF file, the JSON report, the print files (an STL per
 //! component, the PrusaSlicer 3MF, the insertion sheet and its pictures) and, for an optimized
-//! design, the solution file, each replaced whole (atomically) only once all are encoded.
+//! design, the solution file. They are replaced as one set ([`crate::emit::replace_set`]): after
+//! a kill at any point, the next build (or `check`) finds either every old file or every new one.
+//! [`write_outputs`] is the one place a build writes its outputs.
 
+use std::io;
 use std::path::{Path, PathBuf};
 
+use super::output_paths::{input_files, same_file};
 use super::{
     bed_parts, output_path, print_settings, solution_text, Compilation, DesignSource, Report,
 };
 use crate::emit::print_files::{file_name, write_prusa_3mf, write_sheet, write_stl};
-use crate::emit::{write_atomic, write_glb};
+use crate::emit::{finish_interrupted, replace_set, write_glb};
+use crate::geometry::{MeshLimits, ReadPolicy};
 
-/// Encodes every output of `compilation` (the project read from `path`), then writes each one
-/// atomically where the project says, or into `out_dir`; returns the paths written, in order.
-/// Nothing is written when an output cannot be encoded.
+/// Encodes every output of `compilation` (the project read from `path`), then replaces them as
+/// one set where the project says, or in `out_dir`; returns the paths written, in order. Nothing
+/// is replaced when an output cannot be encoded, would overwrite a file the build read, or cannot
+/// be written (a read-only folder): the old outputs stay as they were.
 pub fn write_outputs(
     compilation: &Compilation,
     path: &Path,
     out_dir: Option<&Path>,
 ) -> Result<Vec<PathBuf>, String> {
+    let targets = encode_outputs(compilation, path, out_dir)?;
+    // Every buffer counts as an input here, wherever it is: refusing to overwrite one more file
+    // is safe.
+    let anywhere = ReadPolicy {
+        within: None,
+        limits: MeshLimits::default(),
+    };
+    let inputs = input_files(&compilation.project, path, &anywhere);
+    for (target, _) in &targets {
+        if let Some(input) = inputs.iter().find(|input| same_file(target, input)) {
+            return Err(format!(
+                "{} would overwrite {}, which the build reads",
+                target.display(),
+                input.display()
+            ));
+        }
+    }
+    replace_set(&journal_path(path, out_dir), &targets)
+        .map_err(|error| format!("cannot write the outputs: {error}"))?;
+    Ok(targets.into_iter().map(|(target, _)| target).collect())
+}
+
+/// Finishes replacing the outputs of a build of the project at `path` (into `out_dir`) that was
+/// killed while replacing them, so they are all the new ones; does nothing otherwise.
+pub fn finish_interrupted_outputs(path: &Path, out_dir: Option<&Path>) -> io::Result<()> {
+    finish_interrupted(&journal_path(path, out_dir))
+}
+
+/// The journal of the output set of the project at `path`: a hidden file in `out_dir`, else
+/// beside the project, named after the project file. It exists only while a build replaces its
+/// outputs, or after a kill then.
+pub fn journal_path(path: &Path, out_dir: Option<&Path>) -> PathBuf {
+    let folder = out_dir.map_or_else(|| crate::emit::atomic::folder_of(path), Path::to_path_buf);
+    let mut name = std::ffi::OsString::from(".");
+    name.push(path.file_name().unwrap_or_else(|| "project".as_ref()));
+    name.push(".ballast-outputs");
+    folder.join(name)
+}
+
+/// Every output of `compilation`, encoded, in the order they are replaced: the glTF file, the
+/// report, the print files, then the solution file.
+fn encode_outputs(
+    compilation: &Compilation,
+    path: &Path,
+    out_dir: Option<&Path>,
+) -> Result<Vec<(PathBuf, Vec<u8>)>, String> {
     let glb = write_glb(&compilation.scene())
         .map_err(|error| format!("cannot encode the glTF file: {error}"))?;
     let report = Report::new(compilation, path).to_json();
@@ -39,12 +91,7 @@ pub fn write_outputs(
         );
         targets.push((output_path(&output.solution, out_dir), text.into_bytes()));
     }
-    // Every output is encoded before any is written; each write replaces its file whole.
-    for (target, bytes) in &targets {
-        write_output(target, bytes)
-            .map_err(|error| format!("cannot write {}: {error}", target.display()))?;
-    }
-    Ok(targets.into_iter().map(|(target, _)| target).collect())
+    Ok(targets)
 }
 
 /// The print files of `compilation`, encoded: each component's STL in the `stl` folder, the
@@ -94,14 +141,4 @@ fn print_files(
         targets.push((pictures.join(name), svg.into_bytes()));
     }
     Ok(targets)
-}
-
-fn write_output(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    if let Some(folder) = path
-        .parent()
-        .filter(|folder| !folder.as_os_str().is_empty())
-    {
-        std::fs::create_dir_all(folder)?;
-    }
-    write_atomic(path, bytes)
 }

@@ -7,16 +7,19 @@ use base64::Engine;
 use gltf::Document;
 
 use super::load::LoadError;
+use super::load_files::{FileReader, ReadPolicy};
 
 /// Every buffer of `document`, in index order, each at least as long as it declares.
 ///
 /// `blob` is the binary chunk of a GLB file; `base` the folder relative URIs resolve against.
 /// Only `data:` URIs and relative paths are read: a URI with another scheme is an error, so
-/// loading a mesh never reaches the network.
+/// loading a mesh never reaches the network. Files are read through `reader`: only regular
+/// files inside its folder, within its budget.
 pub(crate) fn resolve_buffers(
     document: &Document,
     base: &Path,
     mut blob: Option<Vec<u8>>,
+    reader: &mut FileReader,
 ) -> Result<Vec<Vec<u8>>, LoadError> {
     let mut buffers = Vec::new();
     for buffer in document.buffers() {
@@ -27,7 +30,7 @@ pub(crate) fn resolve_buffers(
                     "buffer {index} refers to a missing GLB binary chunk"
                 ))
             })?,
-            gltf::buffer::Source::Uri(uri) => read_uri(uri, base, index)?,
+            gltf::buffer::Source::Uri(uri) => read_uri(uri, base, index, reader)?,
         };
         if data.len() < buffer.length() {
             return Err(malformed(format!(
@@ -41,7 +44,12 @@ pub(crate) fn resolve_buffers(
     Ok(buffers)
 }
 
-fn read_uri(uri: &str, base: &Path, index: usize) -> Result<Vec<u8>, LoadError> {
+fn read_uri(
+    uri: &str,
+    base: &Path,
+    index: usize,
+    reader: &mut FileReader,
+) -> Result<Vec<u8>, LoadError> {
     match BufferUri::parse(uri, base) {
         BufferUri::Data(data) => {
             let Some((_, payload)) = data.split_once(";base64,") else {
@@ -59,11 +67,11 @@ fn read_uri(uri: &str, base: &Path, index: usize) -> Result<Vec<u8>, LoadError> 
         BufferUri::NotUtf8 => Err(malformed(format!(
             "buffer {index} has a URI that is not UTF-8 once decoded"
         ))),
-        BufferUri::File(path) => std::fs::read(&path).map_err(|source| {
-            malformed(format!(
-                "cannot read buffer {index} from {}: {source}",
-                path.display()
-            ))
+        BufferUri::File(path) => reader.read(&path).map_err(|error| match error {
+            LoadError::NotFound { .. } | LoadError::Io { .. } => {
+                malformed(format!("cannot read buffer {index}: {error}"))
+            }
+            other => other,
         }),
     }
 }
@@ -74,9 +82,10 @@ fn read_uri(uri: &str, base: &Path, index: usize) -> Result<Vec<u8>, LoadError> 
 /// resolves it. `data:` URIs and other schemes name no file. Only the JSON is parsed, and only
 /// as far as the buffers' URIs; the buffers are not read.
 ///
-/// Empty for `.glb`, `.obj` and any other file, and when the file cannot be read or parsed (a
-/// build reports why).
-pub(crate) fn external_buffer_paths(path: &Path) -> Vec<PathBuf> {
+/// Only files `policy` allows are listed, and the glTF file itself is read only when the policy
+/// allows it. Empty for `.glb`, `.obj` and any other file, and when the file cannot be read or
+/// parsed (a build reports why).
+pub(crate) fn external_buffer_paths(path: &Path, policy: &ReadPolicy) -> Vec<PathBuf> {
     /// The part of a glTF document read here.
     #[derive(serde::Deserialize)]
     struct Buffers {
@@ -94,7 +103,8 @@ pub(crate) fn external_buffer_paths(path: &Path) -> Vec<PathBuf> {
     if !is_gltf {
         return Vec::new();
     }
-    let Ok(bytes) = std::fs::read(path) else {
+    let mut reader = FileReader::new(policy);
+    let Ok(bytes) = reader.read(path) else {
         return Vec::new();
     };
     let Ok(document) = serde_json::from_slice::<Buffers>(&bytes) else {
@@ -106,7 +116,7 @@ pub(crate) fn external_buffer_paths(path: &Path) -> Vec<PathBuf> {
         .iter()
         .filter_map(
             |buffer| match BufferUri::parse(buffer.uri.as_deref()?, base) {
-                BufferUri::File(path) => Some(path),
+                BufferUri::File(path) if reader.allows(&path) => Some(path),
                 _ => None,
             },
         )
@@ -169,10 +179,21 @@ fn malformed(message: String) -> LoadError {
 mod tests {
     use super::*;
 
+    fn anywhere() -> ReadPolicy {
+        ReadPolicy {
+            within: None,
+            ..ReadPolicy::within(Path::new("."))
+        }
+    }
+
     #[test]
     fn external_buffers_are_the_relative_uris_decoded() {
-        let folder = tempfile::tempdir().unwrap();
-        let gltf = folder.path().join("mesh.GLTF");
+        let outer = tempfile::tempdir().unwrap();
+        let folder = outer.path().join("meshes");
+        std::fs::create_dir(&folder).unwrap();
+        std::fs::write(folder.join("a b.bin"), [0; 4]).unwrap();
+        std::fs::write(outer.path().join("d.bin"), [0; 4]).unwrap();
+        let gltf = folder.join("mesh.GLTF");
         let json = r#"{"asset": {"version": "2.0"}, "buffers": [
             {"uri": "a%20b.bin", "byteLength": 4},
             {"uri": "data:application/octet-stream;base64,AAAAAA==", "byteLength": 4},
@@ -182,23 +203,39 @@ mod tests {
         ]}"#;
         std::fs::write(&gltf, json).unwrap();
         assert_eq!(
-            external_buffer_paths(&gltf),
-            vec![
-                folder.path().join("a b.bin"),
-                folder.path().join("../d.bin")
-            ]
+            external_buffer_paths(&gltf, &anywhere()),
+            vec![folder.join("a b.bin"), folder.join("../d.bin")]
         );
+        // Inside the folder only: `../d.bin` is left out.
+        assert_eq!(
+            external_buffer_paths(&gltf, &ReadPolicy::within(&folder)),
+            vec![folder.join("a b.bin")]
+        );
+    }
+
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn system_files_are_not_external_buffers() {
+        let folder = tempfile::tempdir().unwrap();
+        let gltf = folder.path().join("mesh.gltf");
+        let json = r#"{"asset": {"version": "2.0"}, "buffers": [
+            {"uri": "/dev/zero", "byteLength": 4},
+            {"uri": "/proc/self/environ", "byteLength": 4}
+        ]}"#;
+        std::fs::write(&gltf, json).unwrap();
+        assert!(external_buffer_paths(&gltf, &anywhere()).is_empty());
     }
 
     #[test]
     fn no_external_buffers_without_a_readable_gltf() {
         let folder = tempfile::tempdir().unwrap();
-        assert!(external_buffer_paths(&folder.path().join("missing.gltf")).is_empty());
+        let policy = ReadPolicy::within(folder.path());
+        assert!(external_buffer_paths(&folder.path().join("missing.gltf"), &policy).is_empty());
         let broken = folder.path().join("broken.gltf");
         std::fs::write(&broken, "{ not json").unwrap();
-        assert!(external_buffer_paths(&broken).is_empty());
+        assert!(external_buffer_paths(&broken, &policy).is_empty());
         let glb = folder.path().join("mesh.glb");
         std::fs::write(&glb, r#"{"buffers": [{"uri": "a.bin"}]}"#).unwrap();
-        assert!(external_buffer_paths(&glb).is_empty());
+        assert!(external_buffer_paths(&glb, &policy).is_empty());
     }
 }

@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 
 use nalgebra::Point3;
 
+use super::load_files::{FileReader, MeshLimits, ReadPolicy};
 use super::mesh::TriMesh;
 use super::{load_gltf, load_obj};
 
@@ -94,11 +95,43 @@ pub enum LoadError {
     /// The selected part has no triangles.
     #[error("the mesh has no triangles")]
     Empty,
-    /// A vertex coordinate is infinite or NaN.
+    /// A vertex coordinate is infinite or NaN (or too large for a 64-bit float).
     #[error("vertex {index} has a non-finite coordinate")]
     NonFinite {
         /// Index of the vertex in load order, before duplicate positions are merged.
         index: usize,
+    },
+    /// A file of the mesh (the mesh itself or a glTF buffer) is outside the folder the
+    /// [`ReadPolicy`] allows, once symbolic links are followed.
+    #[error("{path} is outside the folder {folder}")]
+    OutsideFolder {
+        /// The path as given (or as a buffer URI resolves).
+        path: PathBuf,
+        /// The allowed folder, canonical.
+        folder: PathBuf,
+    },
+    /// A file of the mesh is not a regular file: a folder, a device, a pipe, or a file of
+    /// `/proc`, `/sys` or `/dev`. Such files are never read.
+    #[error("{path} is not a regular file")]
+    NotAFile {
+        /// The path as given (or as a buffer URI resolves).
+        path: PathBuf,
+    },
+    /// Reading this file would take the mesh past [`MeshLimits::max_bytes`].
+    #[error("{path} would take the mesh past the limit of {limit} bytes")]
+    TooLarge {
+        /// The file that does not fit.
+        path: PathBuf,
+        /// The limit, in bytes.
+        limit: u64,
+    },
+    /// The mesh has more triangles (or vertices) than [`MeshLimits::max_triangles`] allows.
+    #[error("the mesh has more than {limit} {what}")]
+    TooMany {
+        /// `triangles` or `vertices`.
+        what: &'static str,
+        /// The limit that was passed.
+        limit: usize,
     },
 }
 
@@ -111,7 +144,28 @@ fn available_note(available: &[String]) -> String {
 }
 
 /// Loads a triangle mesh from an `.obj`, `.gltf` or `.glb` file (extension compared
-/// case-insensitively).
+/// case-insensitively), reading files only inside the mesh's own folder (see
+/// [`load_mesh_with`], whose mesh this is).
+pub fn load_mesh(path: &Path, selector: &MeshSelector) -> Result<TriMesh, LoadError> {
+    let folder = match path.parent() {
+        Some(folder) if !folder.as_os_str().is_empty() => folder,
+        _ => Path::new("."),
+    };
+    load_mesh_with(path, selector, &ReadPolicy::within(folder)).map(|loaded| loaded.mesh)
+}
+
+/// A loaded mesh and what the loader left out of it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LoadedMesh {
+    /// The mesh.
+    pub mesh: TriMesh,
+    /// The 1-based line numbers of the OBJ faces with fewer than three vertices, which are
+    /// not part of the mesh (empty for glTF).
+    pub short_faces: Vec<usize>,
+}
+
+/// Loads a triangle mesh from an `.obj`, `.gltf` or `.glb` file (extension compared
+/// case-insensitively), reading only the files `policy` allows and within its limits.
 ///
 /// The result is one [`TriMesh`] in the file's frame and units; for glTF, node transforms
 /// (world transforms, the product of the parents' local transforms) are applied. Vertices with
@@ -120,8 +174,13 @@ fn available_note(available: &[String]) -> String {
 /// equal. Nothing else is changed: degenerate or duplicate triangles are kept, for
 /// [`check_mesh`](super::check_mesh) to report.
 ///
-/// Never panics, whatever the file holds.
-pub fn load_mesh(path: &Path, selector: &MeshSelector) -> Result<TriMesh, LoadError> {
+/// Never panics, whatever the file holds, and never reads a file that is not regular, is
+/// outside `policy.within`, or does not fit in `policy.limits.max_bytes`.
+pub fn load_mesh_with(
+    path: &Path,
+    selector: &MeshSelector,
+    policy: &ReadPolicy,
+) -> Result<LoadedMesh, LoadError> {
     let extension = path
         .extension()
         .map(|e| e.to_string_lossy().into_owned())
@@ -131,26 +190,44 @@ pub fn load_mesh(path: &Path, selector: &MeshSelector) -> Result<TriMesh, LoadEr
         "gltf" | "glb" => Format::Gltf,
         _ => return Err(LoadError::UnknownFormat { extension }),
     };
-    let bytes = std::fs::read(path).map_err(|source| {
-        if source.kind() == std::io::ErrorKind::NotFound {
-            LoadError::NotFound {
-                path: path.to_path_buf(),
-            }
-        } else {
-            LoadError::Io {
-                path: path.to_path_buf(),
-                source,
-            }
-        }
-    })?;
-    let raw = match format {
-        Format::Obj => load_obj::parse_obj(&bytes, selector)?,
+    let mut reader = FileReader::new(policy);
+    let bytes = reader.read(path)?;
+    let (raw, short_faces) = match format {
+        Format::Obj => load_obj::parse_obj(&bytes, selector, &policy.limits)?,
         Format::Gltf => {
             let base = path.parent().unwrap_or_else(|| Path::new("."));
-            load_gltf::parse_gltf(&bytes, base, selector)?
+            (
+                load_gltf::parse_gltf(&bytes, base, selector, &mut reader)?,
+                Vec::new(),
+            )
         }
     };
-    finish(raw)
+    Ok(LoadedMesh {
+        mesh: finish(raw)?,
+        short_faces,
+    })
+}
+
+/// Fails with [`LoadError::TooMany`] when `count` triangles pass `limits`.
+pub(crate) fn check_triangles(count: usize, limits: &MeshLimits) -> Result<(), LoadError> {
+    if count > limits.max_triangles {
+        return Err(LoadError::TooMany {
+            what: "triangles",
+            limit: limits.max_triangles,
+        });
+    }
+    Ok(())
+}
+
+/// Fails with [`LoadError::TooMany`] when `count` vertices pass `limits`.
+pub(crate) fn check_vertices(count: usize, limits: &MeshLimits) -> Result<(), LoadError> {
+    if count > limits.max_vertices() {
+        return Err(LoadError::TooMany {
+            what: "vertices",
+            limit: limits.max_vertices(),
+        });
+    }
+    Ok(())
 }
 
 enum Format {

@@ -13,10 +13,8 @@ use gltf::{Accessor, Document, Semantic};
 use nalgebra::{Matrix4, Point3, Quaternion, Translation3, UnitQuaternion};
 
 use super::gltf_buffers::resolve_buffers;
-use super::load::{index_u32, LoadError, MeshSelector, RawMesh};
-
-/// Largest element count accepted for an accessor without a buffer view (all zeros).
-const MAX_ZERO_FILLED: usize = 1 << 24;
+use super::load::{check_triangles, check_vertices, index_u32, LoadError, MeshSelector, RawMesh};
+use super::load_files::{FileReader, MeshLimits};
 
 fn err(message: impl Into<String>) -> LoadError {
     LoadError::Gltf {
@@ -25,7 +23,9 @@ fn err(message: impl Into<String>) -> LoadError {
 }
 
 /// Parses a glTF or GLB file. `base` is the folder that relative buffer URIs are resolved
-/// against.
+/// against; `reader` reads them, within its policy and budget. Every primitive instance counts
+/// against the triangle limit (at least one each), and its vertex and index counts are checked
+/// against the limits before its data is decoded.
 ///
 /// - `Whole`: every mesh instance of the default scene (or the first scene; or, without scenes,
 ///   of every root node), each in its node's world frame.
@@ -36,11 +36,15 @@ pub(crate) fn parse_gltf(
     bytes: &[u8],
     base: &Path,
     selector: &MeshSelector,
+    reader: &mut FileReader,
 ) -> Result<RawMesh, LoadError> {
     check_glb_header(bytes)?;
     let gltf::Gltf { document, blob } =
-        gltf::Gltf::from_slice(bytes).map_err(|e| err(e.to_string()))?;
-    let buffers = resolve_buffers(&document, base, blob)?;
+        gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| err(e.to_string()))?;
+    check_position_indices(document.as_json())?;
+    let document = Document::from_json(document.into_json()).map_err(|e| err(e.to_string()))?;
+    let limits = *reader.limits();
+    let buffers = resolve_buffers(&document, base, blob, reader)?;
     let hierarchy = Hierarchy::new(&document)?;
 
     let instances = match selector.part_name() {
@@ -60,15 +64,38 @@ pub(crate) fn parse_gltf(
         positions: Vec::new(),
         triangles: Vec::new(),
     };
+    let mut work = 0usize;
     for (mesh_index, transform) in instances {
         let Some(mesh) = document.meshes().nth(mesh_index) else {
             return Err(err(format!("mesh {mesh_index} does not exist")));
         };
         for primitive in mesh.primitives() {
-            append_primitive(&primitive, &transform, &buffers, &mut raw)?;
+            work += 1;
+            check_triangles(work, &limits)?;
+            append_primitive(&primitive, &transform, &buffers, &limits, &mut raw)?;
+            work = work.max(raw.triangles.len());
         }
     }
     Ok(raw)
+}
+
+/// gltf-json's validation indexes the accessors with each primitive's `POSITION` index before
+/// checking it (and panics when it is out of range): check those indices first.
+fn check_position_indices(root: &gltf::json::Root) -> Result<(), LoadError> {
+    let positions = gltf::json::validation::Checked::Valid(gltf::json::mesh::Semantic::Positions);
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            if let Some(index) = primitive.attributes.get(&positions) {
+                if index.value() >= root.accessors.len() {
+                    return Err(err(format!(
+                        "the POSITION of primitive {p} of mesh {m} is accessor {}, which does not exist",
+                        index.value()
+                    )));
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 /// `gltf::binary::Glb::from_slice` subtracts the header size from the declared length without
@@ -257,6 +284,7 @@ fn append_primitive(
     primitive: &gltf::Primitive,
     transform: &Matrix4<f64>,
     buffers: &[Vec<u8>],
+    limits: &MeshLimits,
     raw: &mut RawMesh,
 ) -> Result<(), LoadError> {
     if primitive.mode() != Mode::Triangles {
@@ -278,6 +306,11 @@ fn append_primitive(
     }
     let too_many = || err("too many vertices for 32-bit indices");
     let offset = index_u32(raw.positions.len(), too_many)?;
+    check_vertices(raw.positions.len().saturating_add(accessor.count()), limits)?;
+    let index_count = primitive
+        .indices()
+        .map_or(accessor.count(), |acc| acc.count());
+    check_triangles(raw.triangles.len().saturating_add(index_count / 3), limits)?;
     let points = elements(&accessor, buffers, 12)?;
     let count = index_u32(points.len(), too_many)?;
     offset.checked_add(count).ok_or_else(too_many)?;
@@ -361,13 +394,8 @@ fn elements<'b>(
                 accessor.index(),
             )?
         }
-        None if count <= MAX_ZERO_FILLED => vec![&ZEROS[..size]; count],
-        None => {
-            return Err(err(format!(
-                "accessor {} has no data but {count} elements",
-                accessor.index()
-            )))
-        }
+        // All zeros; the caller has checked `count` against the limits.
+        None => vec![&ZEROS[..size]; count],
     };
     if let Some(sparse) = accessor.sparse() {
         let n = sparse.count();

@@ -5,7 +5,8 @@ use std::io::Cursor;
 
 use nalgebra::Point3;
 
-use super::load::{index_u32, LoadError, MeshSelector, RawMesh};
+use super::load::{check_triangles, check_vertices, index_u32, LoadError, MeshSelector, RawMesh};
+use super::load_files::MeshLimits;
 
 /// Parses OBJ text into positions and triangles (polygons fanned into triangles).
 ///
@@ -14,14 +15,25 @@ use super::load::{index_u32, LoadError, MeshSelector, RawMesh};
 /// not fail the load. Material libraries are never read. `p` and `l` elements are ignored.
 ///
 /// `Whole` merges every object; a name selector merges every object (or group) with that name.
-pub(crate) fn parse_obj(bytes: &[u8], selector: &MeshSelector) -> Result<RawMesh, LoadError> {
+/// A leading byte-order mark is skipped. Faces with fewer than three vertices are left out; their
+/// 1-based line numbers are returned beside the mesh. The vertex and triangle counts are checked
+/// against `limits` before the text is parsed.
+pub(crate) fn parse_obj(
+    bytes: &[u8],
+    selector: &MeshSelector,
+    limits: &MeshLimits,
+) -> Result<(RawMesh, Vec<usize>), LoadError> {
     let text = std::str::from_utf8(bytes).map_err(|e| LoadError::Obj {
         message: format!(
             "not UTF-8 text (invalid byte at offset {})",
             e.valid_up_to()
         ),
     })?;
-    let cleaned = positions_only(text)?;
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let Cleaned {
+        text: cleaned,
+        short_faces,
+    } = positions_only(text, limits)?;
     let options = tobj::LoadOptions {
         triangulate: true,
         single_index: false,
@@ -78,20 +90,38 @@ pub(crate) fn parse_obj(bytes: &[u8], selector: &MeshSelector) -> Result<RawMesh
                 .push([t[0] + offset, t[1] + offset, t[2] + offset]);
         }
     }
-    Ok(raw)
+    Ok((raw, short_faces))
+}
+
+/// OBJ text cut down for `tobj`, and the faces left out.
+struct Cleaned {
+    text: String,
+    /// 1-based line numbers of the faces with fewer than three vertices.
+    short_faces: Vec<usize>,
 }
 
 /// Rewrites OBJ text so that `tobj` sees positions, faces and object/group names only: `vt` and
-/// `vn` lines are dropped and each face corner `v/vt/vn` is cut down to `v`.
-fn positions_only(text: &str) -> Result<String, LoadError> {
+/// `vn` lines are dropped, each face corner `v/vt/vn` is cut down to `v`, and faces with fewer than
+/// three corners are dropped (and listed). Fails when the vertices or the triangles the faces fan
+/// into pass `limits`.
+fn positions_only(text: &str, limits: &MeshLimits) -> Result<Cleaned, LoadError> {
     let mut out = String::with_capacity(text.len());
+    let mut short_faces = Vec::new();
+    let (mut vertices, mut triangles) = (0usize, 0usize);
     for (number, line) in text.lines().enumerate() {
         let mut words = line.split_whitespace();
         match words.next() {
             Some("vt") | Some("vn") | Some("mtllib") | Some("usemtl") => continue,
             Some("f") => {
+                let corners: Vec<&str> = words.collect();
+                if corners.len() < 3 {
+                    short_faces.push(number + 1);
+                    continue;
+                }
+                triangles += corners.len() - 2;
+                check_triangles(triangles, limits)?;
                 out.push('f');
-                for corner in words {
+                for corner in corners {
                     let v = corner.split('/').next().unwrap_or_default();
                     if v.is_empty() {
                         return Err(LoadError::Obj {
@@ -105,11 +135,19 @@ fn positions_only(text: &str) -> Result<String, LoadError> {
                     out.push_str(v);
                 }
             }
+            Some("v") => {
+                vertices += 1;
+                check_vertices(vertices, limits)?;
+                out.push_str(line);
+            }
             _ => out.push_str(line),
         }
         out.push('\n');
     }
-    Ok(out)
+    Ok(Cleaned {
+        text: out,
+        short_faces,
+    })
 }
 
 #[cfg(test)]
@@ -117,7 +155,7 @@ mod tests {
     use super::*;
 
     fn parse(text: &str, selector: &MeshSelector) -> Result<RawMesh, LoadError> {
-        parse_obj(text.as_bytes(), selector)
+        parse_obj(text.as_bytes(), selector, &MeshLimits::default()).map(|(raw, _)| raw)
     }
 
     const TWO_OBJECTS: &str = "\
@@ -176,7 +214,6 @@ f -4 -3 -2 -1
             "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999999999999999\n",
             "v 0 0\n",
             "v 0 0 0 0\n",
-            "f\nf 1\n",
         ] {
             assert!(parse(text, &MeshSelector::Whole).is_err(), "{text:?}");
         }
@@ -196,7 +233,12 @@ f -4 -3 -2 -1
 
     #[test]
     fn garbage_bytes_are_errors() {
-        assert!(parse_obj(&[0xff, 0xfe, 0x00, 0x80], &MeshSelector::Whole).is_err());
+        assert!(parse_obj(
+            &[0xff, 0xfe, 0x00, 0x80],
+            &MeshSelector::Whole,
+            &MeshLimits::default()
+        )
+        .is_err());
     }
 
     #[test]
@@ -206,5 +248,53 @@ f -4 -3 -2 -1
             parse(text, &MeshSelector::Whole).unwrap().triangles.len(),
             1
         );
+    }
+
+    #[test]
+    fn a_byte_order_mark_is_skipped() {
+        let raw = parse(
+            "\u{feff}v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+            &MeshSelector::Whole,
+        )
+        .unwrap();
+        assert_eq!(raw.positions.len(), 3);
+        assert_eq!(raw.triangles, vec![[0, 1, 2]]);
+    }
+
+    #[test]
+    fn short_faces_are_left_out_and_listed() {
+        let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\nf 1 2 3\nf 3\nf\n";
+        let (raw, short) = parse_obj(
+            text.as_bytes(),
+            &MeshSelector::Whole,
+            &MeshLimits::default(),
+        )
+        .unwrap();
+        assert_eq!(raw.triangles, vec![[0, 1, 2]]);
+        assert_eq!(short, vec![4, 6, 7]);
+    }
+
+    #[test]
+    fn counts_past_the_limits_are_refused_before_parsing() {
+        let limits = MeshLimits {
+            max_triangles: 2,
+            ..MeshLimits::default()
+        };
+        let quads = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\nf 1 2 3 4\n";
+        assert!(matches!(
+            parse_obj(quads.as_bytes(), &MeshSelector::Whole, &limits),
+            Err(LoadError::TooMany {
+                what: "triangles",
+                limit: 2
+            })
+        ));
+        let points = "v 0 0 0\n".repeat(7);
+        assert!(matches!(
+            parse_obj(points.as_bytes(), &MeshSelector::Whole, &limits),
+            Err(LoadError::TooMany {
+                what: "vertices",
+                limit: 6
+            })
+        ));
     }
 }

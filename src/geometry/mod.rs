@@ -3,7 +3,10 @@
 //! - [`TriMesh`]: positions and counter-clockwise (seen from outside) triangles in one frame.
 //! - [`load_mesh`]: `.obj`, `.gltf` and `.glb` files, whole or one named part; the external
 //!   buffer files a `.gltf` file reads, without loading them (`external_buffer_paths`).
-//! - [`check_mesh`]: holes, non-manifold and misoriented edges, degenerate triangles, inversion.
+//!   [`load_mesh_with`] reads only what a [`ReadPolicy`] allows: regular files, inside a
+//!   folder, within [`MeshLimits`].
+//! - [`check_mesh`]: holes, non-manifold and misoriented edges, degenerate triangles, inversion,
+//!   crossing triangles and misnested shells (a winding number other than 0 or 1).
 //! - [`convex_hull`]: the exact convex hull of points, its coplanar triangles merged into
 //!   convex polygon facets with outward normals.
 //! - [`mass_properties`]: volume, centroid and second moment of the enclosed solid.
@@ -19,12 +22,14 @@ mod distance;
 mod field;
 mod gltf_buffers;
 mod load;
+mod load_files;
 mod load_gltf;
 mod load_obj;
 mod mass;
 mod mesh;
 pub(crate) mod polygon;
 mod print;
+mod shells;
 mod skeleton;
 mod tree;
 mod validate;
@@ -37,10 +42,13 @@ pub use distance::{
 };
 pub use field::DistanceGrid;
 pub(crate) use gltf_buffers::external_buffer_paths;
-pub use load::{load_mesh, LoadError, MeshSelector};
+pub use load::{load_mesh, load_mesh_with, LoadError, LoadedMesh, MeshSelector};
+pub(crate) use load_files::FileReader;
+pub use load_files::{MeshLimits, ReadPolicy, DEFAULT_MAX_MESH_BYTES, DEFAULT_MAX_TRIANGLES};
 pub use mass::{mass_properties, MassProperties};
 pub use mesh::TriMesh;
 pub use print::{print_volumes, PrintVolumes, Region, Slicing};
+pub use shells::ShellFault;
 pub use skeleton::{Skeleton, SkeletonSegment};
 pub use tree::TriangleTree;
 pub use validate::{check_mesh, MeshCheck};

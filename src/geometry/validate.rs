@@ -4,6 +4,7 @@ use std::collections::HashMap;
 
 use super::mass;
 use super::mesh::TriMesh;
+use super::shells::{check_shells, ShellFault};
 
 /// What is wrong with a mesh as a printable solid. Edges are vertex index pairs `[min, max]`,
 /// listed in ascending order.
@@ -22,6 +23,16 @@ pub struct MeshCheck {
     pub degenerate_triangles: Vec<u32>,
     /// Signed volume of the enclosed solid (units³); negative means inside out.
     pub signed_volume: f64,
+    /// Pairs of triangles whose surfaces cross (an edge of one passes through the other from one
+    /// side to the other), ascending: the mesh intersects itself, or two of its shells overlap. Looked for
+    /// only in a closed, oriented mesh without degenerate triangles.
+    pub crossing_triangles: Vec<[u32; 2]>,
+    /// Shells beside which the winding number is not 0 or 1: a shell inside another that faces
+    /// the same way, or an inward shell inside nothing. Looked for only when no triangles cross.
+    pub shell_faults: Vec<ShellFault>,
+    /// The crossing and shell checks stopped at their work bound before the end (a mesh built to
+    /// defeat them); what they found so far is listed.
+    pub shells_unchecked: bool,
 }
 
 impl MeshCheck {
@@ -40,14 +51,22 @@ impl MeshCheck {
     pub fn is_inverted(&self) -> bool {
         self.signed_volume < 0.0
     }
+
+    /// The signed volume is the volume of one solid: no triangles cross and every shell is
+    /// nested right (the winding number is 0 or 1 everywhere off the surface).
+    pub fn is_solid(&self) -> bool {
+        self.crossing_triangles.is_empty() && self.shell_faults.is_empty()
+    }
 }
 
 /// A triangle counts as zero-area when twice its area is at most this fraction of its longest
 /// edge squared (its smallest angle is below about 1e-12 radians).
 const DEGENERATE_RATIO: f64 = 1e-12;
 
-/// Checks the topology and orientation of `mesh`. Deterministic: edge lists are sorted
-/// ascending, triangle lists are in mesh order. Never panics, even on out-of-range indices.
+/// Checks the topology and orientation of `mesh`, and, when it is closed, oriented and without
+/// degenerate triangles, that its surface does not cross itself and its shells nest right.
+/// Deterministic: edge and pair lists are sorted ascending, triangle lists are in mesh order.
+/// Never panics, even on out-of-range indices.
 pub fn check_mesh(mesh: &TriMesh) -> MeshCheck {
     let n = mesh.positions.len();
     let mut degenerate_triangles = Vec::new();
@@ -96,5 +115,11 @@ pub fn check_mesh(mesh: &TriMesh) -> MeshCheck {
     check.boundary_edges.sort_unstable();
     check.non_manifold_edges.sort_unstable();
     check.misoriented_edges.sort_unstable();
+    if check.is_closed() && check.is_oriented() && check.degenerate_triangles.is_empty() {
+        let shells = check_shells(mesh);
+        check.crossing_triangles = shells.crossings;
+        check.shell_faults = shells.faults;
+        check.shells_unchecked = shells.incomplete;
+    }
     check
 }

@@ -41,13 +41,6 @@ pub fn content_hash(mesh: &TriMesh) -> u64 {
     hasher.finish()
 }
 
-/// The 64-bit FNV-1a hash of `bytes` (the disk cache's checksum).
-pub(super) fn fnv1a(bytes: &[u8]) -> u64 {
-    let mut hasher = Fnv64::default();
-    hasher.write(bytes);
-    hasher.finish()
-}
-
 /// 64-bit FNV-1a: stable across runs and Rust versions, unlike the standard library's hasher.
 struct Fnv64(u64);
 

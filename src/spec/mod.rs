@@ -11,7 +11,7 @@ mod parse;
 mod resolve;
 mod solution;
 pub mod stock;
-mod syntax;
+pub(crate) mod syntax;
 pub mod transform;
 mod tree;
 mod value;

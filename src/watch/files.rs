@@ -7,22 +7,30 @@ use std::path::{Component, Path, PathBuf};
 use notify::event::{AccessKind, AccessMode};
 use notify::EventKind;
 
-use crate::geometry::external_buffer_paths;
+use crate::geometry::{external_buffer_paths, FileReader, ReadPolicy};
 use crate::spec::model::Project;
 
 /// The files a build of the project at `project_path` reads: the project file itself, every
 /// component's mesh and, for a `.gltf` mesh, the external files its buffers are read from (only
-/// the mesh itself when it cannot be read), each as a [`watch_key`]. Sorted and without
-/// duplicates.
-pub fn referenced_files(project_path: &Path, project: Option<&Project>) -> BTreeSet<PathBuf> {
+/// the mesh itself when it cannot be read), each as a [`watch_key`]. Only files `policy` lets a
+/// build read are listed (a mesh that does not exist yet is). Sorted and without duplicates.
+pub fn referenced_files(
+    project_path: &Path,
+    project: Option<&Project>,
+    policy: &ReadPolicy,
+) -> BTreeSet<PathBuf> {
     let mut files = BTreeSet::new();
     files.insert(watch_key(project_path));
+    let reader = FileReader::new(policy);
     if let Some(project) = project {
         for component in &project.components {
             let mesh = &component.mesh.value;
+            if mesh.exists() && !reader.allows(mesh) {
+                continue;
+            }
             files.insert(watch_key(mesh));
             files.extend(
-                external_buffer_paths(mesh)
+                external_buffer_paths(mesh, policy)
                     .iter()
                     .map(|path| watch_key(path)),
             );
@@ -132,7 +140,9 @@ mod tests {
         let project = crate::spec::parse_project(source, &project_path)
             .project
             .unwrap();
-        let files: Vec<PathBuf> = referenced_files(&project_path, Some(&project))
+        std::fs::write(meshes.join("a.bin"), [0; 4]).unwrap();
+        let policy = ReadPolicy::within(folder.path());
+        let files: Vec<PathBuf> = referenced_files(&project_path, Some(&project), &policy)
             .into_iter()
             .collect();
         let root = folder.path().canonicalize().unwrap();
@@ -155,7 +165,8 @@ mod tests {
             .project
             .unwrap();
         let root = folder.path().canonicalize().unwrap();
-        let files: Vec<PathBuf> = referenced_files(&project_path, Some(&project))
+        let policy = ReadPolicy::within(folder.path());
+        let files: Vec<PathBuf> = referenced_files(&project_path, Some(&project), &policy)
             .into_iter()
             .collect();
         assert_eq!(files, vec![root.join("m.gltf"), root.join("model.kdl")]);

@@ -1,43 +1,26 @@
 //! The optimizer's precomputation kept on disk between processes: each mesh's distance grid and
 //! skeleton, so a fresh `ballast build` of an unchanged mesh samples nothing (`docs/cache.md`).
 //!
-//! One file per mesh and grid spacing, in `<root>/v<FORMAT>/` ([`DiskCache::FORMAT`]), named
-//! `<content hash>-<cell bits>.bin` (16 hexadecimal digits each). The file is little-endian:
+//! One file per mesh and grid spacing, in `<root>/ballast-v<FORMAT>/` ([`DiskCache::FORMAT`]),
+//! named `<BLAKE3 of the mesh>-<cell bits>.bin` (64 and 16 hexadecimal digits), laid out as
+//! [`format`] says and sealed with a BLAKE3 hash keyed with the cache's secret ([`secret`]).
 //!
-//! | field | bytes |
-//! | --- | --- |
-//! | magic `BALLASTC` | 8 |
-//! | [`DiskCache::FORMAT`] | u32 |
-//! | crate version, length-prefixed | u32 + text |
-//! | key: content hash, cell bits, vertex count, triangle count | 4 × u64 |
-//! | grid: origin (3 × f64 bits), cell (f64 bits), dims (3 × u64), every value's bits | … |
-//! | skeleton: 0 (none) or 1 (stored) | u8 |
-//! | if stored: fallback, 0 or 1 | u8 |
-//! | if stored: segment count, then each segment's `from`, `to`, radius | u64 + 7 × u64 each |
-//! | FNV-1a 64 of every byte before it | u64 |
-//!
-//! Reading checks all of it; anything unexpected is a miss, and the file is removed. The cache
-//! never fails a build: every IO error is a miss or a store not made.
+//! Reading checks all of it; anything unexpected (another key, another version, a damaged or
+//! forged file) is a miss, and the file is removed. The cache never fails a build: every IO
+//! error is a miss or a store not made. It only ever removes its own files ([`evict`]).
+
+mod evict;
+mod format;
+mod secret;
 
 use std::fs::{self, File};
 use std::io;
 use std::path::{Path, PathBuf};
-use std::time::{Duration, SystemTime};
+use std::time::SystemTime;
 
-use nalgebra::Point3;
-
-use super::grids::{content_hash, fnv1a};
+use self::format::{decode, encode, Key};
 use crate::emit::write_atomic;
-use crate::geometry::{DistanceGrid, Skeleton, SkeletonSegment, TriMesh};
-
-/// The first bytes of every cache file.
-const MAGIC: &[u8; 8] = b"BALLASTC";
-
-/// The crate version written into every file: another version's files are misses.
-const VERSION: &str = env!("CARGO_PKG_VERSION");
-
-/// Temporary files left by an interrupted write are removed once this old.
-const STALE_TEMP: Duration = Duration::from_secs(3600);
+use crate::geometry::{DistanceGrid, Skeleton, TriMesh};
 
 /// Distance grids and skeletons stored in a folder, shared by every ballast process that uses it.
 /// Least recently used files are removed when the folder grows past its bound.
@@ -50,8 +33,8 @@ pub struct DiskCache {
 impl DiskCache {
     /// The file format and the meaning of its content. Bump it whenever [`DistanceGrid::new`] or
     /// [`Skeleton::from_grid`] would give different values for the same input, so files written
-    /// before are no longer read (and their folder is removed).
-    pub const FORMAT: u32 = 1;
+    /// before are no longer read (and are removed).
+    pub const FORMAT: u32 = format::FORMAT;
 
     /// The default bound on the files of one format folder: 512 MB.
     pub const DEFAULT_LIMIT: u64 = 512 * 1024 * 1024;
@@ -89,12 +72,14 @@ impl DiskCache {
 
     /// The grid (and the skeleton, when one was stored) of `mesh` at node spacing `cell`, or
     /// `None` when the cache does not hold them. A file that cannot be read back exactly (another
-    /// version, damaged, truncated) is a miss and is removed. A hit marks the file as used now.
+    /// version, damaged, truncated, not sealed with this cache's secret) is a miss and is
+    /// removed. A hit marks the file as used now.
     pub fn load(&self, mesh: &TriMesh, cell: f64) -> Option<(DistanceGrid, Option<Skeleton>)> {
         let key = Key::of(mesh, cell);
         let path = self.path(&key);
+        let secret = secret::read_secret(&self.root)?;
         let bytes = fs::read(&path).ok()?;
-        match decode(&bytes, &key) {
+        match decode(&bytes, &key, &secret) {
             Some(found) => {
                 // Only for eviction: a file that cannot be touched is still a hit.
                 let _ = File::options()
@@ -122,74 +107,26 @@ impl DiskCache {
         skeleton: Option<&Skeleton>,
     ) -> io::Result<()> {
         let key = Key::of(mesh, cell);
-        write_atomic(&self.path(&key), &encode(&key, grid, skeleton))?;
-        self.evict();
+        fs::create_dir_all(&self.root)?;
+        let secret = secret::secret(&self.root).ok_or_else(|| {
+            io::Error::other(format!(
+                "no usable key in {} (made by this user, readable by no one else)",
+                self.root.display()
+            ))
+        })?;
+        write_atomic(&self.path(&key), &encode(&key, &secret, grid, skeleton))?;
+        evict::evict(&self.root, self.limit);
         Ok(())
     }
 
     /// The folder of this format's files.
     fn folder(&self) -> PathBuf {
-        self.root.join(format!("v{}", DiskCache::FORMAT))
+        self.root.join(evict::format_folder(DiskCache::FORMAT))
     }
 
     /// The file of the mesh and spacing `key` is about.
     fn path(&self, key: &Key) -> PathBuf {
-        self.folder()
-            .join(format!("{:016x}-{:016x}.bin", key.hash, key.cell))
-    }
-
-    /// Removes the folders of other formats, temporary files left by interrupted writes, and the
-    /// least recently used files until the rest fit the bound. Errors are ignored.
-    fn evict(&self) {
-        if let Ok(entries) = fs::read_dir(&self.root) {
-            for entry in entries.flatten() {
-                let name = entry.file_name();
-                let Some(name) = name.to_str() else { continue };
-                let other_format = name.strip_prefix('v').is_some_and(|digits| {
-                    !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit())
-                }) && name != format!("v{}", DiskCache::FORMAT);
-                if other_format && entry.file_type().is_ok_and(|t| t.is_dir()) {
-                    let _ = fs::remove_dir_all(entry.path());
-                }
-            }
-        }
-        let Ok(entries) = fs::read_dir(self.folder()) else {
-            return;
-        };
-        let now = SystemTime::now();
-        let mut files = Vec::new();
-        for entry in entries.flatten() {
-            let Ok(metadata) = entry.metadata() else {
-                continue;
-            };
-            if !metadata.is_file() {
-                continue;
-            }
-            let name = entry.file_name();
-            let name = name.to_string_lossy();
-            let modified = metadata.modified().unwrap_or(SystemTime::UNIX_EPOCH);
-            if name.starts_with('.') && name.ends_with(".tmp") {
-                let age = now.duration_since(modified).unwrap_or_default();
-                if age > STALE_TEMP {
-                    let _ = fs::remove_file(entry.path());
-                }
-            } else if name.ends_with(".bin") {
-                files.push((modified, entry.path(), metadata.len()));
-            }
-        }
-        let mut total: u64 = files.iter().map(|(_, _, len)| len).sum();
-        if total <= self.limit {
-            return;
-        }
-        files.sort();
-        for (_, path, len) in files {
-            if total <= self.limit {
-                break;
-            }
-            if fs::remove_file(&path).is_ok() {
-                total -= len;
-            }
-        }
+        self.folder().join(key.file_name())
     }
 }
 
@@ -211,184 +148,15 @@ fn location_from(var: impl Fn(&str) -> Option<PathBuf>) -> Option<PathBuf> {
         .map(|base| base.join("ballast"))
 }
 
-/// What a file must be about: the mesh (its content hash and sizes) and the grid spacing.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-struct Key {
-    hash: u64,
-    cell: u64,
-    vertices: u64,
-    triangles: u64,
-}
-
-impl Key {
-    fn of(mesh: &TriMesh, cell: f64) -> Key {
-        Key {
-            hash: content_hash(mesh),
-            cell: cell.to_bits(),
-            vertices: mesh.positions.len() as u64,
-            triangles: mesh.triangles.len() as u64,
-        }
-    }
-}
-
-/// The bytes of a cache file.
-fn encode(key: &Key, grid: &DistanceGrid, skeleton: Option<&Skeleton>) -> Vec<u8> {
-    let mut out = Vec::with_capacity(128 + 8 * grid.values().len());
-    out.extend_from_slice(MAGIC);
-    out.extend_from_slice(&DiskCache::FORMAT.to_le_bytes());
-    out.extend_from_slice(&(VERSION.len() as u32).to_le_bytes());
-    out.extend_from_slice(VERSION.as_bytes());
-    for word in [key.hash, key.cell, key.vertices, key.triangles] {
-        put_u64(&mut out, word);
-    }
-    put_point(&mut out, &grid.origin());
-    put_f64(&mut out, grid.cell());
-    for n in grid.dims() {
-        put_u64(&mut out, n as u64);
-    }
-    for &value in grid.values() {
-        put_f64(&mut out, value);
-    }
-    match skeleton {
-        None => out.push(0),
-        Some(skeleton) => {
-            out.push(1);
-            out.push(u8::from(skeleton.fallback));
-            put_u64(&mut out, skeleton.segments.len() as u64);
-            for segment in &skeleton.segments {
-                put_point(&mut out, &segment.from);
-                put_point(&mut out, &segment.to);
-                put_f64(&mut out, segment.radius);
-            }
-        }
-    }
-    let checksum = fnv1a(&out);
-    put_u64(&mut out, checksum);
-    out
-}
-
-fn put_u64(out: &mut Vec<u8>, word: u64) {
-    out.extend_from_slice(&word.to_le_bytes());
-}
-
-fn put_f64(out: &mut Vec<u8>, value: f64) {
-    put_u64(out, value.to_bits());
-}
-
-fn put_point(out: &mut Vec<u8>, point: &Point3<f64>) {
-    for &c in point.iter() {
-        put_f64(out, c);
-    }
-}
-
-/// The grid and skeleton in `bytes`, or `None` unless every check passes and the file is about
-/// `key`.
-fn decode(bytes: &[u8], key: &Key) -> Option<(DistanceGrid, Option<Skeleton>)> {
-    let (body, checksum) = bytes.split_at_checked(bytes.len().checked_sub(8)?)?;
-    if fnv1a(body) != u64::from_le_bytes(checksum.try_into().ok()?) {
-        return None;
-    }
-    let mut reader = Reader { bytes: body };
-    if reader.take(MAGIC.len())? != MAGIC || reader.u32()? != DiskCache::FORMAT {
-        return None;
-    }
-    let version_len = reader.u32()? as usize;
-    if reader.take(version_len)? != VERSION.as_bytes() {
-        return None;
-    }
-    let found = Key {
-        hash: reader.u64()?,
-        cell: reader.u64()?,
-        vertices: reader.u64()?,
-        triangles: reader.u64()?,
-    };
-    if found != *key {
-        return None;
-    }
-    let origin = reader.point()?;
-    let cell = reader.f64()?;
-    if cell.to_bits() != key.cell {
-        return None;
-    }
-    let mut dims = [0usize; 3];
-    for n in &mut dims {
-        *n = usize::try_from(reader.u64()?).ok()?;
-    }
-    let count = dims
-        .iter()
-        .try_fold(1usize, |count, &n| count.checked_mul(n))?;
-    // Checked against what is left before anything is allocated.
-    if count.checked_mul(8)? > reader.bytes.len() {
-        return None;
-    }
-    let values = (0..count)
-        .map(|_| reader.f64())
-        .collect::<Option<Vec<f64>>>()?;
-    let grid = DistanceGrid::from_parts(origin, cell, dims, values)?;
-    let skeleton = match reader.u8()? {
-        0 => None,
-        1 => {
-            let fallback = match reader.u8()? {
-                0 => false,
-                1 => true,
-                _ => return None,
-            };
-            let segments = usize::try_from(reader.u64()?).ok()?;
-            if segments.checked_mul(7 * 8)? != reader.bytes.len() {
-                return None;
-            }
-            let segments = (0..segments)
-                .map(|_| {
-                    Some(SkeletonSegment {
-                        from: reader.point()?,
-                        to: reader.point()?,
-                        radius: reader.f64()?,
-                    })
-                })
-                .collect::<Option<Vec<_>>>()?;
-            Some(Skeleton { segments, fallback })
-        }
-        _ => return None,
-    };
-    reader.bytes.is_empty().then_some((grid, skeleton))
-}
-
-/// Reads fields from the front of a byte slice; every read checks that the bytes are there.
-struct Reader<'a> {
-    bytes: &'a [u8],
-}
-
-impl<'a> Reader<'a> {
-    fn take(&mut self, len: usize) -> Option<&'a [u8]> {
-        let (taken, rest) = self.bytes.split_at_checked(len)?;
-        self.bytes = rest;
-        Some(taken)
-    }
-
-    fn u8(&mut self) -> Option<u8> {
-        Some(self.take(1)?[0])
-    }
-
-    fn u32(&mut self) -> Option<u32> {
-        Some(u32::from_le_bytes(self.take(4)?.try_into().ok()?))
-    }
-
-    fn u64(&mut self) -> Option<u64> {
-        Some(u64::from_le_bytes(self.take(8)?.try_into().ok()?))
-    }
-
-    fn f64(&mut self) -> Option<f64> {
-        Some(f64::from_bits(self.u64()?))
-    }
-
-    fn point(&mut self) -> Option<Point3<f64>> {
-        Some(Point3::new(self.f64()?, self.f64()?, self.f64()?))
-    }
-}
-
 #[cfg(test)]
 mod tests {
+    use std::time::Duration;
+
+    use nalgebra::Point3;
+
+    use super::format::{seal, MAGIC, SEAL_BYTES, VERSION};
     use super::*;
+    use crate::emit::atomic::TempName;
     use crate::optimize::test_meshes::cube;
 
     const CELL: f64 = 0.25;
@@ -421,11 +189,13 @@ mod tests {
         (folder, cache, path)
     }
 
-    /// `bytes` with the checksum recomputed, as a file crafted to pass it would be.
-    fn resealed(mut bytes: Vec<u8>) -> Vec<u8> {
-        let body = bytes.len() - 8;
-        let checksum = fnv1a(&bytes[..body]);
-        bytes[body..].copy_from_slice(&checksum.to_le_bytes());
+    /// `bytes` sealed again with the secret of the cache in `root`, as a file crafted by someone
+    /// holding it would be: the checks after the seal must catch what is wrong.
+    fn resealed(root: &Path, mut bytes: Vec<u8>) -> Vec<u8> {
+        let secret = secret::read_secret(root).unwrap();
+        let body = bytes.len() - SEAL_BYTES;
+        let sealed = seal(&secret, &bytes[..body]);
+        bytes[body..].copy_from_slice(&sealed);
         bytes
     }
 
@@ -498,14 +268,15 @@ mod tests {
     }
 
     #[test]
-    fn crafted_sizes_that_pass_the_checksum_are_misses_without_panicking() {
-        let (_folder, cache, path) = stored();
+    fn crafted_sizes_that_pass_the_seal_are_misses_without_panicking() {
+        let (folder, cache, path) = stored();
         let bytes = fs::read(&path).unwrap();
         let mesh = cube(1.0, 0.0);
         let key = Key::of(&mesh, CELL);
-        assert!(decode(&bytes, &key).is_some());
+        let secret = secret::read_secret(folder.path()).unwrap();
+        assert!(decode(&bytes, &key, &secret).is_some());
         let header = MAGIC.len() + 4 + 4 + VERSION.len();
-        let dims_at = header + 4 * 8 + 4 * 8;
+        let dims_at = header + 32 + 3 * 8 + 4 * 8;
         let count: usize = DistanceGrid::new(&mesh, CELL).dims().iter().product();
         let flag_at = dims_at + 3 * 8 + 8 * count;
         let mut crafted = Vec::new();
@@ -524,17 +295,17 @@ mod tests {
         ] {
             let mut bytes = bytes.clone();
             bytes[at..at + value.len()].copy_from_slice(value);
-            crafted.push(resealed(bytes));
+            crafted.push(resealed(folder.path(), bytes));
         }
         // A grid too small for the interpolant: 3 nodes along every axis, values to match.
         let mut small = bytes[..dims_at].to_vec();
         for _ in 0..3 {
             small.extend_from_slice(&3u64.to_le_bytes());
         }
-        small.extend(std::iter::repeat_n(0u8, 27 * 8 + 1 + 8));
-        crafted.push(resealed(small));
+        small.extend(std::iter::repeat_n(0u8, 27 * 8 + 1 + SEAL_BYTES));
+        crafted.push(resealed(folder.path(), small));
         for (index, bytes) in crafted.into_iter().enumerate() {
-            assert!(decode(&bytes, &key).is_none(), "case {index}");
+            assert!(decode(&bytes, &key, &secret).is_none(), "case {index}");
             fs::write(&path, &bytes).unwrap();
             assert!(cache.load(&mesh, CELL).is_none(), "case {index}");
         }
@@ -553,34 +324,131 @@ mod tests {
             changed.extend_from_slice(&(other.len() as u32).to_le_bytes());
             changed.extend_from_slice(other.as_bytes());
             changed.extend_from_slice(&bytes[at + 4 + VERSION.len()..]);
-            fs::write(&path, resealed(changed)).unwrap();
+            fs::write(&path, resealed(folder.path(), changed)).unwrap();
             assert!(cache.load(&mesh, CELL).is_none(), "{other}");
             assert!(!path.exists());
         }
 
         // Another format number in the file.
         let mut changed = bytes.clone();
-        changed[MAGIC.len()..MAGIC.len() + 4].copy_from_slice(&2u32.to_le_bytes());
-        fs::write(&path, resealed(changed)).unwrap();
+        changed[MAGIC.len()..MAGIC.len() + 4].copy_from_slice(&3u32.to_le_bytes());
+        fs::write(&path, resealed(folder.path(), changed)).unwrap();
         assert!(cache.load(&mesh, CELL).is_none());
+    }
 
-        // A file in another format's folder is not looked at, and that folder goes on the next
-        // store; nothing else under the root is touched.
-        let other = folder.path().join("v2");
-        fs::create_dir_all(&other).unwrap();
-        fs::write(other.join(path.file_name().unwrap()), &bytes).unwrap();
-        assert!(cache.load(&mesh, CELL).is_none());
-        for kept in ["v", "vx", "v2b", "notes"] {
-            fs::create_dir_all(folder.path().join(kept)).unwrap();
+    #[test]
+    fn a_forged_or_foreign_file_is_a_miss() {
+        let (folder, cache, path) = stored();
+        let bytes = fs::read(&path).unwrap();
+        let mesh = cube(1.0, 0.0);
+        let body = bytes.len() - SEAL_BYTES;
+        // Every grid value changed and the file sealed again without the secret: with an
+        // unkeyed hash of the body (what a forger can compute), or another secret.
+        let mut forged = bytes[..body].to_vec();
+        let values_at = MAGIC.len() + 4 + 4 + VERSION.len() + 32 + 3 * 8 + 7 * 8;
+        for byte in &mut forged[values_at..values_at + 800] {
+            *byte = 0;
         }
-        fs::write(folder.path().join("v3"), b"a file, not a folder").unwrap();
+        let unkeyed = *blake3::hash(&forged).as_bytes();
+        let other_secret = seal(&[9u8; 32], &forged);
+        for seal in [unkeyed, other_secret] {
+            let mut file = forged.clone();
+            file.extend_from_slice(&seal);
+            fs::write(&path, &file).unwrap();
+            assert!(cache.load(&mesh, CELL).is_none());
+            assert!(!path.exists());
+        }
+        // A genuine file of another cache folder (its own secret), copied in.
+        let other = tempfile::tempdir().unwrap();
+        let foreign = DiskCache::at(other.path());
         let grid = DistanceGrid::new(&mesh, CELL);
-        cache.store(&mesh, CELL, &grid, None).unwrap();
-        assert!(!other.exists());
-        for kept in ["v", "vx", "v2b", "notes", "v3", "v1"] {
-            assert!(folder.path().join(kept).exists(), "{kept}");
-        }
+        foreign.store(&mesh, CELL, &grid, None).unwrap();
+        assert!(foreign.load(&mesh, CELL).is_some());
+        fs::copy(foreign.path(&Key::of(&mesh, CELL)), &path).unwrap();
+        assert!(cache.load(&mesh, CELL).is_none());
+        // Without its key file the cache reads nothing, and a store makes a new key.
+        fs::write(&path, &bytes).unwrap();
         assert!(cache.load(&mesh, CELL).is_some());
+        fs::remove_file(secret::secret_path(folder.path())).unwrap();
+        assert!(cache.load(&mesh, CELL).is_none());
+        cache.store(&mesh, CELL, &grid, None).unwrap();
+        assert!(cache.load(&mesh, CELL).is_some());
+    }
+
+    #[test]
+    fn only_the_caches_own_files_are_ever_removed() {
+        let (folder, cache, path) = stored();
+        let root = folder.path();
+        let bytes = fs::read(&path).unwrap();
+        let mesh = cube(1.0, 0.0);
+        let dead_pid = u32::MAX - 1;
+        let temp = |dir: &Path, target: &str| {
+            let name = TempName {
+                target: target.into(),
+                pid: dead_pid,
+                n: 0,
+            };
+            let path = dir.join(name.file_name());
+            fs::write(&path, b"partial").unwrap();
+            File::options()
+                .write(true)
+                .open(&path)
+                .unwrap()
+                .set_modified(SystemTime::now() - Duration::from_secs(7200))
+                .unwrap();
+            path
+        };
+        let cache_name = path.file_name().unwrap().to_str().unwrap().to_owned();
+        // The user's folders named like format folders, with their own files, hidden `.tmp`
+        // files old enough to look stale, and a file of the cache's name that is not the cache's.
+        let mut kept = Vec::new();
+        for user in ["v2", "v10", "ballast-v7"] {
+            let dir = root.join(user);
+            fs::create_dir_all(dir.join("deep")).unwrap();
+            fs::write(dir.join("deep").join("photo.jpg"), b"user").unwrap();
+            fs::write(dir.join("notes.txt"), b"user").unwrap();
+            kept.push(dir.join("deep").join("photo.jpg"));
+            kept.push(dir.join("notes.txt"));
+            kept.push(temp(&dir, "notes.txt"));
+            fs::write(dir.join(&cache_name), b"not the cache's bytes").unwrap();
+            kept.push(dir.join(&cache_name));
+        }
+        let hidden = root.join(".draft.tmp");
+        fs::write(&hidden, b"user").unwrap();
+        kept.push(hidden);
+        kept.push(temp(root, "notes.txt"));
+        let current = cache.folder();
+        kept.push(temp(&current, "notes.txt"));
+        let user_in_current = current.join("mine.bin");
+        fs::write(&user_in_current, b"user").unwrap();
+        kept.push(user_in_current);
+
+        // What the cache did write: an old format's folder with its files, a temporary file of a
+        // killed store, and one of the user's folders that also holds a cache file.
+        let old = root.join("v1");
+        fs::create_dir_all(&old).unwrap();
+        let old_file = old.join("0123456789abcdef-3fd0000000000000.bin");
+        fs::write(&old_file, &bytes).unwrap();
+        let stale = temp(&current, &cache_name);
+        let mixed = root
+            .join("v2")
+            .join("fedcba9876543210-3fd0000000000000.bin");
+        fs::write(&mixed, &bytes).unwrap();
+
+        // A bound so small every cache file goes.
+        let tight = cache.clone().with_limit(0);
+        tight
+            .store(&mesh, CELL, &DistanceGrid::new(&mesh, CELL), None)
+            .unwrap();
+        for path in &kept {
+            assert!(path.exists(), "{} was removed", path.display());
+        }
+        assert!(!old.exists(), "the old format's emptied folder stays");
+        assert!(!stale.exists());
+        assert!(!mixed.exists());
+        assert!(root.join("v2").is_dir());
+        assert!(!path.exists());
+        assert!(secret::read_secret(root).is_some());
     }
 
     #[test]

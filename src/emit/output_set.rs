@@ -1,0 +1,358 @@
+//! Replacing a set of files as one: after a kill at any point, the set is either all old or all
+//! new once the next writer (or reader) has run [`finish_interrupted`].
+//!
+//! [`replace_set`] goes in four steps:
+//! 1. every new file is written to a temporary sibling of its target and synced
+//!    ([`write_temp`]); a failure here (a read-only folder, a full disk) removes those temporary
+//!    files and leaves every old file as it was;
+//! 2. the journal, naming each temporary file and its target, is written atomically: the commit
+//!    point;
+//! 3. each temporary file is renamed over its target, in the set's order;
+//! 4. the journal is removed.
+//!
+//! A kill before step 2 leaves the old set and some temporary files, which the next
+//! [`replace_set`] removes ([`remove_stale_temps`]); a kill after it leaves a journal, which the
+//! next [`finish_interrupted`] completes (renaming what is left), so the set becomes the new one.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::ffi::OsString;
+use std::fs;
+use std::io;
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use super::atomic::{folder_of, sync_dir, write_atomic, write_temp, TempName};
+
+/// The journal's format number.
+const JOURNAL_FORMAT: u32 = 1;
+
+/// What the journal holds: each temporary file (by name, in its target's folder) and its target.
+#[derive(Debug, Serialize, Deserialize)]
+struct Journal {
+    /// [`JOURNAL_FORMAT`].
+    ballast_output_set: u32,
+    /// In the order they are renamed.
+    files: Vec<JournalEntry>,
+}
+
+/// One file of the set.
+#[derive(Debug, Serialize, Deserialize)]
+struct JournalEntry {
+    /// The target, absolute.
+    target: String,
+    /// The temporary file's name, a sibling of the target.
+    temp: String,
+}
+
+/// Replaces the files `files` (path, new bytes), in that order, as one set, with the journal at
+/// `journal`: first finishes an interrupted replacement recorded there and removes temporary
+/// files that earlier writers of these targets left, then the four steps of the module's
+/// documentation. An error before the commit point leaves every old file as it was; an error
+/// renaming leaves the journal, so the next call finishes the set.
+pub fn replace_set(journal: &Path, files: &[(PathBuf, Vec<u8>)]) -> io::Result<()> {
+    finish_interrupted(journal)?;
+    let targets: Vec<PathBuf> = files
+        .iter()
+        .map(|(path, _)| std::path::absolute(path))
+        .collect::<io::Result<_>>()?;
+    let journal = std::path::absolute(journal)?;
+    remove_stale_temps(targets.iter().chain([&journal]));
+    check_targets(&targets)?;
+
+    let mut temps: Vec<PathBuf> = Vec::with_capacity(files.len());
+    let written = (|| {
+        for (target, (_, bytes)) in targets.iter().zip(files) {
+            temps.push(write_temp(target, bytes)?);
+        }
+        let entries = targets
+            .iter()
+            .zip(&temps)
+            .map(|(target, temp)| {
+                Ok(JournalEntry {
+                    target: utf8(target)?.to_owned(),
+                    temp: utf8(Path::new(temp.file_name().unwrap_or_default()))?.to_owned(),
+                })
+            })
+            .collect::<io::Result<Vec<_>>>()?;
+        let text = serde_json::to_string_pretty(&Journal {
+            ballast_output_set: JOURNAL_FORMAT,
+            files: entries,
+        })
+        .map_err(io::Error::other)?;
+        write_atomic(&journal, text.as_bytes())
+    })();
+    if let Err(error) = written {
+        for temp in &temps {
+            let _ = fs::remove_file(temp);
+        }
+        return Err(error);
+    }
+    rename_all(&journal, targets.iter().zip(&temps))
+}
+
+/// Completes the replacement recorded in the journal at `journal`, if there is one: renames each
+/// temporary file still there over its target, then removes the journal. A journal that does not
+/// read as one (not written by ballast) is removed unread; an entry whose temporary file is not
+/// ballast's temporary file of that very target is skipped.
+pub fn finish_interrupted(journal: &Path) -> io::Result<()> {
+    let text = match fs::read(journal) {
+        Ok(text) => text,
+        Err(error) if error.kind() == io::ErrorKind::NotFound => return Ok(()),
+        Err(error) => return Err(error),
+    };
+    let Some(read) = serde_json::from_slice::<Journal>(&text)
+        .ok()
+        .filter(|read| read.ballast_output_set == JOURNAL_FORMAT)
+    else {
+        return remove_journal(journal);
+    };
+    let pairs: Vec<(PathBuf, PathBuf)> = read
+        .files
+        .iter()
+        .filter_map(|entry| {
+            let target = PathBuf::from(&entry.target);
+            let name = TempName::parse(entry.temp.as_ref())?;
+            (target.is_absolute() && Some(name.target.as_os_str()) == target.file_name())
+                .then(|| (folder_of(&target).join(&entry.temp), target))
+        })
+        .collect();
+    rename_all(journal, pairs.iter().map(|(temp, target)| (target, temp)))
+}
+
+/// Step 3 and 4: renames each temporary file over its target (one already gone was renamed by a
+/// finisher running at the same time), syncs their folders, then removes the journal. On the
+/// first failure the journal stays, so the set is finished later.
+fn rename_all<'a>(
+    journal: &Path,
+    pairs: impl Iterator<Item = (&'a PathBuf, &'a PathBuf)>,
+) -> io::Result<()> {
+    let mut folders = BTreeSet::new();
+    for (target, temp) in pairs {
+        match fs::rename(temp, target) {
+            Ok(()) => {}
+            Err(error) if error.kind() == io::ErrorKind::NotFound && !temp.exists() => {}
+            Err(error) => {
+                return Err(io::Error::new(
+                    error.kind(),
+                    format!(
+                        "{error} (replacing {}; the next build finishes replacing the outputs)",
+                        target.display()
+                    ),
+                ))
+            }
+        }
+        folders.insert(folder_of(target));
+    }
+    for folder in &folders {
+        sync_dir(folder);
+    }
+    remove_journal(journal)
+}
+
+fn remove_journal(journal: &Path) -> io::Result<()> {
+    match fs::remove_file(journal) {
+        Ok(()) => {
+            sync_dir(&folder_of(journal));
+            Ok(())
+        }
+        Err(error) if error.kind() == io::ErrorKind::NotFound => Ok(()),
+        Err(error) => Err(error),
+    }
+}
+
+/// Removes, in the folder of each of `targets`, the temporary files ballast's writers of that
+/// target left behind when they were killed ([`TempName::is_stale`]). Nothing else is touched:
+/// not another program's files, not a temporary file of another name, not one whose writer still
+/// runs. Errors are ignored: a file left behind is removed by a later build.
+pub fn remove_stale_temps<'a>(targets: impl Iterator<Item = &'a PathBuf>) {
+    let mut names: BTreeMap<PathBuf, BTreeSet<OsString>> = BTreeMap::new();
+    for target in targets {
+        if let Some(name) = target.file_name() {
+            names
+                .entry(folder_of(target))
+                .or_default()
+                .insert(name.to_os_string());
+        }
+    }
+    for (folder, names) in names {
+        let Ok(entries) = fs::read_dir(&folder) else {
+            continue;
+        };
+        for entry in entries.flatten() {
+            let Some(temp) = TempName::parse(&entry.file_name()) else {
+                continue;
+            };
+            let path = entry.path();
+            let is_file = entry.file_type().is_ok_and(|kind| kind.is_file());
+            if is_file && names.contains(&temp.target) && temp.is_stale(&path) {
+                let _ = fs::remove_file(&path);
+            }
+        }
+    }
+}
+
+/// Refuses a set that names one target twice or a target that is a folder, before anything is
+/// written, since renaming onto it would fail half-way.
+fn check_targets(targets: &[PathBuf]) -> io::Result<()> {
+    let mut seen = BTreeSet::new();
+    for target in targets {
+        if !seen.insert(target) {
+            return Err(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                format!("{} is written twice", target.display()),
+            ));
+        }
+        if fs::symlink_metadata(target).is_ok_and(|metadata| metadata.is_dir()) {
+            return Err(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                format!("{} is a folder", target.display()),
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn utf8(path: &Path) -> io::Result<&str> {
+    path.to_str().ok_or_else(|| {
+        io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!("{} is not UTF-8", path.display()),
+        )
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn set(dir: &Path, content: &str) -> Vec<(PathBuf, Vec<u8>)> {
+        ["a.glb", "sub/b.json", "c.kdl"]
+            .iter()
+            .map(|name| (dir.join(name), format!("{content} {name}").into_bytes()))
+            .collect()
+    }
+
+    fn read(files: &[(PathBuf, Vec<u8>)]) -> Vec<Option<Vec<u8>>> {
+        files.iter().map(|(path, _)| fs::read(path).ok()).collect()
+    }
+
+    fn names(dir: &Path) -> Vec<String> {
+        let mut names: Vec<String> = fs::read_dir(dir)
+            .unwrap()
+            .flatten()
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    }
+
+    #[test]
+    fn a_set_replaces_every_file_and_leaves_nothing_else() {
+        let dir = tempfile::tempdir().unwrap();
+        let journal = dir.path().join(".journal");
+        let old = set(dir.path(), "old");
+        replace_set(&journal, &old).unwrap();
+        let new = set(dir.path(), "new");
+        replace_set(&journal, &new).unwrap();
+        let expected: Vec<_> = new.iter().map(|(_, b)| Some(b.clone())).collect();
+        assert_eq!(read(&new), expected);
+        assert_eq!(names(dir.path()), ["a.glb", "c.kdl", "sub"]);
+        assert_eq!(names(&dir.path().join("sub")), ["b.json"]);
+    }
+
+    #[test]
+    fn a_journal_left_by_a_kill_is_finished_and_a_foreign_one_is_dropped() {
+        let dir = tempfile::tempdir().unwrap();
+        let journal = dir.path().join(".journal");
+        let old = set(dir.path(), "old");
+        replace_set(&journal, &old).unwrap();
+        // What a kill after the commit point, with the first file renamed, leaves.
+        let new = set(dir.path(), "new");
+        let temps: Vec<PathBuf> = new.iter().map(|(p, b)| write_temp(p, b).unwrap()).collect();
+        let entries: Vec<JournalEntry> = new
+            .iter()
+            .zip(&temps)
+            .map(|((target, _), temp)| JournalEntry {
+                target: target.to_str().unwrap().into(),
+                temp: temp.file_name().unwrap().to_str().unwrap().into(),
+            })
+            .collect();
+        let text = serde_json::to_string(&Journal {
+            ballast_output_set: JOURNAL_FORMAT,
+            files: entries,
+        })
+        .unwrap();
+        fs::write(&journal, text).unwrap();
+        fs::rename(&temps[0], &new[0].0).unwrap();
+        finish_interrupted(&journal).unwrap();
+        let expected: Vec<_> = new.iter().map(|(_, b)| Some(b.clone())).collect();
+        assert_eq!(read(&new), expected);
+        assert!(!journal.exists());
+
+        // A journal naming a file that is not ballast's temporary file of that target moves
+        // nothing.
+        fs::write(dir.path().join("mine.txt"), "user").unwrap();
+        let forged = format!(
+            r#"{{"ballast_output_set":1,"files":[{{"target":"{}","temp":"mine.txt"}}]}}"#,
+            new[0].0.display()
+        );
+        fs::write(&journal, forged).unwrap();
+        finish_interrupted(&journal).unwrap();
+        assert_eq!(fs::read(&new[0].0).unwrap(), new[0].1);
+        assert!(dir.path().join("mine.txt").exists());
+        fs::write(&journal, "not json").unwrap();
+        finish_interrupted(&journal).unwrap();
+        assert!(!journal.exists());
+    }
+
+    #[test]
+    fn a_failure_before_the_commit_replaces_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        let journal = dir.path().join(".journal");
+        let old = set(dir.path(), "old");
+        replace_set(&journal, &old).unwrap();
+        let before = read(&old);
+        // The last target is a folder: refused before anything is written.
+        let mut new = set(dir.path(), "new");
+        fs::create_dir_all(dir.path().join("d")).unwrap();
+        new.push((dir.path().join("d"), b"x".to_vec()));
+        assert!(replace_set(&journal, &new).is_err());
+        assert_eq!(read(&old), before);
+        // A file where a folder should be: fails while writing, after the first temporary file.
+        let mut new = set(dir.path(), "new");
+        new.push((dir.path().join("a.glb").join("inner"), b"x".to_vec()));
+        assert!(replace_set(&journal, &new).is_err());
+        assert_eq!(read(&old), before);
+        assert_eq!(names(dir.path()), ["a.glb", "c.kdl", "d", "sub"]);
+    }
+
+    #[test]
+    fn only_stale_temporary_files_of_the_targets_are_removed() {
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("model.glb");
+        let mine = |name: &str, pid: u32| {
+            let name = TempName {
+                target: name.into(),
+                pid,
+                n: 7,
+            };
+            let path = dir.path().join(name.file_name());
+            fs::write(&path, "partial").unwrap();
+            path
+        };
+        // A process id no process has (beyond the kernel's limit).
+        let dead = mine("model.glb", u32::MAX - 1);
+        let live = mine("model.glb", std::process::id());
+        let other_target = mine("notes.md", u32::MAX - 1);
+        let user = dir.path().join(".model.glb.tmp");
+        fs::write(&user, "user").unwrap();
+        remove_stale_temps([&target].into_iter());
+        if Path::new("/proc/self").exists() {
+            assert!(!dead.exists());
+        }
+        assert!(live.exists());
+        assert!(other_target.exists());
+        assert!(user.exists());
+    }
+}

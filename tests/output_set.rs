@@ -1,0 +1,276 @@
+//! A build's outputs change as a set: after a kill at any point, and the next command's
+//! [`finish_interrupted_outputs`], every output is the old one or every output is the new one;
+//! a folder the build cannot write fails it before anything is replaced; what killed builds left
+//! behind is removed by the next build, and nothing else is.
+
+use std::collections::BTreeMap;
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+use ballast::compile::{finish_interrupted_outputs, journal_path};
+use ballast::emit::atomic::TempName;
+
+fn build(path: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_ballast"))
+        .arg("build")
+        .arg(path)
+        .env("NO_COLOR", "1")
+        .env("BALLAST_CACHE_DIR", "off")
+        .output()
+        .expect("the ballast binary runs")
+}
+
+/// The T shape with a written capsule, evaluated in two poses; `density` tells one version of
+/// the project from the other (it changes the report, the glTF file and the print settings).
+fn text(density: f64) -> String {
+    format!(
+        "material \"PLA\" density={density}\n\
+         component \"T\" mesh=\"meshes/t_shape.obj\"\n\
+         pose \"upright\" {{ stand }}\n\
+         pose \"upside down\" {{ rotate 180 0 0; stand }}\n"
+    )
+}
+
+/// A fresh folder with the mesh; the project's path (not written yet).
+fn folder() -> (tempfile::TempDir, PathBuf) {
+    let folder = tempfile::tempdir().unwrap();
+    fs::create_dir(folder.path().join("meshes")).unwrap();
+    fs::copy(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/meshes/t_shape.obj"),
+        folder.path().join("meshes/t_shape.obj"),
+    )
+    .unwrap();
+    let project = folder.path().join("model.kdl");
+    (folder, project)
+}
+
+/// Every file under `root` but the project, its mesh, ballast's temporary files and the journal:
+/// the output set, by path.
+fn outputs(root: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
+    let mut set = BTreeMap::new();
+    let mut folders = vec![root.to_path_buf()];
+    while let Some(folder) = folders.pop() {
+        for entry in fs::read_dir(&folder).unwrap().flatten() {
+            let path = entry.path();
+            let name = entry.file_name().to_string_lossy().into_owned();
+            if path.is_dir() {
+                if name != "meshes" {
+                    folders.push(path);
+                }
+            } else if name != "model.kdl" && !is_debris(&name) {
+                set.insert(
+                    path.strip_prefix(root).unwrap().to_path_buf(),
+                    fs::read(&path).unwrap(),
+                );
+            }
+        }
+    }
+    set
+}
+
+/// A temporary file or journal of ballast's.
+fn is_debris(name: &str) -> bool {
+    (name.contains(".ballast-") && name.ends_with(".tmp")) || name.ends_with(".ballast-outputs")
+}
+
+/// Every temporary file of ballast's under `root`.
+fn debris(root: &Path) -> Vec<PathBuf> {
+    let mut found = Vec::new();
+    let mut folders = vec![root.to_path_buf()];
+    while let Some(folder) = folders.pop() {
+        for entry in fs::read_dir(&folder).unwrap().flatten() {
+            let path = entry.path();
+            if path.is_dir() {
+                folders.push(path);
+            } else if is_debris(&entry.file_name().to_string_lossy()) {
+                found.push(path);
+            }
+        }
+    }
+    found
+}
+
+/// The output set of a complete build of the project version `density`.
+fn complete(path: &Path, density: f64) -> (BTreeMap<PathBuf, Vec<u8>>, Duration) {
+    fs::write(path, text(density)).unwrap();
+    let clock = Instant::now();
+    let output = build(path);
+    let took = clock.elapsed();
+    assert_ne!(
+        output.status.code(),
+        Some(2),
+        "stderr: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    (outputs(path.parent().unwrap()), took)
+}
+
+/// A small deterministic generator (xorshift), so a failing run can be repeated.
+struct Random(u64);
+
+impl Random {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+#[test]
+fn a_build_killed_at_random_points_leaves_all_old_or_all_new_outputs() {
+    let (dir, path) = folder();
+    let root = dir.path();
+    let (first, _) = complete(&path, 1.24);
+    let (second, took) = complete(&path, 1.30);
+    assert_ne!(first, second);
+    assert_eq!(
+        first.keys().collect::<Vec<_>>(),
+        second.keys().collect::<Vec<_>>()
+    );
+    // glb, report, STL, 3MF, sheet, SVG.
+    assert!(first.len() >= 6, "{:?}", first.keys());
+    let sets = [first, second];
+    let densities = [1.24, 1.30];
+
+    let mut current = 1;
+    let mut random = Random(0x9e37_79b9_7f4a_7c15);
+    let (mut old, mut new, mut journals) = (0, 0, 0);
+    for round in 0..50 {
+        let next = 1 - current;
+        fs::write(&path, text(densities[next])).unwrap();
+        // Half the kills anywhere in the build, half in its last fifth, where it writes.
+        let at = if round % 2 == 0 {
+            random.next() * 1.1
+        } else {
+            0.8 + random.next() * 0.25
+        };
+        let mut child = Command::new(env!("CARGO_BIN_EXE_ballast"))
+            .arg("build")
+            .arg(&path)
+            .env("BALLAST_CACHE_DIR", "off")
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(took.mul_f64(at));
+        // SIGKILL on Unix.
+        let _ = child.kill();
+        child.wait().unwrap();
+
+        let pending = journal_path(&path, None).exists();
+        let raw = outputs(root);
+        if pending {
+            journals += 1;
+        } else {
+            assert!(
+                raw == sets[current] || raw == sets[next],
+                "round {round}: a mix of old and new outputs with no journal"
+            );
+        }
+        // What the next command (any of them) does first.
+        finish_interrupted_outputs(&path, None).unwrap();
+        let after = outputs(root);
+        if after == sets[next] {
+            new += 1;
+            current = next;
+        } else {
+            assert!(
+                after == sets[current],
+                "round {round}: a mix of old and new outputs"
+            );
+            assert!(!pending, "round {round}: a journal was not finished");
+            old += 1;
+        }
+        assert!(!journal_path(&path, None).exists());
+    }
+    eprintln!("50 kills: {old} left the old outputs, {new} the new ones ({journals} finished from a journal)");
+
+    // The next complete build removes every temporary file the killed ones left.
+    complete(&path, densities[1 - current]);
+    assert_eq!(debris(root), Vec::<PathBuf>::new());
+}
+
+#[test]
+fn a_folder_the_build_cannot_write_fails_it_before_anything_is_replaced() {
+    let (dir, path) = folder();
+    let root = dir.path();
+    let with_report = |density| {
+        format!(
+            "{}output {{ report \"reports/model.report.json\"; }}\n",
+            text(density)
+        )
+    };
+    fs::write(&path, with_report(1.24)).unwrap();
+    let output = build(&path);
+    assert_ne!(output.status.code(), Some(2));
+    let before = outputs(root);
+    let reports = root.join("reports");
+
+    let original = fs::metadata(&reports).unwrap().permissions();
+    let mut permissions = original.clone();
+    permissions.set_readonly(true);
+    fs::set_permissions(&reports, permissions).unwrap();
+    // A user with the right to write anyway (root) is stopped by a file in the folder's place.
+    let read_only = fs::write(reports.join("probe"), b"").is_err();
+    let moved = root.join("reports-moved");
+    if !read_only {
+        fs::set_permissions(&reports, original.clone()).unwrap();
+        fs::remove_file(reports.join("probe")).unwrap();
+        fs::rename(&reports, &moved).unwrap();
+        fs::write(&reports, b"a file where the folder was").unwrap();
+    }
+    fs::write(&path, with_report(1.30)).unwrap();
+    let output = build(&path);
+    let err = String::from_utf8_lossy(&output.stderr).into_owned();
+    assert_eq!(output.status.code(), Some(2), "{err}");
+    assert!(err.contains("cannot write the outputs"), "{err}");
+    if read_only {
+        fs::set_permissions(&reports, original).unwrap();
+    } else {
+        fs::remove_file(&reports).unwrap();
+        fs::rename(&moved, &reports).unwrap();
+    }
+    // Every old output as it was, and nothing of the new build left.
+    assert_eq!(outputs(root), before);
+    assert_eq!(debris(root), Vec::<PathBuf>::new());
+}
+
+#[test]
+fn only_ballasts_own_leftovers_are_removed() {
+    let (dir, path) = folder();
+    let root = dir.path();
+    complete(&path, 1.24);
+    let build_dir = root.join("build");
+    // A process id no process has.
+    let dead = u32::MAX - 1;
+    let temp = |target: &str| TempName {
+        target: target.into(),
+        pid: dead,
+        n: 3,
+    };
+    let stale = build_dir.join(temp("model.glb").file_name());
+    let journal = journal_path(&path, None);
+    let journal_name = journal.file_name().unwrap().to_str().unwrap();
+    let stale_journal_temp = root.join(temp(journal_name).file_name());
+    assert_eq!(
+        stale.file_name().unwrap(),
+        format!(".model.glb.ballast-{dead}-3.tmp").as_str()
+    );
+    let kept = [
+        build_dir.join(".model.glb.tmp"),
+        build_dir.join(format!(".notes.md.ballast-{dead}-3.tmp")),
+        build_dir.join("model.glb.ballast-1-2.tmp"),
+        build_dir.join("notes.md"),
+    ];
+    for file in kept.iter().chain([&stale, &stale_journal_temp]) {
+        fs::write(file, b"left here").unwrap();
+    }
+    complete(&path, 1.30);
+    assert!(!stale.exists() && !stale_journal_temp.exists());
+    for file in &kept {
+        assert_eq!(fs::read(file).unwrap(), b"left here", "{}", file.display());
+    }
+}
