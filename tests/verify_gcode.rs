@@ -9,7 +9,8 @@ mod print_support;
 
 use std::path::Path;
 
-use ballast::compile::{compile, Compilation};
+use ballast::compile::{bed_parts, compile, print_settings, Compilation};
+use ballast::emit::print_files::write_prusa_3mf;
 use ballast::fabrication::{ComponentPlan, OrientationChoice, Pause, PrintPlan};
 use ballast::geometry::TriMesh;
 use ballast::sliced::{verify_gcode, SlicedCheck, SlicedOptions};
@@ -266,9 +267,18 @@ fn labelled_objects_and_a_skirt_outside_them() {
     assert!((part.shift[1] - 25.0).abs() < 0.1, "{:?}", part.shift);
 }
 
-/// The t_shape example with its design, sliced from an STL of the part as its print plan lays it
-/// on the bed (the voids as inner shells) at the design's infill, checked through that plan: the
-/// voids empty, every goal met with the sliced mass.
+/// The goals of the t_shape example that the sliced mass misses: on its sides the T stands with
+/// 2.08° and 2.21° of margin computed, 1.42° and 1.59° sliced, under its 2° limit
+/// (`SHORT_WITH_THE_SLICED_MASS` in `tests/fabrication_examples.rs`; docs/physics.md, "Agreement
+/// on the examples"). The test fails when the list is no longer exactly what the file misses.
+const T_SHAPE_SHORT_WITH_THE_SLICED_MASS: &[&str] =
+    &["on its right side stand", "on its left side stand"];
+
+/// The t_shape example with its design, sliced from the PrusaSlicer project `ballast build`
+/// writes (the part where its print plan lays it, its voids, its pauses) with the command line
+/// the docs give, checked through that plan: every part where planned, every planned pause after
+/// its layer with its message and none other, the voids empty, each goal within 1 (degree or
+/// millimetre) of its computed value, and met with the sliced mass but for the goals listed above.
 #[test]
 fn the_t_shape_sliced_as_planned_is_as_planned() {
     if skip() {
@@ -278,23 +288,17 @@ fn the_t_shape_sliced_as_planned_is_as_planned() {
     let path = root.join("examples/t_shape.kdl");
     let source = std::fs::read_to_string(&path).unwrap();
     let compilation = compile(&source, &path).expect("the example compiles");
-    let voids: Vec<TriMesh> = compilation
-        .design
-        .capsules
-        .iter()
-        .map(|c| capsule_mesh(c.from, c.to, c.radius, 64))
-        .collect();
-    let to_bed = compilation.print_plan.components[0].to_bed;
-    let on_bed = |mesh: &TriMesh| TriMesh {
-        positions: mesh.positions.iter().map(|p| to_bed * p).collect(),
-        triangles: mesh.triangles.clone(),
-    };
-    let voids: Vec<TriMesh> = voids.iter().map(on_bed).collect();
+    let parts = bed_parts(
+        &compilation.project,
+        &compilation.meshes,
+        &compilation.design,
+        &compilation.print_plan,
+    );
+    let settings = print_settings(&compilation.project, &compilation.design);
     let dir = tempfile::tempdir().unwrap();
-    let stl = dir.path().join("t_shape.stl");
-    write_stl(&with_voids(&on_bed(&compilation.meshes[0]), &voids), &stl);
-    let infill = format!("{}%", compilation.design.infill * 100.0);
-    let gcode = slice_with(&stl, &["--fill-density", &infill, "--skirts", "0"]);
+    let file = dir.path().join("t_shape.3mf");
+    std::fs::write(&file, write_prusa_3mf(&parts, &settings).unwrap()).unwrap();
+    let gcode = slice_with(&file, &["--dont-arrange"]);
     let check = check(&compilation, &compilation.print_plan, &gcode);
     for void in &check.voids {
         println!(
@@ -304,6 +308,8 @@ fn the_t_shape_sliced_as_planned_is_as_planned() {
             void.limit
         );
     }
+    assert!(!check.pauses.is_empty());
+    let mut missed = Vec::new();
     for pose in &check.poses {
         for goal in &pose.goals {
             println!(
@@ -311,10 +317,20 @@ fn the_t_shape_sliced_as_planned_is_as_planned() {
                 pose.pose, goal.kind, goal.computed, goal.sliced
             );
             assert!((goal.computed - goal.sliced).abs() < 1.0);
+            if !goal.met {
+                missed.push(format!("{} {}", pose.pose, goal.kind));
+            }
         }
     }
-    assert_eq!(check.failures(), Vec::<String>::new());
-    assert!(check.pauses.is_empty());
+    let as_planned: Vec<String> = check
+        .components
+        .iter()
+        .filter_map(|c| c.mismatch.clone())
+        .chain(check.pauses.iter().filter_map(|p| p.problem.clone()))
+        .chain(check.voids.iter().filter_map(|v| v.problem()))
+        .collect();
+    assert_eq!(as_planned, Vec::<String>::new());
+    assert_eq!(missed, T_SHAPE_SHORT_WITH_THE_SLICED_MASS);
 }
 
 /// Two components, each a box with a capsule (the second box 30 mm long), written into the 3MF
