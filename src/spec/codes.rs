@@ -3,6 +3,14 @@
 
 /// The text is not valid KDL v2 (or is too large or too deeply nested to read).
 pub const SYNTAX: &str = "ballast::syntax";
+/// A project or solution file that cannot be read.
+pub const FILE_UNREADABLE: &str = "ballast::file::unreadable";
+/// A project or solution file that is a folder, a device, a pipe or a socket.
+pub const FILE_NOT_REGULAR: &str = "ballast::file::not_a_file";
+/// A project or solution file larger than the most ballast reads.
+pub const FILE_TOO_LARGE: &str = "ballast::file::too_large";
+/// More problems than are kept: the rest were left out.
+pub const TOO_MANY_PROBLEMS: &str = "ballast::too_many_problems";
 /// A node the grammar does not have, or has only elsewhere.
 pub const UNKNOWN_NODE: &str = "ballast::unknown_node";
 /// A property the node does not take.

@@ -5,6 +5,7 @@
 
 mod check;
 pub mod codes;
+mod file;
 mod guard;
 pub mod model;
 mod parse;
@@ -17,5 +18,7 @@ mod tree;
 mod value;
 pub mod vocabulary;
 
-pub use parse::{parse_project, Parsed};
+pub use file::read_source;
+pub use parse::{parse_project, Parsed, MAX_PROBLEMS};
 pub use solution::{parse_solution, ParsedSolution};
+pub use syntax::MAX_SOURCE_BYTES;
