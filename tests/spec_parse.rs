@@ -172,6 +172,7 @@ fn full_project() {
         optimize: Some(Optimize {
             capsules: Some(2),
             grid_cell: Some(0.5),
+            grid_cell_span: None,
             tolerance_degrees: 0.5,
             seed: 7,
             span: any_span(),
@@ -528,6 +529,7 @@ fn optimize_defaults() {
         Optimize {
             capsules: None,
             grid_cell: None,
+            grid_cell_span: None,
             tolerance_degrees: 1.0,
             seed: 0,
             span: any_span(),

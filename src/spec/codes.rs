@@ -55,6 +55,10 @@ pub const ZERO_PRINT_DOWN: &str = "ballast::component::zero_down";
 pub const PRINT_DOWN_WITH_ROTATE: &str = "ballast::component::down_with_rotate";
 /// `optimize capsules=N` asks for fewer capsules than the project pins.
 pub const TOO_FEW_CAPSULES: &str = "ballast::optimize::too_few_capsules";
+/// `optimize` asks for more capsules, or more poses × capsules, than the optimizer takes.
+pub const TOO_MANY_CAPSULES: &str = "ballast::optimize::too_many_capsules";
+/// `optimize grid-cell=` gives a distance grid of more nodes than the optimizer takes.
+pub const GRID_TOO_FINE: &str = "ballast::optimize::grid_too_fine";
 /// A solution file's `infill` that the project does not leave open: outside the project's
 /// `min`..`max`, or different from its fixed infill.
 pub const SOLUTION_INFILL: &str = "ballast::solution::infill";

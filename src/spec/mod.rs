@@ -3,6 +3,7 @@
 //! [`parse_project`] turns project-file text into a [`model::Project`] and every problem found;
 //! [`parse_solution`] reads a solution file (the optimizer's capsules) against a project.
 
+mod bounds;
 mod check;
 pub mod codes;
 mod file;
