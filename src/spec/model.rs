@@ -165,10 +165,10 @@ pub struct Project {
 
 /// The most capsules the optimizer is asked to place (`optimize capsules=`, `--capsules`, or
 /// the capsules written in a project that optimizes).
-pub const MAX_OPTIMIZED_CAPSULES: usize = 16;
+pub const MAX_OPTIMIZED_CAPSULES: usize = 8;
 /// The most poses × capsules the optimizer is asked to weigh: its work in each step grows with
 /// both.
-pub const MAX_POSE_CAPSULES: usize = 128;
+pub const MAX_POSE_CAPSULES: usize = 32;
 
 /// The `optimize` node: the project asks the optimizer to place its capsules. Equality ignores
 /// the spans.
