@@ -93,6 +93,17 @@ fn diagnostics_are_bounded_in_number_and_size() {
 }
 
 #[test]
+fn slashdashes_in_a_row_before_bad_values_are_refused_at_once() {
+    // Found by the fuzzer: 3 KB of these took the parser 7 s, and the time grows with the square
+    // of the length.
+    let source = "\u{A0}/-\u{A0}/-unit#infs".repeat(400);
+    let start = Instant::now();
+    let found = problems(&source);
+    assert!(start.elapsed() < Duration::from_secs(2));
+    assert_eq!(codes_of(&found), [codes::SYNTAX]);
+}
+
+#[test]
 fn a_long_slashdash_chain_split_by_unicode_spaces_is_refused_at_once() {
     for space in ["\u{A0}", "\u{3000}", "\u{2028}", " "] {
         let source = format!("/-{space}").repeat(2000);

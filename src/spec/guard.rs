@@ -15,8 +15,9 @@ use miette::SourceSpan;
 
 /// Children blocks nested deeper than this are refused; the grammar needs three levels.
 pub const MAX_NESTING: usize = 32;
-/// Slashdashes in a row longer than this are refused.
-pub const MAX_SLASHDASH_CHAIN: usize = 8;
+/// Slashdashes in a row longer than this are refused: the parser takes time quadratic in the
+/// length of the file, with a large factor, from two slashdashes in a row before a bad value on.
+pub const MAX_SLASHDASH_CHAIN: usize = 1;
 
 /// Why the text was refused before parsing.
 #[derive(Debug, Clone, PartialEq, Eq)]
