@@ -169,7 +169,7 @@ fn compile_file(
         Err(problem) => {
             eprint!(
                 "{}",
-                diagnostics::render_for_terminal(&[problem], &name, "")
+                diagnostics::render_for_terminal(&[*problem], &name, "")
             );
             return Err(NotCompiled::Invalid);
         }

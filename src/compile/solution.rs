@@ -61,7 +61,7 @@ pub fn read_solution(
     let text = match read_source(path, "solution file") {
         Ok(Some(text)) => text,
         Ok(None) => return Ok(None),
-        Err(problem) => return Err(vec![problem]),
+        Err(problem) => return Err(vec![*problem]),
     };
     let file = SourceFile {
         name: path.display().to_string(),

@@ -12,12 +12,12 @@ use crate::diagnostic::Problem;
 /// Reads the text of the project or solution file at `path` (`what` names it in messages:
 /// "project file", "solution file"). `Ok(None)` when there is no file there; a problem when it
 /// is not a regular file, is larger than [`MAX_SOURCE_BYTES`], or cannot be read as UTF-8 text.
-pub fn read_source(path: &Path, what: &str) -> Result<Option<String>, Problem> {
+pub fn read_source(path: &Path, what: &str) -> Result<Option<String>, Box<Problem>> {
     let unreadable = |error: std::io::Error| {
-        Problem::error(
+        Box::new(Problem::error(
             FILE_UNREADABLE,
             format!("cannot read the {what} {}: {error}", path.display()),
-        )
+        ))
     };
     // `metadata` follows links and never blocks, unlike opening a pipe.
     let metadata = match std::fs::metadata(path) {
@@ -40,18 +40,24 @@ pub fn read_source(path: &Path, what: &str) -> Result<Option<String>, Problem> {
 }
 
 /// Refuses anything but a regular file within the size limit.
-fn check_metadata(metadata: &std::fs::Metadata, path: &Path, what: &str) -> Result<(), Problem> {
+fn check_metadata(
+    metadata: &std::fs::Metadata,
+    path: &Path,
+    what: &str,
+) -> Result<(), Box<Problem>> {
     if !metadata.is_file() {
         let kind = if metadata.is_dir() {
             "a folder"
         } else {
             "not a regular file (a device, a pipe or a socket)"
         };
-        return Err(Problem::error(
-            FILE_NOT_REGULAR,
-            format!("the {what} {} is {kind}", path.display()),
-        )
-        .with_help("ballast reads project and solution files only from regular files"));
+        return Err(Box::new(
+            Problem::error(
+                FILE_NOT_REGULAR,
+                format!("the {what} {} is {kind}", path.display()),
+            )
+            .with_help("ballast reads project and solution files only from regular files"),
+        ));
     }
     if metadata.len() > MAX_SOURCE_BYTES as u64 {
         return Err(too_large(path, what, metadata.len()));
@@ -60,14 +66,16 @@ fn check_metadata(metadata: &std::fs::Metadata, path: &Path, what: &str) -> Resu
 }
 
 /// The problem for a file of `length` bytes, over the limit.
-fn too_large(path: &Path, what: &str, length: u64) -> Problem {
-    Problem::error(
-        FILE_TOO_LARGE,
-        format!(
-            "the {what} {} is {length} bytes long or more; the most ballast reads is \
+fn too_large(path: &Path, what: &str, length: u64) -> Box<Problem> {
+    Box::new(
+        Problem::error(
+            FILE_TOO_LARGE,
+            format!(
+                "the {what} {} is {length} bytes long or more; the most ballast reads is \
              {MAX_SOURCE_BYTES} bytes",
-            path.display()
-        ),
+                path.display()
+            ),
+        )
+        .with_help(TOO_LARGE_HELP),
     )
-    .with_help(TOO_LARGE_HELP)
 }
