@@ -546,10 +546,10 @@ fn optimize_properties() {
     assert_eq!(optimize.capsules, Some(0));
     assert_eq!(optimize.seed, u64::MAX);
     assert_eq!(optimize.tolerance_degrees, 0.0);
-    let optimize = project_with("optimize capsules=12 tolerance=2.5")
+    let optimize = project_with("optimize capsules=6 tolerance=2.5")
         .optimize
         .unwrap();
-    assert_eq!(optimize.capsules, Some(12));
+    assert_eq!(optimize.capsules, Some(6));
     assert_eq!(optimize.tolerance_degrees, 2.5);
 }
 
