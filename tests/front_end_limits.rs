@@ -128,6 +128,7 @@ fn optimize(source: &str, capsules: Option<usize>) -> Result<(), Vec<Problem>> {
             capsules,
             ..OptimizeOptions::default()
         }),
+        ..CompileOptions::default()
     };
     match compile_with(source, &path, &options, &mut Workspace::new()) {
         Ok(_) => Ok(()),
