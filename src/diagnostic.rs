@@ -4,6 +4,7 @@
 //! [`Problem`] is a [`miette::Diagnostic`]; the driver attaches the project source when rendering.
 
 use std::fmt;
+use std::sync::Arc;
 
 use miette::{
     GraphicalReportHandler, GraphicalTheme, LabeledSpan, NamedSource, Severity, SourceSpan,
@@ -132,23 +133,39 @@ pub fn render_plain(problems: &[Problem], source_name: &str, source: &str) -> St
     render(&handler, problems, source_name, source)
 }
 
+/// The most problems [`render`] draws; a line at the end counts the others.
+pub const MAX_RENDERED_PROBLEMS: usize = 50;
+/// The longest line [`render`] draws (in characters) with its source: a problem on a longer
+/// line (or whose drawing would hold more than [`MAX_DRAWN_BYTES`]) is shown by its line and
+/// column instead, so a long line is never printed once per problem.
+pub const MAX_DRAWN_LINE: usize = 400;
+/// The most source text one problem's drawing may hold.
+pub const MAX_DRAWN_BYTES: usize = 8 << 10;
+
 /// Renders `problems` against `source` (named `source_name` in the output), or against their own
 /// [`file`](Problem::file) when they have one, with `handler`, a blank line between problems.
+/// At most [`MAX_RENDERED_PROBLEMS`] are drawn, each within [`MAX_DRAWN_BYTES`] of source.
 pub fn render(
     handler: &GraphicalReportHandler,
     problems: &[Problem],
     source_name: &str,
     source: &str,
 ) -> String {
+    let project: Arc<str> = Arc::from(source);
     let mut out = String::new();
-    for (index, problem) in problems.iter().enumerate() {
+    for (index, problem) in problems.iter().take(MAX_RENDERED_PROBLEMS).enumerate() {
         if index > 0 {
             out.push('\n');
         }
-        let named = match &problem.file {
-            Some(file) => NamedSource::new(&file.name, file.text.to_string()),
-            None => NamedSource::new(source_name, source.to_owned()),
+        let (name, text) = match &problem.file {
+            Some(file) => (file.name.as_str(), file.text.clone()),
+            None => (source_name, project.clone()),
         };
+        if !drawable(problem, &text) {
+            out.push_str(&located(problem, name, &text));
+            continue;
+        }
+        let named = NamedSource::new(name, text.clone());
         let report = miette::Report::new(problem.clone()).with_source_code(named);
         let mut rendered = String::new();
         if handler
@@ -156,9 +173,74 @@ pub fn render(
             .is_err()
         {
             // A span outside the source cannot be drawn; the message still can.
-            rendered = format!("{}: {}\n", problem.code, problem.message);
+            rendered = located(problem, name, &text);
         }
         out.push_str(&rendered);
+    }
+    if problems.len() > MAX_RENDERED_PROBLEMS {
+        let errors = problems[MAX_RENDERED_PROBLEMS..]
+            .iter()
+            .filter(|p| p.is_error())
+            .count();
+        out.push_str(&format!(
+            "\n... and {} more problems ({errors} of them errors) were left out: at most \
+             {MAX_RENDERED_PROBLEMS} are shown (docs/limits.md); fix these and check again\n",
+            problems.len() - MAX_RENDERED_PROBLEMS
+        ));
+    }
+    out
+}
+
+/// Whether `problem`'s labels lie in `text` on lines short enough to draw, with their context
+/// lines, within [`MAX_DRAWN_BYTES`].
+fn drawable(problem: &Problem, text: &str) -> bool {
+    let mut drawn = 0usize;
+    for (span, _) in &problem.labels {
+        let (start, end) = (span.offset(), span.offset() + span.len());
+        if end > text.len() || !text.is_char_boundary(start) || !text.is_char_boundary(end) {
+            return false;
+        }
+        // The labelled lines and one line either side (miette's context).
+        let first = text[..start].rfind('\n').map_or(0, |at| at + 1);
+        let before = text[..first.saturating_sub(1)]
+            .rfind('\n')
+            .map_or(0, |at| at + 1);
+        let last = text[end..].find('\n').map_or(text.len(), |at| end + at);
+        let after = text[(last + 1).min(text.len())..]
+            .find('\n')
+            .map_or(text.len(), |at| last + 1 + at);
+        let lines = &text[before..after];
+        drawn += lines.len();
+        if drawn > MAX_DRAWN_BYTES
+            || lines
+                .split([
+                    '\n', '\r', '\u{2028}', '\u{2029}', '\u{85}', '\u{0B}', '\u{0C}',
+                ])
+                .any(|line| line.chars().count() > MAX_DRAWN_LINE)
+        {
+            return false;
+        }
+    }
+    true
+}
+
+/// `problem` without its source drawn: its code, message, each label's line and column, and
+/// its hint.
+fn located(problem: &Problem, name: &str, text: &str) -> String {
+    let mut out = format!("{}\n\n  × {}\n", problem.code, problem.message);
+    for (span, label) in &problem.labels {
+        let offset = span.offset().min(text.len());
+        let before = text.get(..offset).unwrap_or("");
+        let line = before.matches('\n').count() + 1;
+        let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+        out.push_str(&format!("  at {name}:{line}:{column}"));
+        if !label.is_empty() {
+            out.push_str(&format!(": {label}"));
+        }
+        out.push('\n');
+    }
+    if let Some(help) = &problem.help {
+        out.push_str(&format!("  help: {help}\n"));
     }
     out
 }

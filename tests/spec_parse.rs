@@ -172,6 +172,7 @@ fn full_project() {
         optimize: Some(Optimize {
             capsules: Some(2),
             grid_cell: Some(0.5),
+            grid_cell_span: None,
             tolerance_degrees: 0.5,
             seed: 7,
             span: any_span(),
@@ -528,6 +529,7 @@ fn optimize_defaults() {
         Optimize {
             capsules: None,
             grid_cell: None,
+            grid_cell_span: None,
             tolerance_degrees: 1.0,
             seed: 0,
             span: any_span(),
@@ -544,10 +546,10 @@ fn optimize_properties() {
     assert_eq!(optimize.capsules, Some(0));
     assert_eq!(optimize.seed, u64::MAX);
     assert_eq!(optimize.tolerance_degrees, 0.0);
-    let optimize = project_with("optimize capsules=12 tolerance=2.5")
+    let optimize = project_with("optimize capsules=6 tolerance=2.5")
         .optimize
         .unwrap();
-    assert_eq!(optimize.capsules, Some(12));
+    assert_eq!(optimize.capsules, Some(6));
     assert_eq!(optimize.tolerance_degrees, 2.5);
 }
 

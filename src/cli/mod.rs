@@ -28,6 +28,7 @@ use crate::compile::{
 use crate::geometry::MeshLimits;
 use crate::optimize::{DiskCache, Method, PrecomputeCache};
 use crate::sliced::SlicedOptions;
+use crate::spec::read_source;
 
 /// Every goal of every pose is met.
 pub const EXIT_MET: i32 = 0;
@@ -195,14 +196,21 @@ fn compile_file(
     if let Err(error) = finish_interrupted_outputs(path, options.out_dir.as_deref()) {
         eprintln!("warning: cannot finish replacing the outputs of an interrupted build: {error}");
     }
-    let source = match std::fs::read_to_string(path) {
-        Ok(source) => source,
-        Err(error) => {
-            eprintln!("error: cannot read {}: {error}", path.display());
+    let name = path.display().to_string();
+    let source = match read_source(path, "project file") {
+        Ok(Some(source)) => source,
+        Ok(None) => {
+            eprintln!("error: cannot read {name}: there is no such file");
+            return Err(NotCompiled::Invalid);
+        }
+        Err(problem) => {
+            eprint!(
+                "{}",
+                diagnostics::render_for_terminal(&[*problem], &name, "")
+            );
             return Err(NotCompiled::Invalid);
         }
     };
-    let name = path.display().to_string();
     let compiled = compile_with(&source, path, options, workspace);
     progress::clear(workspace);
     match compiled {

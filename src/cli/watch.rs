@@ -16,7 +16,7 @@ use super::{compile_file, file_name, progress, NotCompiled, EXIT_INVALID, EXIT_M
 use crate::cancel::Cancel;
 use crate::compile::{write_outputs, Compilation, CompileOptions, WarmStart, Workspace};
 use crate::optimize::{Built, PrecomputeCache};
-use crate::spec::parse_project;
+use crate::spec::{parse_project, read_source};
 use crate::watch::{self, differences, list, referenced_files, shown, Snapshot};
 
 /// Watches the project at `path` until Ctrl-C (status 0), with grids and skeletons from `cache`;
@@ -177,7 +177,7 @@ impl Session<'_> {
     /// Follows the files the project names if it can be parsed (before the first build, after
     /// an invalid one); otherwise keeps the set it had.
     fn follow_parsed(&mut self) {
-        let Ok(source) = std::fs::read_to_string(self.path) else {
+        let Ok(Some(source)) = read_source(self.path, "project file") else {
             return;
         };
         if let Some(project) = parse_project(&source, self.path).project {

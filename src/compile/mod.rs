@@ -16,6 +16,7 @@
 mod design;
 mod down;
 mod insertion;
+mod limits;
 mod mesh_cache;
 mod meshes;
 mod optimize;
@@ -28,6 +29,8 @@ mod report;
 mod scene;
 mod solution;
 mod workspace;
+
+use limits::optimizer_limits;
 
 use std::path::{Path, PathBuf};
 
@@ -234,6 +237,11 @@ pub fn compile_with(
     let (design, source, optimization) = match (&project.optimize, &options.optimize) {
         (None, _) => (written, DesignSource::Written, None),
         (Some(settings), Some(run)) => {
+            let limits = optimizer_limits(&project, settings, &meshes, run);
+            if !limits.is_empty() {
+                problems.extend(limits);
+                return Err(Failure::Invalid(problems));
+            }
             let (design, optimization) =
                 optimize_design(&project, settings, &meshes, &prints, &print, run, workspace)
                     .ok_or(Failure::Cancelled)?;

@@ -11,7 +11,7 @@ use crate::emit::{write_solution, Solution, SolutionCapsule};
 use crate::fabrication::PrintSetup;
 use crate::geometry::TriMesh;
 use crate::spec::model::Project;
-use crate::spec::parse_solution;
+use crate::spec::{parse_solution, read_source};
 
 /// The solution file's text for `design`: a header naming the project, then the infill when the
 /// project lets the optimizer choose it, then the capsules. Lengths carry [`length_decimals`]
@@ -61,15 +61,10 @@ pub fn read_solution(
     meshes: &[TriMesh],
     print: &PrintSetup,
 ) -> Result<Option<Design>, Vec<Problem>> {
-    let text = match std::fs::read_to_string(path) {
-        Ok(text) => text,
-        Err(error) if error.kind() == std::io::ErrorKind::NotFound => return Ok(None),
-        Err(error) => {
-            return Err(vec![Problem::error(
-                "ballast::solution::unreadable",
-                format!("cannot read the solution file {}: {error}", path.display()),
-            )])
-        }
+    let text = match read_source(path, "solution file") {
+        Ok(Some(text)) => text,
+        Ok(None) => return Ok(None),
+        Err(problem) => return Err(vec![*problem]),
     };
     let file = SourceFile {
         name: path.display().to_string(),

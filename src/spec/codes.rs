@@ -3,6 +3,14 @@
 
 /// The text is not valid KDL v2 (or is too large or too deeply nested to read).
 pub const SYNTAX: &str = "ballast::syntax";
+/// A project or solution file that cannot be read.
+pub const FILE_UNREADABLE: &str = "ballast::file::unreadable";
+/// A project or solution file that is a folder, a device, a pipe or a socket.
+pub const FILE_NOT_REGULAR: &str = "ballast::file::not_a_file";
+/// A project or solution file larger than the most ballast reads.
+pub const FILE_TOO_LARGE: &str = "ballast::file::too_large";
+/// More problems than are kept: the rest were left out.
+pub const TOO_MANY_PROBLEMS: &str = "ballast::too_many_problems";
 /// A node the grammar does not have, or has only elsewhere.
 pub const UNKNOWN_NODE: &str = "ballast::unknown_node";
 /// A property the node does not take.
@@ -47,6 +55,10 @@ pub const ZERO_PRINT_DOWN: &str = "ballast::component::zero_down";
 pub const PRINT_DOWN_WITH_ROTATE: &str = "ballast::component::down_with_rotate";
 /// `optimize capsules=N` asks for fewer capsules than the project pins.
 pub const TOO_FEW_CAPSULES: &str = "ballast::optimize::too_few_capsules";
+/// `optimize` asks for more capsules, or more poses × capsules, than the optimizer takes.
+pub const TOO_MANY_CAPSULES: &str = "ballast::optimize::too_many_capsules";
+/// `optimize grid-cell=` gives a distance grid of more nodes than the optimizer takes.
+pub const GRID_TOO_FINE: &str = "ballast::optimize::grid_too_fine";
 /// A solution file's `infill` that the project does not leave open: outside the project's
 /// `min`..`max`, or different from its fixed infill.
 pub const SOLUTION_INFILL: &str = "ballast::solution::infill";

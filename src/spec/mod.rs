@@ -3,8 +3,10 @@
 //! [`parse_project`] turns project-file text into a [`model::Project`] and every problem found;
 //! [`parse_solution`] reads a solution file (the optimizer's capsules) against a project.
 
+mod bounds;
 mod check;
 pub mod codes;
+mod file;
 mod guard;
 pub mod model;
 mod parse;
@@ -17,5 +19,7 @@ mod tree;
 mod value;
 pub mod vocabulary;
 
-pub use parse::{parse_project, Parsed};
+pub use file::read_source;
+pub use parse::{parse_project, Parsed, MAX_PROBLEMS};
 pub use solution::{parse_solution, ParsedSolution};
+pub use syntax::MAX_SOURCE_BYTES;

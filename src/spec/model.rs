@@ -163,8 +163,15 @@ pub struct Project {
     pub output: Output,
 }
 
+/// The most capsules the optimizer is asked to place (`optimize capsules=`, `--capsules`, or
+/// the capsules written in a project that optimizes).
+pub const MAX_OPTIMIZED_CAPSULES: usize = 8;
+/// The most poses × capsules the optimizer is asked to weigh: its work in each step grows with
+/// both.
+pub const MAX_POSE_CAPSULES: usize = 32;
+
 /// The `optimize` node: the project asks the optimizer to place its capsules. Equality ignores
-/// the span.
+/// the spans.
 #[derive(Debug, Clone)]
 pub struct Optimize {
     /// How many capsules the design should have; `None` lets the optimizer choose by
@@ -173,6 +180,8 @@ pub struct Optimize {
     /// Cell size of the signed distance grid that keeps capsules inside their component, project
     /// units; `None` derives it from the capsule sizes.
     pub grid_cell: Option<f64>,
+    /// Where `grid-cell=` was written, when it was.
+    pub grid_cell_span: Option<SourceSpan>,
     /// When the optimizer chooses the capsule count, it takes the fewest capsules whose worst
     /// safety margin is within this many degrees of the best result.
     pub tolerance_degrees: f64,
@@ -533,6 +542,7 @@ impl PartialEq for Optimize {
         let Optimize {
             capsules,
             grid_cell,
+            grid_cell_span: _,
             tolerance_degrees,
             seed,
             span: _,

@@ -10,6 +10,7 @@ use std::path::Path;
 use kdl::KdlDocument;
 
 use super::check::check_document;
+use super::codes::TOO_MANY_PROBLEMS;
 use super::model::{Project, Units};
 use super::resolve::resolve;
 use super::syntax;
@@ -31,11 +32,12 @@ pub struct Parsed {
 pub fn parse_project(source: &str, project_path: &Path) -> Parsed {
     let document = match syntax::read(source) {
         Ok(document) => document,
-        Err(problems) => {
+        Err(mut problems) => {
+            keep_at_most_max(&mut problems);
             return Parsed {
                 project: None,
                 problems,
-            }
+            };
         }
     };
     let units = declared_units(&document);
@@ -54,8 +56,36 @@ pub fn parse_project(source: &str, project_path: &Path) -> Parsed {
             .first()
             .map_or(usize::MAX, |(span, _)| span.offset())
     });
+    keep_at_most_max(&mut problems);
     let project = (!problems.iter().any(Problem::is_error)).then_some(project);
     Parsed { project, problems }
+}
+
+/// The most problems one file's reading keeps; the rest are counted in one last problem.
+pub const MAX_PROBLEMS: usize = 200;
+
+/// Keeps the first [`MAX_PROBLEMS`] of `problems` and, when there were more, adds one saying how
+/// many were left out, so a file that is all mistakes costs bounded memory and output.
+pub(super) fn keep_at_most_max(problems: &mut Vec<Problem>) {
+    if problems.len() <= MAX_PROBLEMS {
+        return;
+    }
+    let left_out = problems.len() - MAX_PROBLEMS;
+    let errors = problems[MAX_PROBLEMS..]
+        .iter()
+        .filter(|p| p.is_error())
+        .count();
+    problems.truncate(MAX_PROBLEMS);
+    let message = format!(
+        "{left_out} more problems ({errors} of them errors) were left out: at most {MAX_PROBLEMS} \
+         are kept"
+    );
+    let help = "fix these and check again (docs/limits.md, \"Project and solution files\")";
+    problems.push(if errors > 0 {
+        Problem::error(TOO_MANY_PROBLEMS, message).with_help(help)
+    } else {
+        Problem::warning(TOO_MANY_PROBLEMS, message).with_help(help)
+    });
 }
 
 /// The units the file declares (its first `units` node), which every length is converted to,

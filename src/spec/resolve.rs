@@ -10,6 +10,7 @@ use std::path::{Path, PathBuf};
 use miette::SourceSpan;
 use nalgebra::{Isometry3, Point3, Vector3};
 
+use super::bounds;
 use super::codes;
 use super::model::{
     Axis, Ball, Capsule, Component, Goal, Infill, MassModel, Material, Optimize, Output, Pose,
@@ -42,6 +43,11 @@ pub fn resolve(
     let poses = resolver.poses();
     let capsules = resolver.capsules();
     let optimize = resolver.optimize(&capsules);
+    if let Some(settings) = &optimize {
+        resolver
+            .problems
+            .extend(bounds::optimizer_bounds(settings, &capsules, &poses));
+    }
     let wall = resolver.top("wall").and_then(Node::number_arg);
     Project {
         units,
@@ -493,6 +499,7 @@ impl<'a> Resolver<'a> {
         Some(Optimize {
             capsules: wanted,
             grid_cell: node.number("grid-cell"),
+            grid_cell_span: node.prop("grid-cell").map(|value| value.span),
             tolerance_degrees: node.number("tolerance").unwrap_or(1.0),
             seed: node.count("seed").unwrap_or(0),
             span: node.span,

@@ -9,6 +9,7 @@ use std::path::Path;
 
 use super::check::check_document;
 use super::model::{Capsule, Project};
+use super::parse::keep_at_most_max;
 use super::resolve::resolve_solution;
 use super::syntax;
 use super::vocabulary;
@@ -34,12 +35,13 @@ pub fn parse_solution(source: &str, path: &Path, project: &Project) -> ParsedSol
     let _ = path;
     let document = match syntax::read(source) {
         Ok(document) => document,
-        Err(problems) => {
+        Err(mut problems) => {
+            keep_at_most_max(&mut problems);
             return ParsedSolution {
                 capsules: None,
                 infill: None,
                 problems,
-            }
+            };
         }
     };
     let mut problems = Vec::new();
@@ -57,6 +59,7 @@ pub fn parse_solution(source: &str, path: &Path, project: &Project) -> ParsedSol
             .first()
             .map_or(usize::MAX, |(span, _)| span.offset())
     });
+    keep_at_most_max(&mut problems);
     let valid = !problems.iter().any(Problem::is_error);
     ParsedSolution {
         capsules: valid.then_some(capsules),

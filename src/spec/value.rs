@@ -35,7 +35,8 @@ pub fn check_value(
         Some(annotation) => unit_factor(annotation, span, slot, units, problems),
     };
     let scalar = match slot.kind {
-        ValueKind::String | ValueKind::Path | ValueKind::Enum(_) => text(entry, span, slot),
+        ValueKind::String | ValueKind::Enum(_) => text(entry, span, slot),
+        ValueKind::Path => text(entry, span, slot).and_then(|path| non_empty(path, span, slot)),
         ValueKind::Number | ValueKind::Positive | ValueKind::NonNegative => {
             number(entry, span, slot, factor.unwrap_or(1.0), units)
         }
@@ -120,6 +121,27 @@ fn text(entry: &KdlEntry, span: SourceSpan, slot: Slot<'_>) -> Result<Scalar, Bo
     Ok(Scalar::Text(text.clone()))
 }
 
+/// The largest length accepted anywhere, in millimetres (1 km): far beyond any printed object,
+/// and small enough that volumes and moments stay finite.
+pub const MAX_LENGTH_MM: f64 = 1e6;
+/// The largest magnitude of any other number (densities, angles, counts of degrees).
+pub const MAX_NUMBER: f64 = 1e9;
+
+/// A path that is not empty.
+fn non_empty(path: Scalar, span: SourceSpan, slot: Slot<'_>) -> Result<Scalar, Box<Problem>> {
+    match &path {
+        Scalar::Text(text) if text.trim().is_empty() => Err(Box::new(
+            Problem::error(
+                codes::OUT_OF_RANGE,
+                format!("`{}` is an empty path", slot.owner),
+            )
+            .with_label(span, "names no file")
+            .with_help("write the file's path, relative to the project's folder"),
+        )),
+        _ => Ok(path),
+    }
+}
+
 /// A finite number in range, multiplied by `factor` (the unit conversion).
 fn number(
     entry: &KdlEntry,
@@ -149,6 +171,29 @@ fn number(
                 format!("`{}` must be a finite number", slot.owner),
             )
             .with_label(span, "not a finite number"),
+        ));
+    }
+    let (largest, what) = if slot.length {
+        (MAX_LENGTH_MM / (units.in_metres() * 1000.0), "a length")
+    } else {
+        (MAX_NUMBER, "a number")
+    };
+    if number.abs() > largest {
+        return Err(Box::new(
+            Problem::error(
+                codes::OUT_OF_RANGE,
+                format!(
+                    "`{}` is {written:e}, more than ballast accepts as {what} (at most {largest:e}{})",
+                    slot.owner,
+                    if slot.length {
+                        format!(" {}, 1 km", units.keyword())
+                    } else {
+                        String::new()
+                    }
+                ),
+            )
+            .with_label(span, "far too large")
+            .with_help("a printed object is at most a few metres across; the limit is fixed (docs/limits.md)"),
         ));
     }
     let (in_range, bound) = match slot.kind {

@@ -144,6 +144,19 @@ impl DistanceGrid {
         &self.values
     }
 
+    /// Number of nodes [`new`](Self::new) would sample for `mesh` at spacing `cell`, counted in
+    /// floating point so that a tiny cell gives a huge count (or infinity) rather than an
+    /// overflow: for checking a spacing before building its grid.
+    pub fn planned_nodes(mesh: &TriMesh, cell: f64) -> f64 {
+        match mesh.bounding_box().filter(|_| !mesh.triangles.is_empty()) {
+            Some((lo, hi)) if cell > 0.0 => (0..3)
+                .map(|a| ((hi[a] - lo[a]) / cell).ceil() + (2 * MARGIN_CELLS + 1) as f64)
+                .product(),
+            Some(_) => f64::INFINITY,
+            None => 0.0,
+        }
+    }
+
     /// Number of nodes [`new`](Self::new) samples for `mesh` at spacing `cell`.
     pub fn node_count(mesh: &TriMesh, cell: f64) -> usize {
         match mesh.bounding_box().filter(|_| !mesh.triangles.is_empty()) {

@@ -1,0 +1,289 @@
+//! Hostile and unlucky project and solution files: each ends in a diagnostic naming what is wrong
+//! and where, never in a crash, an endless read or an unbounded output (docs/limits.md).
+
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use ballast::compile::{compile_with, CompileOptions, Failure, OptimizeOptions, Workspace};
+use ballast::diagnostic::{render_plain, Problem, MAX_RENDERED_PROBLEMS};
+use ballast::geometry::{load_mesh, DistanceGrid, MeshSelector};
+use ballast::spec::codes;
+use ballast::spec::{parse_project, parse_solution, read_source, MAX_PROBLEMS, MAX_SOURCE_BYTES};
+
+fn t_shape() -> (PathBuf, String) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/t_shape.kdl");
+    let source = std::fs::read_to_string(&path).unwrap();
+    (path, source)
+}
+
+fn problems(source: &str) -> Vec<Problem> {
+    parse_project(source, Path::new("/p/project.kdl")).problems
+}
+
+fn codes_of(problems: &[Problem]) -> Vec<&'static str> {
+    problems.iter().map(|p| p.code).collect()
+}
+
+#[test]
+fn deep_nesting_after_any_line_end_or_an_unclosed_quote_is_refused() {
+    let deep = "a{".repeat(25_000) + &"}".repeat(25_000);
+    for opening in [
+        "//\u{2028}",
+        "//\u{2029}",
+        "//\u{85}",
+        "//\u{0B}",
+        "//\u{0C}",
+        "//\r",
+        "\"",
+        "#\"",
+        "\"\n",
+        "a \"\u{200E} ",
+        "a\"x\" ",
+    ] {
+        let found = problems(&format!("{opening}{deep}"));
+        assert_eq!(codes_of(&found), [codes::SYNTAX], "{opening:?}");
+    }
+}
+
+#[test]
+fn labels_past_column_65535_are_located_not_drawn() {
+    let (path, project_text) = t_shape();
+    let source = format!("units mm\nwall 1\n{}wall \"x\"\n", " ".repeat(70_000));
+    let found = problems(&source);
+    assert!(found.iter().any(|p| p.code == codes::WRONG_TYPE));
+    let text = render_plain(&found, "long.kdl", &source);
+    assert!(text.contains("at long.kdl:3:70006"), "{text}");
+
+    let project = parse_project(&project_text, &path).project.unwrap();
+    let solution = format!(
+        "capsule \"keel\" component=\"T\" {{\n  from 0 0 1\n  to 0 0 2\n  radius 1\n}}\n{}wall \"x\"\n",
+        " ".repeat(70_000)
+    );
+    let parsed = parse_solution(&solution, Path::new("long.solution.kdl"), &project);
+    assert!(parsed.capsules.is_none());
+    let text = render_plain(&parsed.problems, "long.solution.kdl", &solution);
+    assert!(text.contains("long.solution.kdl:6:70001"), "{text}");
+}
+
+#[test]
+fn diagnostics_are_bounded_in_number_and_size() {
+    // One 20 KB line of mistakes, and 50 KB of quotes.
+    for source in [
+        "wall 1;".repeat(3000),
+        "pose 1 2;".repeat(2300),
+        "\"".repeat(50_000),
+    ] {
+        let found = problems(&source);
+        assert!(found.len() <= MAX_PROBLEMS + 1, "{}", found.len());
+        let text = render_plain(&found, "many.kdl", &source);
+        assert!(text.len() < 200_000, "{} bytes", text.len());
+        if found.len() > MAX_RENDERED_PROBLEMS {
+            assert!(text.contains("were left out"), "{text}");
+        }
+    }
+    let found = problems(&"wall 1;".repeat(3000));
+    let last = found.last().unwrap();
+    assert_eq!(last.code, codes::TOO_MANY_PROBLEMS);
+    // 2999 repeated `wall`s and the missing `component` and `pose`, less the 200 kept.
+    assert!(
+        last.message.starts_with("2801 more problems"),
+        "{}",
+        last.message
+    );
+}
+
+#[test]
+fn slashdashes_in_a_row_before_bad_values_are_refused_at_once() {
+    // Found by the fuzzer: 3 KB of these took the parser 7 s, and the time grows with the square
+    // of the length.
+    let source = "\u{A0}/-\u{A0}/-unit#infs".repeat(400);
+    let start = Instant::now();
+    let found = problems(&source);
+    assert!(start.elapsed() < Duration::from_secs(2));
+    assert_eq!(codes_of(&found), [codes::SYNTAX]);
+}
+
+#[test]
+fn a_long_slashdash_chain_split_by_unicode_spaces_is_refused_at_once() {
+    for space in ["\u{A0}", "\u{3000}", "\u{2028}", " "] {
+        let source = format!("/-{space}").repeat(2000);
+        let start = Instant::now();
+        let found = problems(&source);
+        assert!(start.elapsed() < Duration::from_secs(2), "{space:?}");
+        assert_eq!(codes_of(&found), [codes::SYNTAX]);
+        assert!(
+            found[0].message.contains("slashdashes"),
+            "{}",
+            found[0].message
+        );
+    }
+}
+
+/// The outcome of building `source` (the T shape with one line changed) with the optimizer.
+fn optimize(source: &str, capsules: Option<usize>) -> Result<(), Vec<Problem>> {
+    let (path, _) = t_shape();
+    let options = CompileOptions {
+        out_dir: None,
+        optimize: Some(OptimizeOptions {
+            capsules,
+            ..OptimizeOptions::default()
+        }),
+        ..CompileOptions::default()
+    };
+    match compile_with(source, &path, &options, &mut Workspace::new()) {
+        Ok(_) => Ok(()),
+        Err(Failure::Invalid(problems)) => Err(problems),
+        Err(Failure::Cancelled) => panic!("cancelled"),
+    }
+}
+
+#[test]
+fn a_grid_cell_too_fine_for_the_mesh_is_refused_at_its_span() {
+    let (_, source) = t_shape();
+    for cell in ["0.001", "1e-300"] {
+        let edited = source.replace("\noptimize\n", &format!("\noptimize grid-cell={cell}\n"));
+        let found = optimize(&edited, None).unwrap_err();
+        let problem = found
+            .iter()
+            .find(|p| p.code == codes::GRID_TOO_FINE)
+            .unwrap_or_else(|| panic!("{cell}: {found:?}"));
+        let span = problem.labels[0].0;
+        assert_eq!(
+            &edited[span.offset()..span.offset() + span.len()],
+            cell,
+            "{problem:?}"
+        );
+        // The spacing the help offers fits.
+        let offered = problem.help.as_ref().unwrap();
+        let offered = offered
+            .split('`')
+            .nth(1)
+            .unwrap()
+            .trim_start_matches("grid-cell=");
+        let cell: f64 = offered.parse().unwrap();
+        let mesh = load_mesh(
+            &Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/meshes/t_shape.obj"),
+            &MeshSelector::Whole,
+        )
+        .unwrap();
+        let nodes = DistanceGrid::planned_nodes(&mesh, cell);
+        assert!(nodes <= 16_777_216.0 && nodes > 8_000_000.0, "{nodes}");
+    }
+}
+
+#[test]
+fn too_many_capsules_or_poses_times_capsules_are_refused() {
+    let (_, source) = t_shape();
+    let edited = source.replace("\noptimize\n", "\noptimize capsules=1000\n");
+    let found = problems(&edited);
+    assert_eq!(codes_of(&found), [codes::TOO_MANY_CAPSULES]);
+    let poses: String = (0..40)
+        .map(|i| format!("pose \"p{i}\" {{ rotate {i} 0 0; stand }}\n"))
+        .collect();
+    let edited = source.replace("\noptimize\n", "\noptimize capsules=4\n") + &poses;
+    let found = problems(&edited);
+    assert_eq!(codes_of(&found), [codes::TOO_MANY_CAPSULES]);
+    assert!(
+        found[0].message.contains("44 poses × 4 capsules"),
+        "{}",
+        found[0].message
+    );
+    // The command line's count too, before any optimizing.
+    let found = optimize(&source, Some(40)).unwrap_err();
+    assert!(
+        codes_of(&found).contains(&codes::TOO_MANY_CAPSULES),
+        "{found:?}"
+    );
+}
+
+#[test]
+fn devices_folders_and_large_files_are_refused_before_reading() {
+    let start = Instant::now();
+    let problem = read_source(Path::new("/dev/zero"), "project file").unwrap_err();
+    assert_eq!(problem.code, codes::FILE_NOT_REGULAR);
+    assert!(start.elapsed() < Duration::from_secs(1));
+    let folder = tempfile::tempdir().unwrap();
+    let problem = read_source(folder.path(), "project file").unwrap_err();
+    assert_eq!(problem.code, codes::FILE_NOT_REGULAR);
+    let large = folder.path().join("large.kdl");
+    std::fs::write(&large, " ".repeat(MAX_SOURCE_BYTES + 1)).unwrap();
+    let problem = read_source(&large, "project file").unwrap_err();
+    assert_eq!(problem.code, codes::FILE_TOO_LARGE);
+    assert!(problem.message.contains(&MAX_SOURCE_BYTES.to_string()));
+    let exact = folder.path().join("exact.kdl");
+    std::fs::write(&exact, " ".repeat(MAX_SOURCE_BYTES)).unwrap();
+    assert_eq!(
+        read_source(&exact, "project file").unwrap().unwrap().len(),
+        MAX_SOURCE_BYTES
+    );
+    assert_eq!(
+        read_source(&folder.path().join("none.kdl"), "project file").unwrap(),
+        None
+    );
+}
+
+/// The text under the primary label of the only problem of `source`.
+fn labelled<'a>(source: &'a str, found: &[Problem]) -> &'a str {
+    let span = found[0].labels[0].0;
+    &source[span.offset()..span.offset() + span.len()]
+}
+
+#[test]
+fn kdl_v1_keywords_get_a_hint() {
+    let (_, source) = t_shape();
+    let edited = source.replace(
+        "\noptimize\n",
+        "\ncapsule \"c\" component=\"T\" radius=1 pinned=true {\n  from 0 0 1\n  to 0 0 2\n}\n",
+    );
+    let found = problems(&edited);
+    assert_eq!(codes_of(&found), [codes::SYNTAX]);
+    assert_eq!(
+        found[0].help.as_deref(),
+        Some("KDL v2 writes keywords with a `#`: write `#true`")
+    );
+}
+
+#[test]
+fn a_bad_float_and_an_unclosed_comment_point_at_themselves() {
+    let (_, source) = t_shape();
+    let edited = source.replacen("stand margin=2\n", "stand margin=2.\n", 1);
+    let found = problems(&edited);
+    assert_eq!(codes_of(&found), [codes::SYNTAX]);
+    assert_eq!(labelled(&edited, &found), "margin=2.");
+
+    let edited = source.replace("\noptimize\n", "\n/* not closed\noptimize\n");
+    let found = problems(&edited);
+    assert_eq!(codes_of(&found), [codes::SYNTAX]);
+    assert_eq!(labelled(&edited, &found), "/*");
+}
+
+#[test]
+fn an_empty_output_path_is_refused_at_its_span() {
+    let (_, source) = t_shape();
+    let edited = source.replace("gltf \"build/t_shape.glb\"", "gltf \"\"");
+    let found = problems(&edited);
+    assert_eq!(codes_of(&found), [codes::OUT_OF_RANGE]);
+    assert_eq!(labelled(&edited, &found), "\"\"");
+}
+
+#[test]
+fn absurd_coordinates_are_refused_at_their_span() {
+    let (_, source) = t_shape();
+    let edited = source.replace(
+        "\noptimize\n",
+        "\ncapsule \"c\" component=\"T\" radius=1 {\n  from 0 0 1e200\n  to 0 0 -1e200\n}\n",
+    );
+    let found = problems(&edited);
+    assert_eq!(codes_of(&found), [codes::OUT_OF_RANGE, codes::OUT_OF_RANGE]);
+    assert_eq!(labelled(&edited, &found), "1e200");
+    // A kilometre in metres is still a length; a little more is not.
+    let metres = source
+        .replace("units mm", "units m")
+        .replace("wall 1.2", "wall 1000")
+        .replace("clearance=0.2", "clearance=0.0002");
+    assert!(problems(&metres)
+        .iter()
+        .all(|p| p.code != codes::OUT_OF_RANGE));
+    let further = metres.replace("wall 1000", "wall 1001");
+    assert_eq!(codes_of(&problems(&further)), [codes::OUT_OF_RANGE]);
+}
