@@ -35,8 +35,8 @@ pub use insertion::{direction_words, plan_insertions_into, BRIDGE_LIMIT_MM};
 pub use mesh_cache::MeshCache;
 pub use meshes::load_components;
 pub use optimize::{
-    length_decimals, optimize_design, prepare, CandidateReport, Optimization, OptimizeOptions,
-    Preparation, SeedReport, Timings, WarmStart,
+    length_decimals, optimize_design, prepare, CandidateReport, CapsuleOrigin, Optimization,
+    OptimizeOptions, Preparation, SeedReport, Timings, WarmStart,
 };
 pub use orientation::{print_orientations, print_plan, BED_CENTRE_MM, BED_GAP_MM};
 pub use outputs::write_outputs;
@@ -167,11 +167,10 @@ pub fn compile_with(
             .collect();
         problems.extend(down::place_down_poses(&mut project, &bodies));
     }
-    let (written, design_problems) = hand_placed_design(&project);
+    let optimizing = project.optimize.is_some() && options.optimize.is_some();
+    let (written, design_problems) =
+        design::written_design(&project, meshes.as_deref(), optimizing);
     problems.extend(design_problems);
-    if let Some(meshes) = &meshes {
-        problems.extend(design::fabrication_problems(&project, meshes, &written));
-    }
     let (meshes, orientations) = match (meshes, orientations) {
         (Some(meshes), Some(orientations)) if !problems.iter().any(Problem::is_error) => {
             (meshes, orientations)
@@ -186,9 +185,10 @@ pub fn compile_with(
     let (design, source, optimization) = match (&project.optimize, &options.optimize) {
         (None, _) => (written, DesignSource::Written, None),
         (Some(settings), Some(run)) => {
-            let (design, optimization) =
+            let (design, mut optimization) =
                 optimize_design(&project, settings, &meshes, &prints, run, workspace)
                     .ok_or(Failure::Cancelled)?;
+            problems.append(&mut optimization.warnings);
             (design, DesignSource::Optimized, Some(optimization))
         }
         (Some(_), None) => {

@@ -6,16 +6,20 @@ use std::time::Instant;
 
 use serde::Serialize;
 
+use super::design::round;
 use super::workspace::{Stage, Workspace};
+use crate::cancel::Interruption;
 use crate::design::Design;
+use crate::diagnostic::Problem as Diagnostic;
+use crate::fabrication::CapsuleIssue;
 use crate::geometry::PrintVolumes;
 use crate::geometry::{DistanceGrid, Skeleton, TriMesh};
 use crate::objective::{GridInterior, Parameters};
 pub use crate::optimize::length_decimals;
 use crate::optimize::{
     capsule_radius, choose, content_hash, default_cell, explain_conflicts, grid_scale, rank,
-    run_heuristic, skeleton_seeds, Candidate, Conflict, GoalRef, GridKey, Method, Outcome, Problem,
-    Ranking, SeedSite, StartCapsule,
+    repair_seeds, run_heuristic, skeleton_seeds, Candidate, Conflict, GoalRef, GridKey, Method,
+    Origin, Outcome, Problem, Ranking, Rules, SeedRepair, SeedSite, StartCapsule,
 };
 use crate::spec::model::{Optimize, Project};
 
@@ -76,10 +80,15 @@ pub struct Optimization {
     /// Whether the heuristic started from the previous build's design (watch mode) rather than
     /// from the skeleton seeds.
     pub warm_started: bool,
+    /// What stopped the search before its end (`build` interrupted or out of time), if anything:
+    /// the design is then the best of the rounds finished before.
+    pub interrupted: Option<Interruption>,
     /// Every capsule count the heuristic tried, most capsules first.
     pub candidates: Vec<CandidateReport>,
     /// Every skeleton segment's midpoint and whether a capsule was seeded there.
     pub seeds: Vec<SeedReport>,
+    /// Where each capsule of the chosen design came from, in design order.
+    pub origins: Vec<CapsuleOrigin>,
     /// Where the heuristic ranks among random starts, per capsule count (empty unless asked).
     pub exhaustive: Vec<Ranking>,
     /// When the chosen design misses some goal: the goals that cannot be met even alone, and the
@@ -88,6 +97,10 @@ pub struct Optimization {
     /// Wall-clock seconds per stage. Not deterministic, so never written to a file.
     #[serde(skip)]
     pub timings: Timings,
+    /// Warnings for the written seeds that had to be moved before the search (the diagnostics
+    /// travel with the compilation's warnings, not in the report).
+    #[serde(skip)]
+    pub warnings: Vec<Diagnostic>,
 }
 
 /// Wall-clock seconds of each optimizer stage.
@@ -154,6 +167,22 @@ pub struct SeedReport {
     pub seeded: bool,
 }
 
+/// Where one capsule of the chosen design came from.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CapsuleOrigin {
+    /// The capsule's name in the design.
+    pub capsule: String,
+    /// `pinned` (written with `pinned=#true`, kept as written), `written` (a seed written in the
+    /// project file), `skeleton` (seeded at a skeleton segment's midpoint) or `earlier` (a
+    /// capsule of the previous build, in watch mode).
+    pub seed: &'static str,
+    /// The name of the capsule it started from, in the project file or the previous build; `None`
+    /// for a skeleton seed.
+    pub seed_name: Option<String>,
+    /// For a skeleton seed, the index of its site in [`Optimization::seeds`].
+    pub site: Option<usize>,
+}
+
 /// What the heuristic starts from: the interior distance of every component and the start
 /// capsules.
 pub struct Preparation {
@@ -166,6 +195,9 @@ pub struct Preparation {
     /// Every skeleton segment's midpoint and whether it was seeded (empty when the written
     /// capsules or a warm start are the seeds).
     pub sites: Vec<SeedSite>,
+    /// The written seeds that broke a fabrication rule and what was done to each (indices into
+    /// the project's capsules).
+    pub repairs: Vec<SeedRepair>,
 }
 
 /// The precomputation of the optimizer: distance grids (from the workspace's cache when it holds
@@ -206,10 +238,24 @@ pub fn prepare(
         seeds.extend(warm_capsules(design, &seeds));
     }
     if warm.is_some() || seeds.iter().any(|c| !c.pinned) {
+        let repairs = if warm.is_some() {
+            Vec::new()
+        } else {
+            let rules = Rules {
+                meshes,
+                interior: interior.as_ref(),
+                ball: &project.ball,
+                min_radius: parameters.min_radius,
+                wall: project.wall,
+                scale: grid_scale(length_decimals(meshes)),
+            };
+            repair_seeds(&mut seeds, &rules)
+        };
         return Some(Preparation {
             interior,
             seeds,
             sites: Vec::new(),
+            repairs,
         });
     }
     let mut skeletons: Vec<Arc<Skeleton>> = Vec::with_capacity(meshes.len());
@@ -232,6 +278,7 @@ pub fn prepare(
         interior,
         seeds,
         sites,
+        repairs: Vec::new(),
     })
 }
 
@@ -264,7 +311,7 @@ pub fn optimize_design(
             workspace,
             Some(design),
         )?;
-        if optimized.1.meets_goals {
+        if optimized.1.meets_goals || optimized.1.interrupted.is_some() {
             return Some(optimized);
         }
     }
@@ -287,9 +334,18 @@ fn optimize_from(
         interior,
         seeds,
         sites,
+        repairs,
     } = prepare(project, settings, meshes, workspace, warm)?;
     let precompute = clock.elapsed().as_secs_f64();
+    let warnings = repairs
+        .iter()
+        .map(|repair| repair_warning(project, repair))
+        .collect();
 
+    // Poses without goals are only shown: they take no part in the search (not even with their
+    // ball-elevation constraint), so adding one leaves the design as it was.
+    let steering = with_goal_poses_only(project);
+    let project = &steering;
     let clock = Instant::now();
     let problem = Problem::new(project, meshes, prints, interior.clone(), options.method)
         .with_cancel(workspace.cancel.clone());
@@ -297,7 +353,9 @@ fn optimize_from(
     let mut candidates = run_heuristic(&problem, &seeds, requested, &|capsules| {
         workspace.report(Stage::Round { capsules })
     });
-    if problem.is_cancelled() || candidates.is_empty() {
+    // Interrupted (not cancelled), the rounds finished so far still hold designs worth keeping.
+    let interrupted = || workspace.cancel.interruption();
+    if candidates.is_empty() || (problem.is_cancelled() && interrupted().is_none()) {
         return None;
     }
     // Every candidate is judged as the solution file would hold it, so the table, the choice
@@ -308,7 +366,7 @@ fn optimize_from(
     let heuristic = clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
-    let exhaustive = if options.exhaustive > 0 {
+    let mut exhaustive = if options.exhaustive > 0 && !problem.is_cancelled() {
         workspace.report(Stage::Exhaustive {
             starts: options.exhaustive,
         });
@@ -323,14 +381,18 @@ fn optimize_from(
     } else {
         Vec::new()
     };
+    // A ranking cut short compares with starts that were never solved: it means nothing.
+    if problem.is_cancelled() {
+        exhaustive.clear();
+    }
     let exhaustive_seconds = clock.elapsed().as_secs_f64();
 
     let chosen = choose(&candidates, requested, settings.tolerance_degrees);
     let outcome = candidates[chosen].outcome.clone();
-    let design = named(project, outcome.design.clone());
+    let (design, origins) = named(project, outcome.design.clone(), &candidates[chosen].starts);
 
     let clock = Instant::now();
-    let conflicts = if outcome.meets_goals {
+    let mut conflicts = if outcome.meets_goals || problem.is_cancelled() {
         Vec::new()
     } else {
         workspace.report(Stage::Conflicts);
@@ -360,8 +422,12 @@ fn optimize_from(
         .map(|c| conflict_report(project, c))
         .collect()
     };
+    let interrupted = interrupted();
     if problem.is_cancelled() {
-        return None;
+        // Cancelled, nothing is kept; interrupted, an explanation cut short may name goals that
+        // can be met.
+        interrupted?;
+        conflicts.clear();
     }
     let conflicts_seconds = clock.elapsed().as_secs_f64();
     let optimization = Optimization {
@@ -370,11 +436,13 @@ fn optimize_from(
         meets_goals: outcome.meets_goals,
         tolerance: settings.tolerance_degrees,
         warm_started: warm.is_some(),
+        interrupted,
         candidates: candidates.iter().map(candidate_report).collect(),
         seeds: sites
             .iter()
             .map(|site| seed_report(project, site))
             .collect(),
+        origins,
         exhaustive,
         conflicts,
         timings: Timings {
@@ -383,8 +451,17 @@ fn optimize_from(
             exhaustive: exhaustive_seconds,
             conflicts: conflicts_seconds,
         },
+        warnings,
     };
     Some((design, optimization))
+}
+
+/// `project` without the poses that have no goals: what the optimizer steers by. The pose indices
+/// of its results (conflicts) are indices into this project's poses.
+fn with_goal_poses_only(project: &Project) -> Project {
+    let mut steering = project.clone();
+    steering.poses.retain(|pose| !pose.goals.is_empty());
+    steering
 }
 
 /// The capsules of the project file as start capsules, named and pinned as written.
@@ -399,6 +476,7 @@ fn written_capsules(project: &Project) -> Vec<StartCapsule> {
             radius: c.radius,
             pinned: c.pinned,
             name: Some(c.name.value.clone()),
+            origin: Origin::Written,
         })
         .collect()
 }
@@ -421,6 +499,7 @@ fn warm_capsules(design: &Design, pinned: &[StartCapsule]) -> Vec<StartCapsule> 
             radius: c.radius,
             pinned: false,
             name: Some(c.name.clone()),
+            origin: Origin::Earlier,
         })
         .collect()
 }
@@ -472,33 +551,53 @@ fn rounded(problem: &Problem, outcome: &Outcome, meshes: &[TriMesh]) -> Outcome 
     judged
 }
 
-/// Names the capsules the optimizer seeded (`"<component> 1"`, `"<component> 2"`, … in design
-/// order), skipping names already taken.
-fn named(project: &Project, mut design: Design) -> Design {
-    let written: Vec<&str> = project
+/// `design` with every capsule named after where it is, unless pinned (a pinned capsule keeps the
+/// name it is written with): its component and a counter, `"<component> 1"`, `"<component> 2"`, …
+/// per component in design order, skipping the names of pinned capsules. Also where each capsule
+/// came from, from `starts` (one per capsule, in design order).
+fn named(
+    project: &Project,
+    mut design: Design,
+    starts: &[StartCapsule],
+) -> (Design, Vec<CapsuleOrigin>) {
+    let pinned: Vec<&str> = project
         .capsules
         .iter()
+        .filter(|c| c.pinned)
         .map(|c| c.name.value.as_str())
         .collect();
-    let mut taken: Vec<String> = design
-        .capsules
-        .iter()
-        .filter(|c| written.contains(&c.name.as_str()))
-        .map(|c| c.name.clone())
-        .collect();
-    for capsule in &mut design.capsules {
-        if written.contains(&capsule.name.as_str()) {
-            continue;
+    let mut counters = vec![0usize; project.components.len()];
+    let mut origins = Vec::with_capacity(design.capsules.len());
+    for (capsule, start) in design.capsules.iter_mut().zip(starts) {
+        if !start.pinned {
+            let component = project.component_name(capsule.component);
+            let mut k = counters.get(capsule.component).copied().unwrap_or(0);
+            capsule.name = loop {
+                k += 1;
+                let name = format!("{component} {k}");
+                if !pinned.contains(&name.as_str()) {
+                    break name;
+                }
+            };
+            if let Some(counter) = counters.get_mut(capsule.component) {
+                *counter = k;
+            }
         }
-        let component = project.component_name(capsule.component);
-        let name = (1..)
-            .map(|k| format!("{component} {k}"))
-            .find(|name| !taken.contains(name))
-            .unwrap_or_default();
-        taken.push(name.clone());
-        capsule.name = name;
+        let (seed, site) = match start.origin {
+            _ if start.pinned => ("pinned", None),
+            Origin::Written => ("written", None),
+            Origin::Skeleton(site) => ("skeleton", Some(site)),
+            Origin::Earlier => ("earlier", None),
+            Origin::Random => ("random", None),
+        };
+        origins.push(CapsuleOrigin {
+            capsule: capsule.name.clone(),
+            seed,
+            seed_name: start.name.clone().filter(|_| site.is_none()),
+            site,
+        });
     }
-    design
+    (design, origins)
 }
 
 /// The start for explaining conflicts: the chosen candidate's capsules where the heuristic left
@@ -512,7 +611,8 @@ fn seeds_for(seeds: &[StartCapsule], candidate: &Candidate) -> Vec<StartCapsule>
         .design
         .capsules
         .iter()
-        .map(|c| StartCapsule {
+        .zip(&candidate.starts)
+        .map(|(c, start)| StartCapsule {
             component: c.component,
             from: c.from,
             to: c.to,
@@ -521,8 +621,104 @@ fn seeds_for(seeds: &[StartCapsule], candidate: &Candidate) -> Vec<StartCapsule>
                 .iter()
                 .any(|s| s.pinned && s.name.as_deref() == Some(c.name.as_str())),
             name: Some(c.name.clone()),
+            origin: start.origin,
         })
         .collect()
+}
+
+/// The warning for a written seed that broke a fabrication rule: what was wrong, and where the
+/// optimizer starts it instead (or that it goes on without it).
+fn repair_warning(project: &Project, repair: &SeedRepair) -> Diagnostic {
+    let units = project.units.keyword();
+    let name = |i: usize| {
+        project
+            .capsules
+            .get(i)
+            .map_or("?", |c| c.name.value.as_str())
+    };
+    let written = project.capsules.get(repair.seed);
+    let seed = name(repair.seed);
+    let component = |i: usize| project.component_name(i).to_string();
+    let wrong: Vec<String> = repair
+        .issues
+        .iter()
+        .map(|issue| match *issue {
+            CapsuleIssue::TooShort { length, radius, .. } => {
+                format!("is shorter ({} {units}) than its radius ({radius} {units})", round(length))
+            }
+            CapsuleIssue::BallDoesNotFit { .. } => "is too thin for a ball".to_string(),
+            CapsuleIssue::UnknownComponent { .. } => "names no component".to_string(),
+            CapsuleIssue::Outside { component: c, .. } => {
+                format!("is outside its component `{}`", component(c))
+            }
+            CapsuleIssue::InOtherComponent { assigned, actual, .. } => format!(
+                "lies inside `{}`, not its component `{}`",
+                component(actual),
+                component(assigned)
+            ),
+            CapsuleIssue::TooCloseToSurface {
+                component: c,
+                distance,
+                required,
+                ..
+            } => format!(
+                "comes within {} {units} of the surface of `{}` (its radius plus the wall needs {} {units})",
+                round(distance),
+                component(c),
+                round(required)
+            ),
+            CapsuleIssue::Overlap {
+                first,
+                second,
+                distance,
+                required,
+                ..
+            } => {
+                let other = if first == repair.seed { second } else { first };
+                format!(
+                    "is {} {units} from `{}` (their radii plus the wall need {} {units})",
+                    round(distance),
+                    name(other),
+                    round(required)
+                )
+            }
+        })
+        .collect();
+    let wrong = wrong.join("; ");
+    let warning = match &repair.repaired {
+        Some(moved) => {
+            let point = |p: &nalgebra::Point3<f64>| {
+                format!("{} {} {}", round(p.x), round(p.y), round(p.z))
+            };
+            let shift = written.map_or(0.0, |w| {
+                (nalgebra::center(&moved.from, &moved.to) - nalgebra::center(&w.from, &w.to))
+                    .norm()
+            });
+            Diagnostic::warning(
+                "ballast::capsule::seed_moved",
+                format!(
+                    "seed `{seed}` {wrong}: the optimizer starts it {}, from {} to {}, radius {} {units}",
+                    if shift > 0.0 {
+                        format!("{} {units} away", round(shift))
+                    } else {
+                        "in place".to_string()
+                    },
+                    point(&moved.from),
+                    point(&moved.to),
+                    round(moved.radius)
+                ),
+            )
+        }
+        None => Diagnostic::warning(
+            "ballast::capsule::seed_dropped",
+            format!("seed `{seed}` {wrong}, and no valid place was found near it: the optimizer goes on without it"),
+        ),
+    };
+    let warning = match written {
+        Some(w) => warning.with_label(w.span, "this seed"),
+        None => warning,
+    };
+    warning.with_help("a seed is only where the optimizer starts; write `pinned=#true` to keep a capsule exactly as written (it must then be valid)")
 }
 
 fn conflict_report(project: &Project, conflict: &Conflict) -> ConflictReport {
