@@ -271,3 +271,141 @@ fn perpendicular(axis: &Vector3<f64>) -> Option<Vector3<f64>> {
     };
     unit.cross(&helper).try_normalize(1e-12)
 }
+
+#[cfg(test)]
+mod tests {
+    use std::sync::Arc;
+
+    use super::*;
+    use crate::geometry::DistanceGrid;
+    use crate::objective::GridInterior;
+    use crate::optimize::test_meshes::cube;
+    use crate::optimize::Origin;
+
+    fn ball() -> Ball {
+        Ball {
+            density: 7.85,
+            clearance: 0.2,
+            min_angle: 3.0,
+            diameters: Vec::new(),
+        }
+    }
+
+    fn seed(from: [f64; 3], to: [f64; 3], radius: f64, pinned: bool) -> StartCapsule {
+        StartCapsule {
+            component: 0,
+            from: from.into(),
+            to: to.into(),
+            radius,
+            pinned,
+            name: Some("seed".to_string()),
+            origin: Origin::Written,
+        }
+    }
+
+    /// Repairs `seeds` in a 40 mm cube; returns the repairs, the seeds after and whether the
+    /// exact checks pass on them all.
+    fn repair(seeds: Vec<StartCapsule>) -> (Vec<SeedRepair>, Vec<StartCapsule>, bool) {
+        repair_in(40.0, seeds)
+    }
+
+    /// [`repair`] in a cube of edge `side`.
+    fn repair_in(
+        side: f64,
+        mut seeds: Vec<StartCapsule>,
+    ) -> (Vec<SeedRepair>, Vec<StartCapsule>, bool) {
+        let meshes = vec![cube(side, 0.0)];
+        let interior = GridInterior {
+            grids: vec![Arc::new(DistanceGrid::new(&meshes[0], side / 40.0))],
+        };
+        let ball = ball();
+        let rules = Rules {
+            meshes: &meshes,
+            interior: &interior,
+            ball: &ball,
+            min_radius: 1.2,
+            wall: 1.2,
+            scale: 100.0,
+        };
+        let repairs = repair_seeds(&mut seeds, &rules);
+        let design = Design {
+            capsules: seeds.iter().map(|s| placed_capsule(s, &ball)).collect(),
+            infill: 0.0,
+        };
+        let valid = check_design(&meshes, &design, rules.wall, ball.clearance).is_empty();
+        (repairs, seeds, valid)
+    }
+
+    #[test]
+    fn a_valid_seed_is_left_alone() {
+        let written = vec![seed([10.0, 20.0, 20.0], [30.0, 20.0, 20.0], 3.0, false)];
+        let (repairs, seeds, valid) = repair(written.clone());
+        assert!(repairs.is_empty());
+        assert_eq!(seeds, written);
+        assert!(valid);
+    }
+
+    #[test]
+    fn a_seed_poking_out_is_moved_inside_the_shortest_way() {
+        // 1 mm below the top face: it needs radius + wall = 4.2 mm.
+        let written = seed([10.0, 20.0, 39.0], [30.0, 20.0, 39.0], 3.0, false);
+        let (repairs, seeds, valid) = repair(vec![written.clone()]);
+        assert!(valid, "{seeds:?}");
+        assert_eq!(repairs.len(), 1);
+        assert!(matches!(
+            repairs[0].issues[..],
+            [CapsuleIssue::TooCloseToSurface { .. }]
+        ));
+        let moved = &seeds[0];
+        assert_eq!(moved.radius, 3.0);
+        let shift = moved.from - written.from;
+        // Straight down, by the deficit (3.2 mm) and a little more, not to the middle.
+        assert!(shift.x.abs() < 1e-6 && shift.y.abs() < 1e-6, "{shift:?}");
+        assert!(shift.z < -3.2 && shift.z > -4.0, "{shift:?}");
+        assert_eq!(moved.to - moved.from, written.to - written.from);
+    }
+
+    #[test]
+    fn a_thin_short_seed_is_grown_and_a_crowding_one_moved_off_a_pinned_capsule() {
+        let pinned = seed([10.0, 20.0, 20.0], [30.0, 20.0, 20.0], 3.0, true);
+        let crowding = seed([10.0, 20.0, 22.0], [30.0, 20.0, 22.0], 3.0, false);
+        let thin = seed([20.0, 10.0, 10.0], [20.0, 10.0, 10.05], 0.1, false);
+        let (repairs, seeds, valid) = repair(vec![pinned.clone(), crowding, thin]);
+        assert!(valid, "{seeds:?}");
+        assert_eq!(seeds.len(), 3);
+        assert_eq!(seeds[0], pinned, "a pinned capsule never moves");
+        assert_eq!(repairs.iter().map(|r| r.seed).collect::<Vec<_>>(), [1, 2]);
+        assert!(matches!(
+            repairs[0].issues[..],
+            [CapsuleIssue::Overlap {
+                first: 0,
+                second: 1,
+                ..
+            }]
+        ));
+        assert!(seeds[2].radius >= 1.2);
+        assert!((seeds[2].to - seeds[2].from).norm() >= seeds[2].radius);
+    }
+
+    #[test]
+    fn a_seed_outside_is_brought_in() {
+        let outside = seed([50.0, 20.0, 20.0], [60.0, 20.0, 20.0], 3.0, false);
+        let (repairs, seeds, valid) = repair(vec![outside]);
+        assert!(valid, "{seeds:?}");
+        assert!(matches!(
+            repairs[0].issues[..],
+            [CapsuleIssue::Outside { .. }]
+        ));
+        assert!(seeds[0].to.x <= 40.0 - 4.2 + 1e-9, "{seeds:?}");
+    }
+
+    #[test]
+    fn a_seed_with_no_valid_place_near_it_is_left_out() {
+        // A 4 mm cube has no room for the smallest capsule (1.2 mm) with its wall (1.2 mm).
+        let cramped = seed([1.0, 2.0, 2.0], [3.0, 2.0, 2.0], 1.2, false);
+        let (repairs, seeds, _) = repair_in(4.0, vec![cramped]);
+        assert_eq!(repairs.len(), 1);
+        assert!(repairs[0].repaired.is_none());
+        assert!(seeds.is_empty());
+    }
+}
