@@ -18,6 +18,7 @@ mod down;
 mod insertion;
 mod mesh_cache;
 mod meshes;
+mod optimization;
 mod optimize;
 mod orientation;
 mod outputs;
@@ -34,9 +35,9 @@ pub use design::hand_placed_design;
 pub use insertion::{direction_words, plan_insertions_into, BRIDGE_LIMIT_MM};
 pub use mesh_cache::MeshCache;
 pub use meshes::load_components;
+pub use optimization::{CandidateReport, CapsuleOrigin, Optimization, SeedReport, Timings};
 pub use optimize::{
-    length_decimals, optimize_design, prepare, CandidateReport, CapsuleOrigin, Optimization,
-    OptimizeOptions, Preparation, SeedReport, Timings, WarmStart,
+    length_decimals, optimize_design, prepare, OptimizeOptions, Preparation, WarmStart,
 };
 pub use orientation::{print_orientations, print_plan, BED_CENTRE_MM, BED_GAP_MM};
 pub use outputs::write_outputs;
