@@ -19,6 +19,7 @@ mod insertion;
 mod limits;
 mod mesh_cache;
 mod meshes;
+mod optimization;
 mod optimize;
 mod orientation;
 mod output_paths;
@@ -38,9 +39,9 @@ pub use design::hand_placed_design;
 pub use insertion::{direction_words, plan_insertions_into, BRIDGE_LIMIT_MM};
 pub use mesh_cache::MeshCache;
 pub use meshes::load_components;
+pub use optimization::{CandidateReport, CapsuleOrigin, Optimization, SeedReport, Timings};
 pub use optimize::{
-    length_decimals, optimize_design, prepare, CandidateReport, Optimization, OptimizeOptions,
-    Preparation, SeedReport, Timings, WarmStart,
+    length_decimals, optimize_design, prepare, OptimizeOptions, Preparation, WarmStart,
 };
 pub use orientation::{print_orientations, print_plan, BED_CENTRE_MM, BED_GAP_MM};
 pub use output_paths::{
@@ -209,11 +210,10 @@ pub fn compile_with(
             .collect();
         problems.extend(down::place_down_poses(&mut project, &bodies));
     }
-    let (written, design_problems) = hand_placed_design(&project);
+    let optimizing = project.optimize.is_some() && options.optimize.is_some();
+    let (written, design_problems) =
+        design::written_design(&project, meshes.as_deref(), optimizing);
     problems.extend(design_problems);
-    if let Some(meshes) = &meshes {
-        problems.extend(design::fabrication_problems(&project, meshes, &written));
-    }
     let (meshes, orientations) = match (meshes, orientations) {
         (Some(meshes), Some(orientations)) if !problems.iter().any(Problem::is_error) => {
             (meshes, orientations)
@@ -233,9 +233,10 @@ pub fn compile_with(
                 problems.extend(limits);
                 return Err(Failure::Invalid(problems));
             }
-            let (design, optimization) =
+            let (design, mut optimization) =
                 optimize_design(&project, settings, &meshes, &prints, run, workspace)
                     .ok_or(Failure::Cancelled)?;
+            problems.append(&mut optimization.warnings);
             (design, DesignSource::Optimized, Some(optimization))
         }
         (Some(_), None) => {
