@@ -210,8 +210,10 @@ fn components_can_be_named_nodes_of_a_gltf_file() {
     let project = folder.path().join("rig.kdl");
     fs::write(
         &project,
-        "units cm\ncomponent \"base\" mesh=\"two_parts.gltf\" node=\"base\"\n\
-         component \"arm\" mesh=\"two_parts.gltf\" node=\"arm\"\npose \"rest\" { stand }\n",
+        // The fixture is written in centimetres, z up, not in the glTF specification's metres.
+        "units cm\ncomponent \"base\" mesh=\"two_parts.gltf\" node=\"base\" mesh-units=cm mesh-up=z\n\
+         component \"arm\" mesh=\"two_parts.gltf\" node=\"arm\" mesh-units=cm mesh-up=z\n\
+         pose \"rest\" { stand }\n",
     )
     .unwrap();
     let output = ballast(&["check", "--json", project.to_str().unwrap()]);

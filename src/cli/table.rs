@@ -7,7 +7,7 @@ use crate::balance::{BallRest, GoalOutcome, PoseEvaluation};
 use crate::compile::{direction_words, Compilation, Optimization};
 use crate::design::PlacedCapsule;
 use crate::fabrication::{ComponentPlan, OrientationChoice};
-use crate::spec::model::Units;
+use crate::spec::model::{FrameSource, Units};
 
 /// The summary of `compilation`, ending with a line counting the goals met.
 pub fn summary(compilation: &Compilation, project_name: &str) -> String {
@@ -25,6 +25,7 @@ pub fn summary(compilation: &Compilation, project_name: &str) -> String {
         plural(project.poses.len()),
         unit_name(units),
     );
+    mesh_section(&mut out, compilation);
     balls_section(&mut out, compilation);
     print_section(&mut out, compilation);
     let (mut total, mut met) = (0, 0);
@@ -40,6 +41,70 @@ pub fn summary(compilation: &Compilation, project_name: &str) -> String {
     }
     let _ = writeln!(out, "\n{met} of {total} goal{} met.", plural(total));
     out
+}
+
+/// One line per component: its mesh file, how its coordinates were read (unit, up axis, scale)
+/// and its size in the rest frame.
+fn mesh_section(out: &mut String, compilation: &Compilation) {
+    let project = &compilation.project;
+    let units = project.units;
+    let _ = writeln!(out, "\nmeshes");
+    for (component, mesh) in project.components.iter().zip(&compilation.meshes) {
+        let frame = &component.frame;
+        let file = component
+            .mesh
+            .value
+            .file_name()
+            .map_or_else(String::new, |name| name.to_string_lossy().into_owned());
+        let from = |source: FrameSource| match source {
+            FrameSource::Gltf => " (glTF)",
+            FrameSource::Written | FrameSource::Project => "",
+        };
+        let mut read = vec![format!(
+            "in {}{}",
+            unit_name(frame.units),
+            from(frame.units_from)
+        )];
+        if frame.up != project.up || frame.up_from != FrameSource::Project {
+            read.push(format!("+{} up{}", frame.up.keyword(), from(frame.up_from)));
+        }
+        if frame.scale != 1.0 {
+            read.push(format!("scale {}", significant(frame.scale)));
+        }
+        let factor = frame.factor(units);
+        if factor == 1.0 {
+            read.push("used as written".to_string());
+        } else {
+            read.push(format!(
+                "× {} into {}",
+                significant(factor),
+                unit_name(units)
+            ));
+        }
+        if frame.up != project.up {
+            read.push(format!(
+                "turned +{} to +{}",
+                frame.up.keyword(),
+                project.up.keyword()
+            ));
+        }
+        let size = mesh.bounding_box().map_or_else(String::new, |(lo, hi)| {
+            let extent = hi - lo;
+            format!(
+                "; {} × {} × {} {}",
+                format_length(extent.x, units),
+                format_length(extent.y, units),
+                format_length(extent.z, units),
+                units.keyword()
+            )
+        });
+        let _ = writeln!(
+            out,
+            "  {}: {file}, {}{size}",
+            component.name.value,
+            read.join(", ")
+        );
+    }
 }
 
 /// One line per component: how it lies on the bed.
@@ -177,6 +242,22 @@ fn insertion_section(out: &mut String, compilation: &Compilation, plan: &Compone
 }
 
 /// `value` with at most 4 decimals and no trailing zeros (`5`, `7.9375`, `0.3125`).
+/// `value` to six significant digits, without trailing zeros.
+fn significant(value: f64) -> String {
+    let magnitude = value.abs().log10().floor();
+    let decimals = if magnitude.is_finite() {
+        (5.0 - magnitude).clamp(0.0, 20.0) as usize
+    } else {
+        0
+    };
+    let text = format!("{value:.decimals$}");
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_owned()
+    } else {
+        text
+    }
+}
+
 fn trimmed(value: f64) -> String {
     let text = format!("{value:.4}");
     text.trim_end_matches('0').trim_end_matches('.').to_owned()
