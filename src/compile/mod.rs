@@ -24,6 +24,7 @@ mod outputs;
 mod print_cache;
 mod print_files;
 mod report;
+mod sanity;
 mod scene;
 mod solution;
 mod workspace;
@@ -220,6 +221,7 @@ pub fn compile_with(
     problems.extend(undetermined_balls(&project, &design, &poses));
     problems.extend(settled_poses(&project, &poses));
     problems.extend(other_states(&project, &poses));
+    problems.extend(sanity::warnings(&project, &meshes, &poses));
     let mut print_plan = print_plan(&project, &meshes, &orientations);
     plan_insertions_into(&project, &meshes, &design, &mut print_plan);
     problems.extend(insertion::window_warnings(
