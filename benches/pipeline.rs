@@ -64,7 +64,7 @@ fn project() -> Project {
             name: Spanned::new("hammer".to_string(), span),
             mesh: Spanned::new(PathBuf::from("hammer.obj"), span),
             selector: MeshSelector::Whole,
-            frame: MeshFrame::project(Units::Millimetre, Axis::Z),
+            frame: MeshFrame::project(Units::Centimetre, Axis::Z),
             print: None,
             span,
         }],
