@@ -40,6 +40,27 @@ pub fn summary(compilation: &Compilation, project_name: &str) -> String {
         insertion_section(&mut out, compilation, plan);
     }
     let _ = writeln!(out, "\n{met} of {total} goal{} met.", plural(total));
+    if let Some(optimization) = compilation.optimization.as_ref().filter(|o| !o.meets_goals) {
+        let _ = writeln!(
+            out,
+            "No design the optimizer tried meets every goal; the chosen one ({} capsule{}) has the lowest objective.",
+            optimization.chosen,
+            plural(optimization.chosen)
+        );
+    }
+    if !compilation.solid_goals_lost.is_empty() {
+        let goals: Vec<String> = compilation
+            .solid_goals_lost
+            .iter()
+            .map(|g| format!("`{}` in pose \"{}\"", g.kind, g.pose))
+            .collect();
+        let _ = writeln!(
+            out,
+            "Without capsules, the model meets {} that this design does not: {}.",
+            if goals.len() == 1 { "a goal" } else { "goals" },
+            goals.join(", ")
+        );
+    }
     out
 }
 
@@ -242,6 +263,24 @@ fn insertion_section(out: &mut String, compilation: &Compilation, plan: &Compone
 }
 
 /// `value` with at most 4 decimals and no trailing zeros (`5`, `7.9375`, `0.3125`).
+/// Why the chosen capsule count was chosen, saying plainly when it misses some goal.
+fn chosen_rule(optimization: &Optimization) -> String {
+    match (optimization.requested, optimization.meets_goals) {
+        (Some(n), true) => format!("{n} capsule{} as asked", plural(n)),
+        (Some(n), false) => format!(
+            "{n} capsule{} as asked; it does not meet every goal",
+            plural(n)
+        ),
+        (None, true) => format!(
+            "the fewest capsules within {}° of the best objective that meets every goal",
+            optimization.tolerance
+        ),
+        (None, false) => {
+            "no design meets every goal, so the one with the lowest objective".to_string()
+        }
+    }
+}
+
 /// `value` to six significant digits, without trailing zeros.
 fn significant(value: f64) -> String {
     let magnitude = value.abs().log10().floor();
@@ -510,13 +549,7 @@ pub fn optimization(
             candidate.seconds,
         );
     }
-    let rule = match optimization.requested {
-        Some(n) => format!("{n} capsule{} as asked", plural(n)),
-        None => format!(
-            "the fewest capsules within {}° of the best objective that meets every goal",
-            optimization.tolerance
-        ),
-    };
+    let rule = chosen_rule(optimization);
     let _ = writeln!(out, "  * chosen: {rule}");
     for ranking in &optimization.exhaustive {
         let _ = writeln!(
@@ -580,4 +613,47 @@ pub fn optimization(
     let _ = compilation;
     out.push('\n');
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::compile::Timings;
+
+    fn optimization(requested: Option<usize>, meets_goals: bool) -> Optimization {
+        Optimization {
+            requested,
+            chosen: 2,
+            meets_goals,
+            tolerance: 1.0,
+            warm_started: false,
+            candidates: Vec::new(),
+            seeds: Vec::new(),
+            exhaustive: Vec::new(),
+            conflicts: Vec::new(),
+            timings: Timings::default(),
+        }
+    }
+
+    #[test]
+    fn the_chosen_rule_says_when_no_design_meets_every_goal() {
+        assert_eq!(
+            chosen_rule(&optimization(None, true)),
+            "the fewest capsules within 1° of the best objective that meets every goal"
+        );
+        let missed = chosen_rule(&optimization(None, false));
+        assert_eq!(
+            missed,
+            "no design meets every goal, so the one with the lowest objective"
+        );
+        assert!(!missed.contains("that meets every goal"));
+        assert_eq!(
+            chosen_rule(&optimization(Some(2), true)),
+            "2 capsules as asked"
+        );
+        assert_eq!(
+            chosen_rule(&optimization(Some(2), false)),
+            "2 capsules as asked; it does not meet every goal"
+        );
+    }
 }

@@ -5,7 +5,7 @@ use std::path::{Component as PathPart, Path};
 
 use serde::Serialize;
 
-use super::{Compilation, DesignSource, Optimization};
+use super::{Compilation, DesignSource, GoalName, Optimization};
 use crate::balance::{capsule_shell, PoseEvaluation};
 use crate::design::Design;
 use crate::fabrication::{ComponentPlan, Orientation, OrientationChoice};
@@ -56,6 +56,8 @@ pub struct Report<'a> {
     pub design: &'static str,
     /// What the optimizer did, when this build ran it; `null` otherwise.
     pub optimization: Option<&'a Optimization>,
+    /// The goals the model without capsules meets and this design does not.
+    pub solid_goals_lost: &'a [GoalName],
 }
 
 /// The print material.
@@ -468,6 +470,7 @@ impl<'a> Report<'a> {
                 DesignSource::Optimized => "optimized",
             },
             optimization: compilation.optimization.as_ref(),
+            solid_goals_lost: &compilation.solid_goals_lost,
         }
     }
 
