@@ -3,7 +3,9 @@
 
 use std::path::Path;
 
-use super::{compile_file, file_name, goals_status, progress, table, EXIT_INVALID};
+use super::{
+    compile_file, file_name, goals_status, optimization_table, progress, table, EXIT_INVALID,
+};
 use crate::compile::{write_outputs, CompileOptions, Workspace};
 use crate::optimize::PrecomputeCache;
 
@@ -28,7 +30,7 @@ pub fn run(path: &Path, options: &CompileOptions, cache: PrecomputeCache) -> i32
         let from_disk = workspace.cache.built().loaded;
         print!(
             "{}",
-            table::optimization(optimization, &compilation, from_disk)
+            optimization_table::optimization(optimization, &compilation, from_disk)
         );
     }
     print!("{}", table::summary(&compilation, &file_name(path)));

@@ -6,6 +6,7 @@
 mod check;
 pub mod codes;
 mod guard;
+mod mesh_frame;
 pub mod model;
 mod parse;
 mod resolve;
