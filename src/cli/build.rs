@@ -13,8 +13,8 @@ use signal_hook::consts::{SIGINT, SIGTERM};
 use signal_hook::iterator::Signals;
 
 use super::{
-    compile_file, file_name, goals_status, progress, table, NotCompiled, EXIT_INVALID, EXIT_SIGINT,
-    EXIT_SIGTERM, EXIT_TIME_LIMIT,
+    compile_file, file_name, goals_status, optimization_table, progress, table, NotCompiled,
+    EXIT_INVALID, EXIT_SIGINT, EXIT_SIGTERM, EXIT_TIME_LIMIT,
 };
 use crate::cancel::{Cancel, Interruption};
 use crate::compile::{write_outputs, CompileOptions, Workspace};
@@ -71,7 +71,7 @@ pub fn run(
         let from_disk = workspace.cache.built().loaded;
         print!(
             "{}",
-            table::optimization(optimization, &compilation, from_disk)
+            optimization_table::optimization(optimization, &compilation, from_disk)
         );
     }
     print!("{}", table::summary(&compilation, &file_name(path)));

@@ -9,6 +9,7 @@ mod args;
 mod build;
 mod check;
 mod diagnostics;
+mod optimization_table;
 mod poses;
 mod progress;
 mod sliced;

@@ -27,6 +27,7 @@ mod outputs;
 mod print_cache;
 mod print_files;
 mod report;
+mod sanity;
 mod scene;
 mod solution;
 mod workspace;
@@ -39,7 +40,9 @@ pub use design::hand_placed_design;
 pub use insertion::{direction_words, plan_insertions_into, BRIDGE_LIMIT_MM};
 pub use mesh_cache::MeshCache;
 pub use meshes::load_components;
-pub use optimization::{CandidateReport, CapsuleOrigin, Optimization, SeedReport, Timings};
+pub use optimization::{
+    CandidateReport, CapsuleOrigin, GoalName, Optimization, SeedReport, Timings,
+};
 pub use optimize::{
     length_decimals, optimize_design, prepare, OptimizeOptions, Preparation, WarmStart,
 };
@@ -137,6 +140,9 @@ pub struct Compilation {
     pub source: DesignSource,
     /// What the optimizer did, when it ran.
     pub optimization: Option<Optimization>,
+    /// The goals the model without capsules (same infill) meets and this design does not, in
+    /// pose and goal order.
+    pub solid_goals_lost: Vec<GoalName>,
 }
 
 impl Compilation {
@@ -268,6 +274,13 @@ pub fn compile_with(
     problems.extend(undetermined_balls(&project, &design, &poses));
     problems.extend(settled_poses(&project, &poses));
     problems.extend(other_states(&project, &poses));
+    problems.extend(sanity::warnings(&project, &meshes, &poses));
+    let solid_goals_lost = solid_goals_lost(&project, &bodies, &design, &poses);
+    problems.extend(lost_goal_warnings(
+        &project,
+        &solid_goals_lost,
+        optimization.as_ref(),
+    ));
     let mut print_plan = print_plan(&project, &meshes, &orientations);
     plan_insertions_into(&project, &meshes, &design, &mut print_plan);
     problems.extend(insertion::window_warnings(
@@ -289,7 +302,79 @@ pub fn compile_with(
         warnings: problems,
         source,
         optimization,
+        solid_goals_lost,
     })
+}
+
+/// The goals the model without capsules, at `design`'s infill, meets in `poses` and `design`
+/// does not (none when the design has no capsules).
+fn solid_goals_lost(
+    project: &Project,
+    bodies: &[ComponentBody],
+    design: &Design,
+    poses: &[PoseEvaluation],
+) -> Vec<GoalName> {
+    if design.capsules.is_empty() {
+        return Vec::new();
+    }
+    let solid = Design {
+        capsules: Vec::new(),
+        infill: design.infill,
+    };
+    let mut lost = Vec::new();
+    for (pose, evaluation) in project.poses.iter().zip(poses) {
+        if evaluation.goals.iter().all(|goal| goal.met) {
+            continue;
+        }
+        let solid_evaluation = evaluate_pose(project, bodies, &solid, pose);
+        for (index, (with, without)) in evaluation
+            .goals
+            .iter()
+            .zip(&solid_evaluation.goals)
+            .enumerate()
+        {
+            if without.met && !with.met {
+                lost.push(GoalName {
+                    pose: pose.name.value.clone(),
+                    goal: index,
+                    kind: pose.goals[index].value.keyword(),
+                });
+            }
+        }
+    }
+    lost
+}
+
+/// A warning per goal the design breaks that the model without capsules meets, saying, for an
+/// optimized design that misses some goal, that no design the optimizer tried met them all.
+fn lost_goal_warnings(
+    project: &Project,
+    lost: &[GoalName],
+    optimization: Option<&Optimization>,
+) -> Vec<Problem> {
+    let help = match optimization {
+        Some(optimization) if !optimization.meets_goals => {
+            "no design the optimizer tried meets every goal, and the one chosen (the lowest objective) gives this goal up: the build names the goals that conflict; remove or loosen one of them"
+        }
+        _ => "move or remove capsules, or let the optimizer place them (`optimize`)",
+    };
+    lost.iter()
+        .filter_map(|name| {
+            let pose = project.poses.iter().find(|p| p.name.value == name.pose)?;
+            let goal = pose.goals.get(name.goal)?;
+            Some(
+                Problem::warning(
+                    "ballast::design::loses_goal",
+                    format!(
+                        "in pose `{}`, the design does not meet the `{}` goal, which the model without capsules meets",
+                        name.pose, name.kind
+                    ),
+                )
+                .with_label(goal.span, "met without capsules")
+                .with_help(help),
+            )
+        })
+        .collect()
 }
 
 /// Where an output goes: its own path, or its file name inside `out_dir`.
