@@ -115,6 +115,7 @@ fn prepare(example: &Example) -> Preparation {
         &example.project,
         example.settings(),
         &example.meshes,
+        &example.print,
         &mut Workspace::new(),
         None,
     )

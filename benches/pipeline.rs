@@ -19,7 +19,8 @@ use ballast::geometry::{
     TriangleTree,
 };
 use ballast::spec::model::{
-    Axis, Ball, Component, Goal, Infill, Material, Output, Pose, Print, Project, Spanned, Units,
+    Axis, Ball, Component, Goal, Infill, Material, MeshFrame, Output, Pose, Print, Project,
+    Spanned, Units,
 };
 use criterion::{criterion_group, criterion_main, Criterion};
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
@@ -63,6 +64,7 @@ fn project() -> Project {
             name: Spanned::new("hammer".to_string(), span),
             mesh: Spanned::new(PathBuf::from("hammer.obj"), span),
             selector: MeshSelector::Whole,
+            frame: MeshFrame::project(Units::Centimetre, Axis::Z),
             print: None,
             span,
         }],

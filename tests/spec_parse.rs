@@ -4,8 +4,8 @@ use std::path::{Path, PathBuf};
 
 use ballast::geometry::MeshSelector;
 use ballast::spec::model::{
-    Axis, Ball, Capsule, Component, Goal, Infill, MassModel, Material, Optimize, Output, Pose,
-    Print, Project, Spanned, Units,
+    Axis, Ball, Capsule, Component, FrameSource, Goal, Infill, MassModel, Material, MeshFrame,
+    Optimize, Output, Pose, Print, Project, Spanned, Units,
 };
 use ballast::spec::parse_project;
 use ballast::spec::stock::stock_diameters_mm;
@@ -44,11 +44,19 @@ fn vector(x: f64, y: f64, z: f64) -> Vector3<f64> {
     Vector3::new(x, y, z)
 }
 
+/// A component of a millimetre, z-up project: its mesh read in the project's units unless it is
+/// glTF (metres, +Y up).
 fn component(called: &str, mesh: &str, selector: MeshSelector) -> Component {
+    let frame = if mesh.ends_with(".glb") {
+        MeshFrame::gltf()
+    } else {
+        MeshFrame::project(Units::Millimetre, Axis::Z)
+    };
     Component {
         name: name(called),
         mesh: Spanned::new(PathBuf::from(mesh), any_span()),
         selector,
+        frame,
         print: None,
         span: any_span(),
     }
@@ -655,4 +663,65 @@ fn any_size_allows_every_ball_and_excludes_a_list() {
         parsed.problems[0].code,
         ballast::spec::codes::CONFLICTING_PROPERTIES
     );
+}
+
+#[test]
+fn mesh_units_up_and_scale_default_by_format_and_can_be_written() {
+    let project = parse(
+        "units cm\nup y\n\
+         component \"plain\" mesh=\"a.obj\"\n\
+         component \"scan\" mesh=\"b.obj\" mesh-units=m mesh-up=z scale=0.5\n\
+         component \"rig\" mesh=\"c.glb\"\n\
+         component \"cad\" mesh=\"d.GLTF\" mesh-units=mm mesh-up=z\n\
+         pose \"p\"\n",
+    );
+    let frames: Vec<&MeshFrame> = project.components.iter().map(|c| &c.frame).collect();
+    // OBJ: the project's units and up axis, used as written.
+    assert_eq!(*frames[0], MeshFrame::project(Units::Centimetre, Axis::Y));
+    assert_eq!(frames[0].factor(Units::Centimetre), 1.0);
+    assert!(frames[0].is_identity(Units::Centimetre, Axis::Y));
+    // Written: metres into centimetres, halved; +z up turned onto +y.
+    let scan = frames[1];
+    assert_eq!(
+        (scan.units, scan.units_from),
+        (Units::Metre, FrameSource::Written)
+    );
+    assert_eq!((scan.up, scan.up_from), (Axis::Z, FrameSource::Written));
+    assert_eq!(scan.scale, 0.5);
+    assert_eq!(scan.factor(Units::Centimetre), 50.0);
+    let turn = scan.rotation(Axis::Y);
+    assert_eq!(turn * Vector3::z(), Vector3::y());
+    // glTF: metres and +Y up by the specification, whatever the extension's case.
+    assert_eq!(*frames[2], MeshFrame::gltf());
+    assert_eq!(frames[2].factor(Units::Centimetre), 100.0);
+    assert_eq!(
+        *frames[2].rotation(Axis::Y).matrix(),
+        nalgebra::Matrix3::identity()
+    );
+    let cad = frames[3];
+    assert_eq!(
+        (cad.units, cad.units_from),
+        (Units::Millimetre, FrameSource::Written)
+    );
+    assert_eq!((cad.up, cad.up_from), (Axis::Z, FrameSource::Written));
+    assert_eq!(cad.factor(Units::Centimetre), 0.1);
+}
+
+#[test]
+fn the_gltf_turn_into_a_z_up_project_is_blenders() {
+    // Blender's glTF importer maps glTF (x, y, z) to (x, -z, y): +Y up becomes +Z up and the
+    // glTF front (+Z) faces -Y.
+    let turn = MeshFrame::gltf().rotation(Axis::Z);
+    assert_eq!(
+        turn * Vector3::new(1.0, 2.0, 3.0),
+        Vector3::new(1.0, -3.0, 2.0)
+    );
+    assert!((turn.matrix().determinant() - 1.0).abs() == 0.0);
+    // Into an x-up project: +Y onto +X by the quarter turn about -Z.
+    assert_eq!(
+        MeshFrame::gltf().rotation(Axis::X) * Vector3::new(1.0, 2.0, 3.0),
+        Vector3::new(2.0, -1.0, 3.0)
+    );
+    assert_eq!(MeshFrame::gltf().factor(Units::Millimetre), 1000.0);
+    assert_eq!(MeshFrame::gltf().factor(Units::Inch), 1000.0 / 25.4);
 }

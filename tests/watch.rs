@@ -459,7 +459,7 @@ fn touch_mesh(path: &Path, dx: f64) {
 
 /// A project on the box of [`write_box`], with one hand-placed capsule.
 const BOX: &str = r#"
-component "box" mesh="meshes/box.gltf"
+component "box" mesh="meshes/box.gltf" mesh-units=mm mesh-up=z
 capsule "keel" component="box" radius=4 {
     from -8 0 10
     to 8 0 10

@@ -79,6 +79,11 @@ pub enum Command {
     /// glTF file, JSON report and (when optimized) solution file.
     ///
     /// Nothing is written when the project is invalid. Exit status as for `check`.
+    ///
+    /// Ctrl-C, SIGTERM or `--time-limit` stop the optimizer's search: the best design of the
+    /// capsule counts tried so far is written, marked as interrupted in the report, and the exit
+    /// status is 130, 143 or 124 (nothing is written when no capsule count was finished). A
+    /// second Ctrl-C or SIGTERM exits at once.
     Build {
         /// The project file (.kdl).
         project: PathBuf,
@@ -92,6 +97,10 @@ pub enum Command {
         /// `..`); refused otherwise.
         #[arg(long)]
         write_outside: bool,
+        /// Stop the optimizer's search after this many seconds of build and write the best design
+        /// found so far.
+        #[arg(long, value_name = "SECONDS", value_parser = positive_seconds)]
+        time_limit: Option<f64>,
         /// How to optimize.
         #[command(flatten)]
         optimize: OptimizeArgs,
@@ -189,6 +198,14 @@ pub enum Solver {
     Slsqp,
     /// Constrained optimization by linear approximations, derivative-free.
     Cobyla,
+}
+
+/// A positive, finite number of seconds.
+fn positive_seconds(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(value) if value.is_finite() && value > 0.0 && value < 1e9 => Ok(value),
+        _ => Err(format!("`{text}` is not a positive number of seconds")),
+    }
 }
 
 /// A positive, finite length in millimetres.

@@ -2,12 +2,14 @@
 //!
 //! Exit status, for every subcommand: [`EXIT_MET`] when every goal is met, [`EXIT_UNMET`] when the
 //! project is valid but some goal is not, [`EXIT_INVALID`] for an invalid project or any failure.
-//! For `verify`, "met" reads "the simulation agrees with the computed value".
+//! For `verify`, "met" reads "the simulation agrees with the computed value". A `build` whose search
+//! was interrupted exits with [`EXIT_SIGINT`], [`EXIT_SIGTERM`] or [`EXIT_TIME_LIMIT`].
 
 mod args;
 mod build;
 mod check;
 mod diagnostics;
+mod optimization_table;
 mod poses;
 mod progress;
 mod sliced;
@@ -36,6 +38,12 @@ pub const EXIT_MET: i32 = 0;
 pub const EXIT_UNMET: i32 = 1;
 /// The project is invalid, or something failed (unreadable file, failed write).
 pub const EXIT_INVALID: i32 = 2;
+/// `build` was stopped by Ctrl-C (128 + SIGINT).
+pub const EXIT_SIGINT: i32 = 130;
+/// `build` was stopped by SIGTERM (128 + SIGTERM).
+pub const EXIT_SIGTERM: i32 = 143;
+/// `build --time-limit` ran out (as `timeout` exits).
+pub const EXIT_TIME_LIMIT: i32 = 124;
 
 /// Runs the command line given by the process arguments; returns the exit status.
 pub fn run() -> i32 {
@@ -94,11 +102,13 @@ pub fn run() -> i32 {
             inputs,
             out_dir,
             write_outside,
+            time_limit,
             optimize,
         } => build::run(
             &project,
             &optimize_options(out_dir, write_outside, &optimize, &inputs),
             precompute_cache(&optimize),
+            time_limit.map(std::time::Duration::from_secs_f64),
         ),
         Command::Poses {
             project,

@@ -4,10 +4,10 @@
 use std::fmt::Write;
 
 use crate::balance::{BallRest, GoalOutcome, PoseEvaluation};
-use crate::compile::{direction_words, Compilation, Optimization};
+use crate::compile::{direction_words, Compilation};
 use crate::design::PlacedCapsule;
 use crate::fabrication::{ComponentPlan, OrientationChoice};
-use crate::spec::model::Units;
+use crate::spec::model::{FrameSource, Units};
 
 /// The summary of `compilation`, ending with a line counting the goals met, and one more when
 /// some capsule cannot take its ball at any pause.
@@ -26,6 +26,7 @@ pub fn summary(compilation: &Compilation, project_name: &str) -> String {
         plural(project.poses.len()),
         unit_name(units),
     );
+    mesh_section(&mut out, compilation);
     balls_section(&mut out, compilation);
     print_section(&mut out, compilation);
     let (mut total, mut met) = (0, 0);
@@ -55,7 +56,92 @@ pub fn summary(compilation: &Compilation, project_name: &str) -> String {
             if shut == 1 { "its" } else { "their" }
         );
     }
+    if let Some(optimization) = compilation.optimization.as_ref().filter(|o| !o.meets_goals) {
+        let _ = writeln!(
+            out,
+            "No design the optimizer tried meets every goal; the chosen one ({} capsule{}) has the lowest objective.",
+            optimization.chosen,
+            plural(optimization.chosen)
+        );
+    }
+    if !compilation.solid_goals_lost.is_empty() {
+        let goals: Vec<String> = compilation
+            .solid_goals_lost
+            .iter()
+            .map(|g| format!("`{}` in pose \"{}\"", g.kind, g.pose))
+            .collect();
+        let _ = writeln!(
+            out,
+            "Without capsules, the model meets {} that this design does not: {}.",
+            if goals.len() == 1 { "a goal" } else { "goals" },
+            goals.join(", ")
+        );
+    }
     out
+}
+
+/// One line per component: its mesh file, how its coordinates were read (unit, up axis, scale)
+/// and its size in the rest frame.
+fn mesh_section(out: &mut String, compilation: &Compilation) {
+    let project = &compilation.project;
+    let units = project.units;
+    let _ = writeln!(out, "\nmeshes");
+    for (component, mesh) in project.components.iter().zip(&compilation.meshes) {
+        let frame = &component.frame;
+        let file = component
+            .mesh
+            .value
+            .file_name()
+            .map_or_else(String::new, |name| name.to_string_lossy().into_owned());
+        let from = |source: FrameSource| match source {
+            FrameSource::Gltf => " (glTF)",
+            FrameSource::Written | FrameSource::Project => "",
+        };
+        let mut read = vec![format!(
+            "in {}{}",
+            unit_name(frame.units),
+            from(frame.units_from)
+        )];
+        if frame.up != project.up || frame.up_from != FrameSource::Project {
+            read.push(format!("+{} up{}", frame.up.keyword(), from(frame.up_from)));
+        }
+        if frame.scale != 1.0 {
+            read.push(format!("scale {}", significant(frame.scale)));
+        }
+        let factor = frame.factor(units);
+        if factor == 1.0 {
+            read.push("used as written".to_string());
+        } else {
+            read.push(format!(
+                "× {} into {}",
+                significant(factor),
+                unit_name(units)
+            ));
+        }
+        if frame.up != project.up {
+            read.push(format!(
+                "turned +{} to +{}",
+                frame.up.keyword(),
+                project.up.keyword()
+            ));
+        }
+        let size = mesh.bounding_box().map_or_else(String::new, |(lo, hi)| {
+            let extent = hi - lo;
+            format!(
+                "; {} × {} × {} {}",
+                format_length(extent.x, units),
+                format_length(extent.y, units),
+                format_length(extent.z, units),
+                units.keyword()
+            )
+        });
+        let _ = writeln!(
+            out,
+            "  {}: {file}, {}{size}",
+            component.name.value,
+            read.join(", ")
+        );
+    }
 }
 
 /// One line per component: how it lies on the bed.
@@ -193,6 +279,22 @@ fn insertion_section(out: &mut String, compilation: &Compilation, plan: &Compone
 }
 
 /// `value` with at most 4 decimals and no trailing zeros (`5`, `7.9375`, `0.3125`).
+/// `value` to six significant digits, without trailing zeros.
+fn significant(value: f64) -> String {
+    let magnitude = value.abs().log10().floor();
+    let decimals = if magnitude.is_finite() {
+        (5.0 - magnitude).clamp(0.0, 20.0) as usize
+    } else {
+        0
+    };
+    let text = format!("{value:.decimals$}");
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_owned()
+    } else {
+        text
+    }
+}
+
 fn trimmed(value: f64) -> String {
     let text = format!("{value:.4}");
     text.trim_end_matches('0').trim_end_matches('.').to_owned()
@@ -397,124 +499,10 @@ fn unit_name(units: Units) -> &'static str {
     }
 }
 
-fn plural(count: usize) -> &'static str {
+pub(super) fn plural(count: usize) -> &'static str {
     if count == 1 {
         ""
     } else {
         "s"
     }
-}
-
-/// What the optimizer did: every capsule count tried (the chosen one marked), the stage times
-/// (with the meshes whose precomputation was read `from_disk`), the random-start ranking when
-/// asked for, and the conflicting goals when some goal is missed.
-pub fn optimization(
-    optimization: &Optimization,
-    compilation: &Compilation,
-    from_disk: usize,
-) -> String {
-    let mut out = String::new();
-    let _ = writeln!(
-        out,
-        "optimized: {} seed{}, {} capsule count{} tried",
-        optimization.seeds.iter().filter(|s| s.seeded).count(),
-        plural(optimization.seeds.iter().filter(|s| s.seeded).count()),
-        optimization.candidates.len(),
-        plural(optimization.candidates.len()),
-    );
-    let _ = writeln!(out, "  capsules  objective  worst tilt  goals        time");
-    let mut marked = false;
-    for candidate in &optimization.candidates {
-        let chosen = !marked && candidate.capsules == optimization.chosen;
-        marked |= chosen;
-        let tilt = candidate
-            .worst_tilt_margin
-            .map_or("-".to_string(), |t| format!("{t:.2}"));
-        let _ = writeln!(
-            out,
-            "{} {:>7}  {:>9.3}  {:>10}  {:<11} {:>6.2} s",
-            if chosen { "*" } else { " " },
-            candidate.capsules,
-            candidate.objective,
-            tilt,
-            if candidate.meets_goals {
-                "all met"
-            } else if !candidate.printable {
-                "unprintable"
-            } else {
-                "not all"
-            },
-            candidate.seconds,
-        );
-    }
-    let rule = match optimization.requested {
-        Some(n) => format!("{n} capsule{} as asked", plural(n)),
-        None => format!(
-            "the fewest capsules within {}° of the best objective that meets every goal",
-            optimization.tolerance
-        ),
-    };
-    let _ = writeln!(out, "  * chosen: {rule}");
-    for ranking in &optimization.exhaustive {
-        let _ = writeln!(
-            out,
-            "  {} capsule{}: the heuristic ranks {} of {} random starts (best random objective {:.3}, heuristic {:.3}; {} met every goal)",
-            ranking.capsules,
-            plural(ranking.capsules),
-            ranking.rank,
-            ranking.starts + 1,
-            ranking.best_objective,
-            ranking.heuristic_objective,
-            ranking.meeting_goals,
-        );
-    }
-    if !optimization.conflicts.is_empty() {
-        let _ = writeln!(out, "  no design met every goal:");
-        for conflict in &optimization.conflicts {
-            let goals: Vec<String> = conflict
-                .goals
-                .iter()
-                .map(|g| format!("`{}` in pose \"{}\"", g.kind, g.pose))
-                .collect();
-            let what = if goals.len() == 1 {
-                format!("{} cannot be met even alone", goals[0])
-            } else {
-                format!("{} conflict", goals.join(" and "))
-            };
-            let _ = writeln!(
-                out,
-                "    {what}: the best design for {} falls short by about {:.2}°",
-                if goals.len() == 1 { "it" } else { "both" },
-                conflict.shortfall.max(0.0),
-            );
-        }
-    }
-    let timings = &optimization.timings;
-    let _ = writeln!(
-        out,
-        "  time: precompute {:.2} s{}, heuristic {:.2} s{}{}",
-        timings.precompute,
-        if from_disk == 0 {
-            String::new()
-        } else {
-            format!(
-                " ({from_disk} mesh{} from the disk cache)",
-                if from_disk == 1 { "" } else { "es" }
-            )
-        },
-        timings.heuristic,
-        if optimization.exhaustive.is_empty() {
-            String::new()
-        } else {
-            format!(", exhaustive {:.2} s", timings.exhaustive)
-        },
-        if optimization.conflicts.is_empty() {
-            String::new()
-        } else {
-            format!(", conflicts {:.2} s", timings.conflicts)
-        },
-    );
-    let _ = compilation;
-    out.push('\n');
-    out
 }

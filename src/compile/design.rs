@@ -5,7 +5,8 @@ use crate::design::{Design, PlacedCapsule};
 use crate::diagnostic::Problem;
 use crate::fabrication::{check_design, CapsuleIssue, PrintSetup};
 use crate::geometry::TriMesh;
-use crate::spec::model::Project;
+use crate::spec::model::{Capsule, Project};
+use miette::Severity;
 
 /// The design the project file describes: its capsules, each with the ball that fits it, and the
 /// project's infill. A capsule no ball fits is reported and left out.
@@ -13,18 +14,10 @@ pub fn hand_placed_design(project: &Project) -> (Design, Vec<Problem>) {
     let mut problems = Vec::new();
     let mut capsules = Vec::with_capacity(project.capsules.len());
     for capsule in &project.capsules {
-        let Some(ball_radius) = project.ball.radius_for(capsule.radius) else {
-            problems.push(no_ball_problem(project, capsule.radius, capsule.span));
-            continue;
-        };
-        capsules.push(PlacedCapsule {
-            name: capsule.name.value.clone(),
-            component: capsule.component.value,
-            from: capsule.from,
-            to: capsule.to,
-            radius: capsule.radius,
-            ball_radius,
-        });
+        match placed(project, capsule) {
+            Some(placed) => capsules.push(placed),
+            None => problems.push(no_ball_problem(project, capsule.radius, capsule.span)),
+        }
     }
     let design = Design {
         capsules,
@@ -110,6 +103,87 @@ pub fn fixed_capsules(project: &Project, written: &Design) -> Design {
             .collect(),
         infill: written.infill,
     }
+}
+
+/// The capsules written in the project file as a design ([`hand_placed_design`]) with their
+/// problems, fabrication ones too once the meshes and their print setup are known (`checks`). A problem that concerns only seeds
+/// (unpinned capsules of a project that optimizes) does not make the project invalid: when
+/// `optimizing`, it is left out (the optimizer moves the seed to a valid place and says so);
+/// otherwise it is a warning that says the build will. Pinned capsules, and every capsule of a
+/// project that does not optimize, must be valid as written.
+pub fn written_design(
+    project: &Project,
+    checks: Option<(&[TriMesh], &PrintSetup)>,
+    optimizing: bool,
+) -> (Design, Vec<Problem>) {
+    let seed = |name: &str| {
+        project.optimize.is_some()
+            && project
+                .capsules
+                .iter()
+                .any(|c| !c.pinned && c.name.value == name)
+    };
+    let lenient =
+        |problem: Problem, name: &str| (!optimizing).then(|| as_seed_warning(problem, name));
+    let mut problems = Vec::new();
+    let mut capsules = Vec::with_capacity(project.capsules.len());
+    for capsule in &project.capsules {
+        let Some(placed) = placed(project, capsule) else {
+            let problem = no_ball_problem(project, capsule.radius, capsule.span);
+            if seed(&capsule.name.value) {
+                problems.extend(lenient(problem, &capsule.name.value));
+            } else {
+                problems.push(problem);
+            }
+            continue;
+        };
+        capsules.push(placed);
+    }
+    let design = Design {
+        capsules,
+        infill: project.infill.value,
+    };
+    if let Some((meshes, print)) = checks {
+        let issues = check_design(meshes, &design, project.wall, project.ball.clearance, print);
+        for issue in &issues {
+            let Some(problem) = issue_problem(project, &design, issue) else {
+                continue;
+            };
+            let name = |i: usize| design.capsules.get(i).map_or("", |c| c.name.as_str());
+            let involved = match *issue {
+                CapsuleIssue::Overlap { first, second, .. } => vec![name(first), name(second)],
+                _ => vec![name(issue.capsule())],
+            };
+            // A seed moves: an overlap with a pinned capsule is the seed's to resolve.
+            match involved.iter().find(|n| seed(n)) {
+                Some(&first_seed) => problems.extend(lenient(problem, first_seed)),
+                None => problems.push(problem),
+            }
+        }
+    }
+    (design, problems)
+}
+
+/// The design capsule `capsule` describes, with the ball that fits it; `None` when no ball does.
+fn placed(project: &Project, capsule: &Capsule) -> Option<PlacedCapsule> {
+    let ball_radius = project.ball.radius_for(capsule.radius)?;
+    Some(PlacedCapsule {
+        name: capsule.name.value.clone(),
+        component: capsule.component.value,
+        from: capsule.from,
+        to: capsule.to,
+        radius: capsule.radius,
+        ball_radius,
+    })
+}
+
+/// `problem`, found on the seed `name`, as a warning that the build moves the seed.
+fn as_seed_warning(mut problem: Problem, name: &str) -> Problem {
+    problem.severity = Severity::Warning;
+    problem.help = Some(format!(
+        "`{name}` is a seed, only where the optimizer starts: `ballast build` moves it to the nearest valid place first. Write `pinned=#true` to keep a capsule exactly as written (it must then be valid)"
+    ));
+    problem
 }
 
 fn no_ball_problem(project: &Project, radius: f64, span: miette::SourceSpan) -> Problem {

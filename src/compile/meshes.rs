@@ -1,13 +1,16 @@
-//! Loading every component's mesh and checking it is a printable solid, with each failure turned
-//! into a diagnostic on the component's `mesh=` value.
+//! Loading every component's mesh into the rest frame (its [`MeshFrame`]: unit, up axis, scale)
+//! and checking it is a printable solid, with each failure turned into a diagnostic on the
+//! component's `mesh=` value.
 
 use std::path::Path;
+
+use nalgebra::Point3;
 
 use super::design::round;
 use super::mesh_cache::MeshCache;
 use crate::diagnostic::Problem;
 use crate::geometry::{LoadError, LoadedMesh, MeshCheck, ReadPolicy, TriMesh};
-use crate::spec::model::{Component, Project};
+use crate::spec::model::{Component, MeshFrame, Project};
 
 /// How many offending edges or triangles a diagnostic lists before it only counts the rest.
 const LISTED: usize = 3;
@@ -26,6 +29,7 @@ pub fn load_components(
         match cache.load(&component.mesh.value, &component.selector, policy) {
             Ok((LoadedMesh { mesh, short_faces }, check)) => {
                 problems.extend(short_face_warning(component, &short_faces));
+                let (mesh, check) = into_rest_frame(mesh, check, &component.frame, project);
                 let found = mesh_problems(component, &mesh, &check);
                 if found.iter().all(|problem| !problem.is_error()) {
                     meshes.push(mesh);
@@ -37,6 +41,34 @@ pub fn load_components(
     }
     let usable = meshes.len() == project.components.len();
     (usable.then_some(meshes), problems)
+}
+
+/// `mesh` (and its `check`) from its file's coordinates into the rest frame: turned from the
+/// mesh's up axis to the project's, then scaled into project units. Untouched when the frame is
+/// the identity, so a mesh in project units keeps its exact coordinates.
+fn into_rest_frame(
+    mesh: TriMesh,
+    mut check: MeshCheck,
+    frame: &MeshFrame,
+    project: &Project,
+) -> (TriMesh, MeshCheck) {
+    if frame.is_identity(project.units, project.up) {
+        return (mesh, check);
+    }
+    let rotation = frame.rotation(project.up);
+    let factor = frame.factor(project.units);
+    // A proper rotation and a positive factor keep every triangle's orientation, so the check's
+    // edge and triangle lists still hold; only the volume scales.
+    check.signed_volume *= factor * factor * factor;
+    let mesh = TriMesh {
+        positions: mesh
+            .positions
+            .iter()
+            .map(|p| Point3::from(rotation * p.coords * factor))
+            .collect(),
+        triangles: mesh.triangles,
+    };
+    (mesh, check)
 }
 
 fn load_problem(component: &Component, error: &LoadError, policy: &ReadPolicy) -> Problem {

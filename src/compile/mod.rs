@@ -19,6 +19,7 @@ mod insertion;
 mod limits;
 mod mesh_cache;
 mod meshes;
+mod optimization;
 mod optimize;
 mod orientation;
 mod output_paths;
@@ -26,6 +27,7 @@ mod outputs;
 mod print_cache;
 mod print_files;
 mod report;
+mod sanity;
 mod scene;
 mod solution;
 mod workspace;
@@ -38,9 +40,11 @@ pub use design::hand_placed_design;
 pub use insertion::{direction_words, plan_insertions_into, BRIDGE_LIMIT_MM};
 pub use mesh_cache::MeshCache;
 pub use meshes::load_components;
+pub use optimization::{
+    CandidateReport, CapsuleOrigin, GoalName, Optimization, SeedReport, Timings,
+};
 pub use optimize::{
-    length_decimals, optimize_design, prepare, CandidateReport, Optimization, OptimizeOptions,
-    Preparation, SeedReport, Timings, WarmStart,
+    length_decimals, optimize_design, prepare, OptimizeOptions, Preparation, WarmStart,
 };
 pub use orientation::{
     insertion_rank, layer_grid, print_orientations, print_plan, print_setup, BED_CENTRE_MM,
@@ -139,6 +143,9 @@ pub struct Compilation {
     pub source: DesignSource,
     /// What the optimizer did, when it ran.
     pub optimization: Option<Optimization>,
+    /// The goals the model without capsules (same infill) meets and this design does not, in
+    /// pose and goal order.
+    pub solid_goals_lost: Vec<GoalName>,
 }
 
 impl Compilation {
@@ -189,8 +196,9 @@ pub fn compile_with(
     }
     let (meshes, mesh_problems) = load_components(&project, &mut workspace.meshes, &policy);
     problems.extend(mesh_problems);
-    let (written, design_problems) = hand_placed_design(&project);
-    problems.extend(design_problems);
+    // The written capsules as they stand, for the ball-gap warnings and the capsules the print
+    // orientation is chosen for; their problems come with the fabrication checks below.
+    let (written, _) = hand_placed_design(&project);
     problems.extend(design::ball_gap_warnings(&project, &written));
     let known = design::fixed_capsules(&project, &written);
     let orientations = meshes.as_ref().map(|meshes| {
@@ -216,12 +224,17 @@ pub fn compile_with(
             .collect();
         problems.extend(down::place_down_poses(&mut project, &bodies));
     }
-    if let (Some(meshes), Some(orientations)) = (&meshes, &orientations) {
-        let print = print_setup(&project, orientations);
-        problems.extend(design::fabrication_problems(
-            &project, meshes, &written, &print,
-        ));
-    }
+    let optimizing = project.optimize.is_some() && options.optimize.is_some();
+    let checked = meshes
+        .as_deref()
+        .zip(orientations.as_ref())
+        .map(|(meshes, orientations)| (meshes, print_setup(&project, orientations)));
+    let (written, design_problems) = design::written_design(
+        &project,
+        checked.as_ref().map(|(meshes, print)| (*meshes, print)),
+        optimizing,
+    );
+    problems.extend(design_problems);
     let (meshes, orientations) = match (meshes, orientations) {
         (Some(meshes), Some(orientations)) if !problems.iter().any(Problem::is_error) => {
             (meshes, orientations)
@@ -242,9 +255,10 @@ pub fn compile_with(
                 problems.extend(limits);
                 return Err(Failure::Invalid(problems));
             }
-            let (design, optimization) =
+            let (design, mut optimization) =
                 optimize_design(&project, settings, &meshes, &prints, &print, run, workspace)
                     .ok_or(Failure::Cancelled)?;
+            problems.append(&mut optimization.warnings);
             (design, DesignSource::Optimized, Some(optimization))
         }
         (Some(_), None) => {
@@ -276,6 +290,13 @@ pub fn compile_with(
     problems.extend(undetermined_balls(&project, &design, &poses));
     problems.extend(settled_poses(&project, &poses));
     problems.extend(other_states(&project, &poses));
+    problems.extend(sanity::warnings(&project, &meshes, &poses));
+    let solid_goals_lost = solid_goals_lost(&project, &bodies, &design, &poses);
+    problems.extend(lost_goal_warnings(
+        &project,
+        &solid_goals_lost,
+        optimization.as_ref(),
+    ));
     let mut print_plan = print_plan(&project, &meshes, &orientations);
     plan_insertions_into(&project, &meshes, &design, &mut print_plan);
     problems.extend(insertion::window_warnings(
@@ -297,7 +318,79 @@ pub fn compile_with(
         warnings: problems,
         source,
         optimization,
+        solid_goals_lost,
     })
+}
+
+/// The goals the model without capsules, at `design`'s infill, meets in `poses` and `design`
+/// does not (none when the design has no capsules).
+fn solid_goals_lost(
+    project: &Project,
+    bodies: &[ComponentBody],
+    design: &Design,
+    poses: &[PoseEvaluation],
+) -> Vec<GoalName> {
+    if design.capsules.is_empty() {
+        return Vec::new();
+    }
+    let solid = Design {
+        capsules: Vec::new(),
+        infill: design.infill,
+    };
+    let mut lost = Vec::new();
+    for (pose, evaluation) in project.poses.iter().zip(poses) {
+        if evaluation.goals.iter().all(|goal| goal.met) {
+            continue;
+        }
+        let solid_evaluation = evaluate_pose(project, bodies, &solid, pose);
+        for (index, (with, without)) in evaluation
+            .goals
+            .iter()
+            .zip(&solid_evaluation.goals)
+            .enumerate()
+        {
+            if without.met && !with.met {
+                lost.push(GoalName {
+                    pose: pose.name.value.clone(),
+                    goal: index,
+                    kind: pose.goals[index].value.keyword(),
+                });
+            }
+        }
+    }
+    lost
+}
+
+/// A warning per goal the design breaks that the model without capsules meets, saying, for an
+/// optimized design that misses some goal, that no design the optimizer tried met them all.
+fn lost_goal_warnings(
+    project: &Project,
+    lost: &[GoalName],
+    optimization: Option<&Optimization>,
+) -> Vec<Problem> {
+    let help = match optimization {
+        Some(optimization) if !optimization.meets_goals => {
+            "no design the optimizer tried meets every goal, and the one chosen (the lowest objective) gives this goal up: the build names the goals that conflict; remove or loosen one of them"
+        }
+        _ => "move or remove capsules, or let the optimizer place them (`optimize`)",
+    };
+    lost.iter()
+        .filter_map(|name| {
+            let pose = project.poses.iter().find(|p| p.name.value == name.pose)?;
+            let goal = pose.goals.get(name.goal)?;
+            Some(
+                Problem::warning(
+                    "ballast::design::loses_goal",
+                    format!(
+                        "in pose `{}`, the design does not meet the `{}` goal, which the model without capsules meets",
+                        name.pose, name.kind
+                    ),
+                )
+                .with_label(goal.span, "met without capsules")
+                .with_help(help),
+            )
+        })
+        .collect()
 }
 
 /// Where an output goes: its own path, or its file name inside `out_dir`.

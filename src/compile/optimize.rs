@@ -4,8 +4,10 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use serde::Serialize;
-
+use super::optimization::{
+    candidate_report, conflict_report, repair_warning, seed_report, CapsuleOrigin, Optimization,
+    Timings,
+};
 use super::workspace::{Stage, Workspace};
 use crate::design::Design;
 use crate::fabrication::PrintSetup;
@@ -15,8 +17,8 @@ use crate::objective::{GridInterior, Parameters};
 pub use crate::optimize::length_decimals;
 use crate::optimize::{
     capsule_radius, choose, content_hash, default_cell, explain_conflicts, grid_scale, rank,
-    run_heuristic, skeleton_seeds, Candidate, Conflict, GoalRef, GridKey, Method, Outcome, Problem,
-    Ranking, SeedSite, StartCapsule,
+    repair_seeds, run_heuristic, skeleton_seeds, Candidate, GoalRef, GridKey, Method, Origin,
+    Outcome, Problem, Rules, SeedRepair, SeedSite, StartCapsule,
 };
 use crate::spec::model::{Optimize, Project};
 
@@ -63,101 +65,6 @@ impl WarmStart {
     }
 }
 
-/// What the optimizer did: every capsule count tried and which one was chosen.
-#[derive(Debug, Clone, Serialize)]
-pub struct Optimization {
-    /// The capsule count asked for, if any.
-    pub requested: Option<usize>,
-    /// Capsules in the chosen design.
-    pub chosen: usize,
-    /// Whether the chosen design meets every goal.
-    pub meets_goals: bool,
-    /// The tolerance of the choice, degrees.
-    pub tolerance: f64,
-    /// Whether the heuristic started from the previous build's design (watch mode) rather than
-    /// from the skeleton seeds.
-    pub warm_started: bool,
-    /// Every capsule count the heuristic tried, most capsules first.
-    pub candidates: Vec<CandidateReport>,
-    /// Every skeleton segment's midpoint and whether a capsule was seeded there.
-    pub seeds: Vec<SeedReport>,
-    /// Where the heuristic ranks among random starts, per capsule count (empty unless asked).
-    pub exhaustive: Vec<Ranking>,
-    /// When the chosen design misses some goal: the goals that cannot be met even alone, and the
-    /// pairs that cannot be met together.
-    pub conflicts: Vec<ConflictReport>,
-    /// Wall-clock seconds per stage. Not deterministic, so never written to a file.
-    #[serde(skip)]
-    pub timings: Timings,
-}
-
-/// Wall-clock seconds of each optimizer stage.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct Timings {
-    /// Distance grids and skeletons.
-    pub precompute: f64,
-    /// The heuristic, all rounds.
-    pub heuristic: f64,
-    /// Exhaustive search.
-    pub exhaustive: f64,
-    /// Explaining conflicts.
-    pub conflicts: f64,
-}
-
-/// Goals the optimizer cannot meet: one goal that is out of reach even alone, or two that can each
-/// be met but not together.
-#[derive(Debug, Clone, Serialize)]
-pub struct ConflictReport {
-    /// The goals, each as `pose name` and index within the pose.
-    pub goals: Vec<GoalName>,
-    /// How short the best design for just these goals falls, degrees of the smooth objective.
-    pub shortfall: f64,
-}
-
-/// A goal, named by its pose.
-#[derive(Debug, Clone, Serialize)]
-pub struct GoalName {
-    /// The pose's name.
-    pub pose: String,
-    /// The goal's index within the pose, from 0.
-    pub goal: usize,
-    /// The goal's kind: `stand`, `imbalance`, `suspend` or `immerse`.
-    pub kind: &'static str,
-}
-
-/// One capsule count the heuristic tried.
-#[derive(Debug, Clone, Serialize)]
-pub struct CandidateReport {
-    /// Number of capsules.
-    pub capsules: usize,
-    /// The smooth objective `f` reached, degrees (at most 0 when every goal is met; lower is
-    /// better).
-    pub objective: f64,
-    /// The smallest tilt margin over every `stand` goal, degrees, when there are stand goals.
-    pub worst_tilt_margin: Option<f64>,
-    /// Whether every goal is met and every capsule can be printed.
-    pub meets_goals: bool,
-    /// Whether every capsule can be printed where it is: the fabrication checks pass, every
-    /// ball insertable at a pause in its component's print orientation.
-    pub printable: bool,
-    /// Wall-clock seconds. Not deterministic, so never written to a file.
-    #[serde(skip)]
-    pub seconds: f64,
-}
-
-/// One skeleton segment's midpoint.
-#[derive(Debug, Clone, Serialize)]
-pub struct SeedReport {
-    /// The component whose skeleton it is on.
-    pub component: String,
-    /// The midpoint, rest frame of the component.
-    pub midpoint: [f64; 3],
-    /// Distance to the component's surface, project units (positive inside).
-    pub depth: f64,
-    /// Whether a capsule was seeded there.
-    pub seeded: bool,
-}
-
 /// What the heuristic starts from: the interior distance of every component and the start
 /// capsules.
 pub struct Preparation {
@@ -170,6 +77,9 @@ pub struct Preparation {
     /// Every skeleton segment's midpoint and whether it was seeded (empty when the written
     /// capsules or a warm start are the seeds).
     pub sites: Vec<SeedSite>,
+    /// The written seeds that broke a fabrication rule and what was done to each (indices into
+    /// the project's capsules).
+    pub repairs: Vec<SeedRepair>,
 }
 
 /// The precomputation of the optimizer: distance grids (from the workspace's cache when it holds
@@ -179,6 +89,7 @@ pub fn prepare(
     project: &Project,
     settings: &Optimize,
     meshes: &[TriMesh],
+    print: &PrintSetup,
     workspace: &mut Workspace,
     warm: Option<&Design>,
 ) -> Option<Preparation> {
@@ -210,10 +121,25 @@ pub fn prepare(
         seeds.extend(warm_capsules(design, &seeds));
     }
     if warm.is_some() || seeds.iter().any(|c| !c.pinned) {
+        let repairs = if warm.is_some() {
+            Vec::new()
+        } else {
+            let rules = Rules {
+                meshes,
+                interior: interior.as_ref(),
+                ball: &project.ball,
+                min_radius: parameters.min_radius,
+                wall: project.wall,
+                scale: grid_scale(length_decimals(meshes)),
+                print,
+            };
+            repair_seeds(&mut seeds, &rules)
+        };
         return Some(Preparation {
             interior,
             seeds,
             sites: Vec::new(),
+            repairs,
         });
     }
     let mut skeletons: Vec<Arc<Skeleton>> = Vec::with_capacity(meshes.len());
@@ -236,6 +162,7 @@ pub fn prepare(
         interior,
         seeds,
         sites,
+        repairs: Vec::new(),
     })
 }
 
@@ -270,7 +197,7 @@ pub fn optimize_design(
             workspace,
             Some(design),
         )?;
-        if optimized.1.meets_goals {
+        if optimized.1.meets_goals || optimized.1.interrupted.is_some() {
             return Some(optimized);
         }
     }
@@ -296,9 +223,18 @@ fn optimize_from(
         interior,
         seeds,
         sites,
-    } = prepare(project, settings, meshes, workspace, warm)?;
+        repairs,
+    } = prepare(project, settings, meshes, print, workspace, warm)?;
     let precompute = clock.elapsed().as_secs_f64();
+    let warnings = repairs
+        .iter()
+        .map(|repair| repair_warning(project, repair))
+        .collect();
 
+    // Poses without goals are only shown: they take no part in the search (not even with their
+    // ball-elevation constraint), so adding one leaves the design as it was.
+    let steering = with_goal_poses_only(project);
+    let project = &steering;
     let clock = Instant::now();
     let problem = Problem::new(
         project,
@@ -313,7 +249,9 @@ fn optimize_from(
     let mut candidates = run_heuristic(&problem, &seeds, requested, &|capsules| {
         workspace.report(Stage::Round { capsules })
     });
-    if problem.is_cancelled() || candidates.is_empty() {
+    // Interrupted (not cancelled), the rounds finished so far still hold designs worth keeping.
+    let interrupted = || workspace.cancel.interruption();
+    if candidates.is_empty() || (problem.is_cancelled() && interrupted().is_none()) {
         return None;
     }
     // Every candidate is judged as the solution file would hold it, so the table, the choice
@@ -324,7 +262,7 @@ fn optimize_from(
     let heuristic = clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
-    let exhaustive = if options.exhaustive > 0 {
+    let mut exhaustive = if options.exhaustive > 0 && !problem.is_cancelled() {
         workspace.report(Stage::Exhaustive {
             starts: options.exhaustive,
         });
@@ -339,14 +277,18 @@ fn optimize_from(
     } else {
         Vec::new()
     };
+    // A ranking cut short compares with starts that were never solved: it means nothing.
+    if problem.is_cancelled() {
+        exhaustive.clear();
+    }
     let exhaustive_seconds = clock.elapsed().as_secs_f64();
 
     let chosen = choose(&candidates, requested, settings.tolerance_degrees);
     let outcome = candidates[chosen].outcome.clone();
-    let design = named(project, outcome.design.clone());
+    let (design, origins) = named(project, outcome.design.clone(), &candidates[chosen].starts);
 
     let clock = Instant::now();
-    let conflicts = if outcome.meets_goals {
+    let mut conflicts = if outcome.meets_goals || problem.is_cancelled() {
         Vec::new()
     } else {
         workspace.report(Stage::Conflicts);
@@ -377,8 +319,12 @@ fn optimize_from(
         .map(|c| conflict_report(project, c))
         .collect()
     };
+    let interrupted = interrupted();
     if problem.is_cancelled() {
-        return None;
+        // Cancelled, nothing is kept; interrupted, an explanation cut short may name goals that
+        // can be met.
+        interrupted?;
+        conflicts.clear();
     }
     let conflicts_seconds = clock.elapsed().as_secs_f64();
     let optimization = Optimization {
@@ -387,11 +333,13 @@ fn optimize_from(
         meets_goals: outcome.meets_goals,
         tolerance: settings.tolerance_degrees,
         warm_started: warm.is_some(),
+        interrupted,
         candidates: candidates.iter().map(candidate_report).collect(),
         seeds: sites
             .iter()
             .map(|site| seed_report(project, site))
             .collect(),
+        origins,
         exhaustive,
         conflicts,
         timings: Timings {
@@ -400,8 +348,17 @@ fn optimize_from(
             exhaustive: exhaustive_seconds,
             conflicts: conflicts_seconds,
         },
+        warnings,
     };
     Some((design, optimization))
+}
+
+/// `project` without the poses that have no goals: what the optimizer steers by. The pose indices
+/// of its results (conflicts) are indices into this project's poses.
+fn with_goal_poses_only(project: &Project) -> Project {
+    let mut steering = project.clone();
+    steering.poses.retain(|pose| !pose.goals.is_empty());
+    steering
 }
 
 /// The capsules of the project file as start capsules, named and pinned as written.
@@ -416,6 +373,7 @@ fn written_capsules(project: &Project) -> Vec<StartCapsule> {
             radius: c.radius,
             pinned: c.pinned,
             name: Some(c.name.value.clone()),
+            origin: Origin::Written,
         })
         .collect()
 }
@@ -438,6 +396,7 @@ fn warm_capsules(design: &Design, pinned: &[StartCapsule]) -> Vec<StartCapsule> 
             radius: c.radius,
             pinned: false,
             name: Some(c.name.clone()),
+            origin: Origin::Earlier,
         })
         .collect()
 }
@@ -489,33 +448,53 @@ fn rounded(problem: &Problem, outcome: &Outcome, meshes: &[TriMesh]) -> Outcome 
     judged
 }
 
-/// Names the capsules the optimizer seeded (`"<component> 1"`, `"<component> 2"`, … in design
-/// order), skipping names already taken.
-fn named(project: &Project, mut design: Design) -> Design {
-    let written: Vec<&str> = project
+/// `design` with every capsule named after where it is, unless pinned (a pinned capsule keeps the
+/// name it is written with): its component and a counter, `"<component> 1"`, `"<component> 2"`, …
+/// per component in design order, skipping the names of pinned capsules. Also where each capsule
+/// came from, from `starts` (one per capsule, in design order).
+fn named(
+    project: &Project,
+    mut design: Design,
+    starts: &[StartCapsule],
+) -> (Design, Vec<CapsuleOrigin>) {
+    let pinned: Vec<&str> = project
         .capsules
         .iter()
+        .filter(|c| c.pinned)
         .map(|c| c.name.value.as_str())
         .collect();
-    let mut taken: Vec<String> = design
-        .capsules
-        .iter()
-        .filter(|c| written.contains(&c.name.as_str()))
-        .map(|c| c.name.clone())
-        .collect();
-    for capsule in &mut design.capsules {
-        if written.contains(&capsule.name.as_str()) {
-            continue;
+    let mut counters = vec![0usize; project.components.len()];
+    let mut origins = Vec::with_capacity(design.capsules.len());
+    for (capsule, start) in design.capsules.iter_mut().zip(starts) {
+        if !start.pinned {
+            let component = project.component_name(capsule.component);
+            let mut k = counters.get(capsule.component).copied().unwrap_or(0);
+            capsule.name = loop {
+                k += 1;
+                let name = format!("{component} {k}");
+                if !pinned.contains(&name.as_str()) {
+                    break name;
+                }
+            };
+            if let Some(counter) = counters.get_mut(capsule.component) {
+                *counter = k;
+            }
         }
-        let component = project.component_name(capsule.component);
-        let name = (1..)
-            .map(|k| format!("{component} {k}"))
-            .find(|name| !taken.contains(name))
-            .unwrap_or_default();
-        taken.push(name.clone());
-        capsule.name = name;
+        let (seed, site) = match start.origin {
+            _ if start.pinned => ("pinned", None),
+            Origin::Written => ("written", None),
+            Origin::Skeleton(site) => ("skeleton", Some(site)),
+            Origin::Earlier => ("earlier", None),
+            Origin::Random => ("random", None),
+        };
+        origins.push(CapsuleOrigin {
+            capsule: capsule.name.clone(),
+            seed,
+            seed_name: start.name.clone().filter(|_| site.is_none()),
+            site,
+        });
     }
-    design
+    (design, origins)
 }
 
 /// The start for explaining conflicts: the chosen candidate's capsules where the heuristic left
@@ -529,7 +508,8 @@ fn seeds_for(seeds: &[StartCapsule], candidate: &Candidate) -> Vec<StartCapsule>
         .design
         .capsules
         .iter()
-        .map(|c| StartCapsule {
+        .zip(&candidate.starts)
+        .map(|(c, start)| StartCapsule {
             component: c.component,
             from: c.from,
             to: c.to,
@@ -538,44 +518,7 @@ fn seeds_for(seeds: &[StartCapsule], candidate: &Candidate) -> Vec<StartCapsule>
                 .iter()
                 .any(|s| s.pinned && s.name.as_deref() == Some(c.name.as_str())),
             name: Some(c.name.clone()),
+            origin: start.origin,
         })
         .collect()
-}
-
-fn conflict_report(project: &Project, conflict: &Conflict) -> ConflictReport {
-    ConflictReport {
-        goals: conflict
-            .goals
-            .iter()
-            .map(|g| {
-                let pose = &project.poses[g.pose];
-                GoalName {
-                    pose: pose.name.value.clone(),
-                    goal: g.goal,
-                    kind: pose.goals[g.goal].value.keyword(),
-                }
-            })
-            .collect(),
-        shortfall: conflict.shortfall,
-    }
-}
-
-fn candidate_report(candidate: &Candidate) -> CandidateReport {
-    CandidateReport {
-        capsules: candidate.capsules,
-        objective: candidate.outcome.value.to_degrees(),
-        worst_tilt_margin: candidate.outcome.worst_tilt_margin,
-        meets_goals: candidate.outcome.meets_goals,
-        printable: candidate.outcome.fabrication.is_empty(),
-        seconds: candidate.seconds,
-    }
-}
-
-fn seed_report(project: &Project, site: &SeedSite) -> SeedReport {
-    SeedReport {
-        component: project.component_name(site.component).to_string(),
-        midpoint: site.midpoint.coords.into(),
-        depth: site.depth,
-        seeded: site.seeded,
-    }
 }

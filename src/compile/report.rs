@@ -5,11 +5,11 @@ use std::path::{Component as PathPart, Path};
 
 use serde::Serialize;
 
-use super::{Compilation, DesignSource, Optimization};
+use super::{Compilation, DesignSource, GoalName, Optimization};
 use crate::balance::{capsule_shell, PoseEvaluation};
 use crate::design::Design;
 use crate::fabrication::{ComponentPlan, Orientation, OrientationChoice};
-use crate::spec::model::{MassModel, Print, Project};
+use crate::spec::model::{MassModel, MeshFrame, Print, Project, Units};
 
 /// Version of the report's layout; raised when a field changes meaning or disappears.
 pub const REPORT_FORMAT: u32 = 1;
@@ -56,6 +56,8 @@ pub struct Report<'a> {
     pub design: &'static str,
     /// What the optimizer did, when this build ran it; `null` otherwise.
     pub optimization: Option<&'a Optimization>,
+    /// The goals the model without capsules meets and this design does not.
+    pub solid_goals_lost: &'a [GoalName],
 }
 
 /// The print material.
@@ -135,6 +137,8 @@ pub struct ComponentReport {
     pub mesh: String,
     /// The object or node selected in the mesh file, if any.
     pub part: Option<String>,
+    /// How the mesh file's coordinates were read into the rest frame.
+    pub mesh_frame: MeshFrameReport,
     /// Vertex count after welding.
     pub vertices: usize,
     /// Triangle count.
@@ -149,6 +153,38 @@ pub struct ComponentReport {
     pub sparse_volume: f64,
     /// How it is printed.
     pub print: ComponentPrintReport,
+}
+
+/// How a component's mesh coordinates became rest-frame coordinates.
+#[derive(Debug, Clone, Serialize)]
+pub struct MeshFrameReport {
+    /// The unit of the mesh file's coordinates (`mm`, `cm`, `m`, `in`).
+    pub units: &'static str,
+    /// Where the unit came from: `written` (`mesh-units=`), `gltf` (the glTF specification's
+    /// metres) or `project` (the project's `units`).
+    pub units_from: &'static str,
+    /// The mesh file's up axis (`x`, `y`, `z`).
+    pub up: &'static str,
+    /// Where the up axis came from, as for `units_from`.
+    pub up_from: &'static str,
+    /// The written `scale=` factor, 1 without it.
+    pub scale: f64,
+    /// Project units per mesh unit: the unit conversion times `scale`.
+    pub factor: f64,
+}
+
+impl MeshFrameReport {
+    /// The report of `frame` in a project in `units`.
+    pub fn new(frame: &MeshFrame, units: Units) -> MeshFrameReport {
+        MeshFrameReport {
+            units: frame.units.keyword(),
+            units_from: frame.units_from.keyword(),
+            up: frame.up.keyword(),
+            up_from: frame.up_from.keyword(),
+            scale: frame.scale,
+            factor: frame.factor(units),
+        }
+    }
 }
 
 /// How one component is printed: its orientation and its place on the bed.
@@ -353,6 +389,7 @@ impl<'a> Report<'a> {
                     name: component.name.value.clone(),
                     mesh: relative_path(&component.mesh.value, folder),
                     part: component.selector.part_name().map(str::to_owned),
+                    mesh_frame: MeshFrameReport::new(&component.frame, project.units),
                     vertices: mesh.positions.len(),
                     triangles: mesh.triangles.len(),
                     volume: mass.volume,
@@ -433,6 +470,7 @@ impl<'a> Report<'a> {
                 DesignSource::Optimized => "optimized",
             },
             optimization: compilation.optimization.as_ref(),
+            solid_goals_lost: &compilation.solid_goals_lost,
         }
     }
 

@@ -106,4 +106,24 @@ impl CapsuleIssue {
             CapsuleIssue::Overlap { first, .. } => first,
         }
     }
+
+    /// The same issue with every capsule index `i` replaced by `index(i)` (for issues found on a
+    /// selection of a design's capsules).
+    pub fn renumbered(self, index: impl Fn(usize) -> usize) -> CapsuleIssue {
+        let mut issue = self;
+        match &mut issue {
+            CapsuleIssue::TooShort { capsule, .. }
+            | CapsuleIssue::BallDoesNotFit { capsule, .. }
+            | CapsuleIssue::UnknownComponent { capsule, .. }
+            | CapsuleIssue::Outside { capsule, .. }
+            | CapsuleIssue::InOtherComponent { capsule, .. }
+            | CapsuleIssue::TooCloseToSurface { capsule, .. }
+            | CapsuleIssue::NoInsertionWindow { capsule, .. } => *capsule = index(*capsule),
+            CapsuleIssue::Overlap { first, second, .. } => {
+                *first = index(*first);
+                *second = index(*second);
+            }
+        }
+        issue
+    }
 }

@@ -5,7 +5,7 @@ use nalgebra::{Point3, Vector3};
 use serde::Serialize;
 
 use super::heuristic::Candidate;
-use super::problem::{Problem, StartCapsule};
+use super::problem::{Origin, Problem, StartCapsule};
 use crate::objective::InteriorDistance;
 
 /// The random starts for one capsule count and where the heuristic's result ranks among them.
@@ -111,7 +111,7 @@ fn random_capsule(
         }
     };
     let half = radius.max((hi - lo).norm() / 12.0 * random.unit());
-    StartCapsule::centred(component, centre, direction * half, radius)
+    StartCapsule::centred(component, centre, direction * half, radius, Origin::Random)
 }
 
 /// SplitMix64 (Steele, Lea and Flood 2014): a small, fast generator whose output depends only on

@@ -15,6 +15,9 @@ pub struct Candidate {
     pub capsules: usize,
     /// What the optimization reached.
     pub outcome: Outcome,
+    /// What each capsule of the outcome's design started from, in design order (its origin and
+    /// name; the ends and radius of the round's start).
+    pub starts: Vec<StartCapsule>,
     /// Wall-clock seconds the optimization took. Not deterministic: reports leave it out.
     pub seconds: f64,
 }
@@ -97,6 +100,7 @@ pub fn run(
         candidates.push(Candidate {
             capsules: current.len(),
             outcome,
+            starts: current.clone(),
             seconds,
         });
         let floor = stop_at.unwrap_or(0);
@@ -189,10 +193,10 @@ fn split_until(seeds: &mut Vec<StartCapsule>, n: usize) {
         let seed = seeds[i].clone();
         let middle = nalgebra::center(&seed.from, &seed.to);
         let quarter = (seed.to - seed.from) / 4.0;
+        // Both halves keep the seed's name and origin: that is where they came from.
         let half = |centre| StartCapsule {
             from: centre - quarter / 2.0,
             to: centre + quarter / 2.0,
-            name: None,
             ..seed.clone()
         };
         seeds[i] = half(nalgebra::center(&seed.from, &middle));
@@ -221,6 +225,7 @@ mod tests {
                 fabrication: Vec::new(),
                 evaluations: 0,
             },
+            starts: Vec::new(),
             seconds: 0.0,
         }
     }
@@ -256,6 +261,7 @@ mod tests {
             radius: 1.0,
             pinned,
             name: None,
+            origin: crate::optimize::Origin::Written,
         };
         let mut seeds = vec![seed(true), seed(false)];
         split_until(&mut seeds, 4);

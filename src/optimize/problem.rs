@@ -32,8 +32,26 @@ pub struct StartCapsule {
     pub radius: f64,
     /// Kept exactly as it is: not moved, resized or removed.
     pub pinned: bool,
-    /// Its name in the project file, for a capsule written there.
+    /// Its name in the project file, for a capsule written there, or in the earlier design it
+    /// comes from.
     pub name: Option<String>,
+    /// Where it came from.
+    pub origin: Origin,
+}
+
+/// Where a start capsule came from, so that the capsule the optimizer makes of it can say so.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Origin {
+    /// Written in the project file; [`StartCapsule::name`] is its name there.
+    Written,
+    /// Seeded at a skeleton segment's midpoint: the index of its site among those
+    /// [`skeleton_seeds`](super::skeleton_seeds) returns.
+    Skeleton(usize),
+    /// A capsule of an earlier design (watch mode's warm start); [`StartCapsule::name`] is its
+    /// name there.
+    Earlier,
+    /// A random start of exhaustive search.
+    Random,
 }
 
 impl StartCapsule {
@@ -44,6 +62,7 @@ impl StartCapsule {
         centre: Point3<f64>,
         half_axis: Vector3<f64>,
         radius: f64,
+        origin: Origin,
     ) -> StartCapsule {
         StartCapsule {
             component,
@@ -52,6 +71,7 @@ impl StartCapsule {
             radius,
             pinned: false,
             name: None,
+            origin,
         }
     }
 }

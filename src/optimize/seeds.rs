@@ -5,7 +5,7 @@ use std::borrow::Borrow;
 
 use nalgebra::Point3;
 
-use super::problem::StartCapsule;
+use super::problem::{Origin, StartCapsule};
 use crate::geometry::Skeleton;
 use crate::objective::InteriorDistance;
 
@@ -40,6 +40,7 @@ pub fn skeleton_seeds(
             let midpoint = segment.midpoint();
             let depth = interior.distance(component, &midpoint).0;
             let seeded = depth >= radius + wall;
+            let site = sites.len();
             sites.push(SeedSite {
                 component,
                 midpoint,
@@ -62,6 +63,7 @@ pub fn skeleton_seeds(
                 midpoint,
                 direction * half,
                 radius,
+                Origin::Skeleton(site),
             ));
         }
     }

@@ -8,6 +8,7 @@ mod check;
 pub mod codes;
 mod file;
 mod guard;
+mod mesh_frame;
 pub mod model;
 mod parse;
 mod resolve;

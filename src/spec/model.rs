@@ -12,6 +12,8 @@ use nalgebra::{Isometry3, Point3, UnitQuaternion, Vector3};
 
 use crate::geometry::MeshSelector;
 
+pub use super::mesh_frame::{FrameSource, MeshFrame};
+
 /// A value with the span of the source text it came from. Equality ignores the span, so two
 /// projects that mean the same thing compare equal however they are laid out.
 #[derive(Debug, Clone)]
@@ -79,6 +81,16 @@ impl Units {
         }
     }
 
+    /// Length of one unit in millimetres.
+    pub fn millimetres(self) -> f64 {
+        match self {
+            Units::Millimetre => 1.0,
+            Units::Centimetre => 10.0,
+            Units::Metre => 1000.0,
+            Units::Inch => 25.4,
+        }
+    }
+
     /// Length of one unit in metres.
     pub fn in_metres(self) -> f64 {
         match self {
@@ -120,6 +132,15 @@ impl Axis {
             "y" => Some(Axis::Y),
             "z" => Some(Axis::Z),
             _ => None,
+        }
+    }
+
+    /// The keyword written in the project file.
+    pub fn keyword(self) -> &'static str {
+        match self {
+            Axis::X => "x",
+            Axis::Y => "y",
+            Axis::Z => "z",
         }
     }
 
@@ -347,6 +368,9 @@ pub struct Component {
     pub mesh: Spanned<PathBuf>,
     /// Which part of the mesh file.
     pub selector: MeshSelector,
+    /// How the mesh file's coordinates become rest-frame coordinates: its unit, its up axis and a
+    /// scale factor.
+    pub frame: MeshFrame,
     /// How the component lies on the print bed, when its `print` block says; `None`: ballast
     /// chooses.
     pub print: Option<PrintOrientation>,
@@ -486,10 +510,18 @@ impl PartialEq for Component {
             name,
             mesh,
             selector,
+            frame,
             print,
             span: _,
         } = self;
-        (name, mesh, selector, print) == (&other.name, &other.mesh, &other.selector, &other.print)
+        (name, mesh, selector, frame, print)
+            == (
+                &other.name,
+                &other.mesh,
+                &other.selector,
+                &other.frame,
+                &other.print,
+            )
     }
 }
 

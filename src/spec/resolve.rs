@@ -13,8 +13,8 @@ use nalgebra::{Isometry3, Point3, Vector3};
 use super::bounds;
 use super::codes;
 use super::model::{
-    Axis, Ball, Capsule, Component, Goal, Infill, MassModel, Material, Optimize, Output, Pose,
-    Print, PrintOrientation, Project, Spanned, Units,
+    Axis, Ball, Capsule, Component, FrameSource, Goal, Infill, MassModel, Material, MeshFrame,
+    Optimize, Output, Pose, Print, PrintOrientation, Project, Spanned, Units,
 };
 use super::stock::stock_diameters_mm;
 use super::transform::{compose, rotation, Step};
@@ -35,10 +35,12 @@ pub fn resolve(
     let mut resolver = Resolver {
         nodes,
         units,
+        up: Axis::Z,
         folder,
         components: Vec::new(),
         problems,
     };
+    resolver.up = resolver.written_up();
     resolver.components();
     let poses = resolver.poses();
     let capsules = resolver.capsules();
@@ -51,7 +53,7 @@ pub fn resolve(
     let wall = resolver.top("wall").and_then(Node::number_arg);
     Project {
         units,
-        up: resolver.up(),
+        up: resolver.up,
         material: resolver.material(),
         ball: resolver.ball(),
         infill: resolver.infill(),
@@ -76,6 +78,7 @@ pub fn resolve_solution(
     let mut resolver = Resolver {
         nodes,
         units: project.units,
+        up: project.up,
         folder: Path::new(""),
         components: project.components.clone(),
         problems,
@@ -88,6 +91,8 @@ pub fn resolve_solution(
 struct Resolver<'a> {
     nodes: &'a [Node],
     units: Units,
+    /// The project's up axis (from the `up` node).
+    up: Axis,
     folder: &'a Path,
     components: Vec<Component>,
     problems: &'a mut Vec<Problem>,
@@ -104,7 +109,7 @@ impl<'a> Resolver<'a> {
         self.nodes.iter().filter(move |node| node.name == name)
     }
 
-    fn up(&self) -> Axis {
+    fn written_up(&self) -> Axis {
         self.top("up")
             .and_then(Node::text_arg)
             .and_then(|axis| Axis::from_keyword(&axis.value))
@@ -304,14 +309,49 @@ impl<'a> Resolver<'a> {
             let print = node
                 .child("print")
                 .and_then(|block| self.print_orientation(block));
+            let frame = self.mesh_frame(node, &mesh.value);
             self.components.push(Component {
                 name,
                 mesh,
                 selector,
+                frame,
                 print,
                 span: node.span,
             });
         }
+    }
+
+    /// How a component's mesh coordinates become rest-frame coordinates: `mesh-units=`,
+    /// `mesh-up=` and `scale=` as written; unwritten, the glTF specification's metres and +Y up
+    /// for a `.gltf` or `.glb` file, the project's units and up axis for any other.
+    fn mesh_frame(&self, node: &Node, mesh: &Path) -> MeshFrame {
+        let is_gltf = mesh
+            .extension()
+            .and_then(|extension| extension.to_str())
+            .is_some_and(|extension| {
+                extension.eq_ignore_ascii_case("gltf") || extension.eq_ignore_ascii_case("glb")
+            });
+        let mut frame = if is_gltf {
+            MeshFrame::gltf()
+        } else {
+            MeshFrame::project(self.units, self.up)
+        };
+        if let Some(units) = node
+            .text("mesh-units")
+            .and_then(|units| Units::from_keyword(&units.value))
+        {
+            frame.units = units;
+            frame.units_from = FrameSource::Written;
+        }
+        if let Some(up) = node
+            .text("mesh-up")
+            .and_then(|up| Axis::from_keyword(&up.value))
+        {
+            frame.up = up;
+            frame.up_from = FrameSource::Written;
+        }
+        frame.scale = node.number("scale").unwrap_or(1.0);
+        frame
     }
 
     /// The orientation a component's `print` block declares, if any; reports a zero `down` and a

@@ -277,6 +277,9 @@ pub const DOCUMENT: &[NodeSpec] = &[
             required(prop("mesh", ValueKind::Path)),
             prop("object", ValueKind::String),
             prop("node", ValueKind::String),
+            prop("mesh-units", ValueKind::Enum(UNITS)),
+            prop("mesh-up", ValueKind::Enum(AXES)),
+            prop("scale", ValueKind::Positive),
         ],
         children: &[NodeSpec {
             name: "print",

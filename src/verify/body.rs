@@ -189,24 +189,6 @@ pub(crate) struct World {
     pub model: RigidBodyHandle,
     /// One body per ball, in the design's order.
     pub balls: Vec<RigidBodyHandle>,
-    /// The balls that are part of the model's own body, in the design's order (empty unless
-    /// [`Build::fused_balls`]).
-    fused: Vec<FusedBall>,
-}
-
-/// A ball that is part of the model's body. Its mass sits at the middle of its axis, so the
-/// body's mass properties never change; each step a couple (its weight at the end it rests at,
-/// minus its weight at the middle) moves its weight to that end. Changing the body's mass
-/// properties instead, when a ball changes end, left the body unsupported by its contacts for
-/// one step: it dropped, bounced, and toppled on a ground it stood on.
-#[derive(Debug, Clone)]
-struct FusedBall {
-    /// The middle of the axis, body frame.
-    middle: Vector,
-    /// The end it rests at, body frame.
-    end: Vector,
-    /// Kilograms.
-    mass: f64,
 }
 
 /// How the model's world is built.
@@ -242,6 +224,10 @@ impl World {
     pub fn new(model: &Model, build: &Build) -> World {
         let mut parameters = IntegrationParameters {
             length_unit: model.size / 10.0,
+            // A recycled contact keeps its points and its lever arms from the model's centre of
+            // mass while the model barely moves: stale by up to half a percent of the model's
+            // size, and by a whole capsule's length of a ball's shift once the ball changes end.
+            contact_recycling: false,
             ..IntegrationParameters::default()
         };
         parameters.dt = build.time_step;
@@ -253,26 +239,10 @@ impl World {
         let (linear, angular) = build.damping;
         let body = RigidBodyBuilder::dynamic()
             .pose(build.start)
+            .additional_mass_properties(model.material)
             .linear_damping(linear)
             .angular_damping(angular)
             .can_sleep(false);
-        let fused: Vec<FusedBall> = model
-            .balls
-            .iter()
-            .filter(|_| build.fused_balls)
-            .map(|ball| FusedBall {
-                middle: (ball.from + ball.to) / 2.0,
-                end: (ball.from + ball.to) / 2.0,
-                mass: ball.mass.mass(),
-            })
-            .collect();
-        let mut fused_mass = model.material;
-        for (ball, spec) in fused.iter().zip(&model.balls) {
-            fused_mass += spec
-                .mass
-                .transform_by(&Pose3::from_translation(ball.middle));
-        }
-        let body = body.additional_mass_properties(fused_mass);
         let handle = bodies.insert(body);
         if build.colliders {
             for points in &model.hulls {
@@ -347,7 +317,6 @@ impl World {
             ccd: CCDSolver::new(),
             model: handle,
             balls,
-            fused,
         }
     }
 
@@ -388,12 +357,15 @@ impl World {
         }
     }
 
-    /// With fused balls: puts each ball's weight at the end of its capsule `ends` says (`true`:
-    /// the `to` end), from the next step on.
+    /// With fused balls: makes the model's mass the material plus each ball at the end of its
+    /// capsule `ends` says (`true`: the `to` end).
     pub fn place_balls(&mut self, model: &Model, ends: &[bool]) {
-        for ((fused, ball), to) in self.fused.iter_mut().zip(&model.balls).zip(ends) {
-            fused.end = if *to { ball.to } else { ball.from };
+        let mut mass = model.material;
+        for (ball, to) in model.balls.iter().zip(ends) {
+            let centre = if *to { ball.to } else { ball.from };
+            mass += ball.mass.transform_by(&Pose3::from_translation(centre));
         }
+        self.bodies[self.model].set_additional_mass_properties(mass, true);
     }
 
     /// The time step, seconds.
@@ -403,17 +375,6 @@ impl World {
 
     /// Advances the simulation by one time step.
     pub fn step(&mut self) {
-        if !self.fused.is_empty() {
-            let body = &mut self.bodies[self.model];
-            let frame = *body.position();
-            body.reset_forces(false);
-            body.reset_torques(false);
-            for ball in &self.fused {
-                let weight = self.gravity * ball.mass;
-                body.add_force_at_point(weight, frame * ball.end, false);
-                body.add_force_at_point(-weight, frame * ball.middle, false);
-            }
-        }
         self.pipeline.step(
             self.gravity,
             &self.parameters,
@@ -454,10 +415,6 @@ impl World {
             let body = &self.bodies[*handle];
             weighted += body.center_of_mass() * body.mass();
             mass += body.mass();
-        }
-        let frame = *self.model_body().position();
-        for ball in &self.fused {
-            weighted += (frame * ball.end - frame * ball.middle) * ball.mass;
         }
         if mass > 0.0 {
             weighted / mass

@@ -7,8 +7,8 @@ use ballast::balance::{evaluate_pose, ComponentBody, PoseEvaluation};
 use ballast::design::{Design, PlacedCapsule};
 use ballast::geometry::{MeshSelector, TriMesh};
 use ballast::spec::model::{
-    Axis, Ball, Component, Goal, Infill, MassModel, Material, Output, Pose, Print, Project,
-    Spanned, Units,
+    Axis, Ball, Component, Goal, Infill, MassModel, Material, MeshFrame, Output, Pose, Print,
+    Project, Spanned, Units,
 };
 use miette::SourceSpan;
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
@@ -57,6 +57,7 @@ pub fn project(components: &[&str]) -> Project {
                 name: Spanned::new(name.to_string(), span()),
                 mesh: Spanned::new(PathBuf::from(format!("{name}.obj")), span()),
                 selector: MeshSelector::Whole,
+                frame: MeshFrame::project(Units::Millimetre, Axis::Z),
                 print: None,
                 span: span(),
             })
