@@ -47,6 +47,7 @@ pub use optimize::{
     length_decimals, optimize_design, prepare, OptimizeOptions, Preparation, WarmStart,
 };
 pub use orientation::{print_orientations, print_plan, BED_CENTRE_MM, BED_GAP_MM};
+pub(crate) use output_paths::lexical;
 pub use output_paths::{
     check_output_paths, input_files, output_targets, OutputTarget, WriteOptions, DUPLICATE_OUTPUT,
     OUTSIDE_PROJECT, OVERWRITES_INPUT,
