@@ -284,7 +284,19 @@ fn a_pinned_capsule_is_kept_exactly_and_a_written_seed_may_move() {
     assert_eq!(junction.from, nalgebra::Point3::new(-15.0, 0.0, 23.0));
     assert_eq!(junction.to, nalgebra::Point3::new(15.0, 0.0, 26.0));
     assert_eq!(junction.radius, 8.0);
-    let bar = capsules.iter().find(|c| c.name == "bar").unwrap();
+    // The moved seed is named after where it ended (its component and a counter), and the report
+    // says it came from `bar`.
+    let origins = &compilation.optimization.as_ref().unwrap().origins;
+    let from_bar = origins
+        .iter()
+        .find(|o| o.seed == "written" && o.seed_name.as_deref() == Some("bar"))
+        .unwrap_or_else(|| panic!("{origins:?}"));
+    assert!(!capsules.iter().any(|c| c.name == "bar"), "{capsules:?}");
+    let bar = capsules
+        .iter()
+        .find(|c| c.name == from_bar.capsule)
+        .unwrap();
+    assert_eq!(bar.name, "T 1");
     assert_ne!(bar.from, nalgebra::Point3::new(-50.0, 0.0, 35.0));
     // The written seed replaces the skeleton's seeds.
     assert!(compilation.optimization.as_ref().unwrap().seeds.is_empty());

@@ -8,7 +8,7 @@
 
 mod print_support;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use ballast::balance::capsule_shell;
 use ballast::compile::{bed_parts, compile, print_settings, Compilation};
@@ -16,22 +16,7 @@ use ballast::design::Design;
 use ballast::emit::print_files::write_prusa_3mf;
 use ballast::sliced::{verify_gcode, SlicedOptions};
 use nalgebra::{Point3, Vector3};
-use print_support::{slice_with, slicer_available};
-
-/// The example projects, in name order.
-fn examples() -> Vec<PathBuf> {
-    let folder = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
-    let mut projects: Vec<_> = std::fs::read_dir(&folder)
-        .unwrap()
-        .map(|entry| entry.unwrap().path())
-        .filter(|path| {
-            path.extension().is_some_and(|e| e == "kdl")
-                && !path.to_string_lossy().ends_with(".solution.kdl")
-        })
-        .collect();
-    projects.sort();
-    projects
-}
+use print_support::{examples, slice_with, slicer_available};
 
 /// The plastic the mass model puts in component `index` with the capsules of `design`: grams,
 /// and the centre, rest frame. Recomputed here from the pieces the model is made of (the

@@ -50,6 +50,7 @@ pub use orientation::{
     insertion_rank, layer_grid, print_orientations, print_plan, print_setup, BED_CENTRE_MM,
     BED_GAP_MM,
 };
+pub(crate) use output_paths::lexical;
 pub use output_paths::{
     check_output_paths, input_files, output_targets, OutputTarget, WriteOptions, DUPLICATE_OUTPUT,
     OUTSIDE_PROJECT, OVERWRITES_INPUT,
@@ -197,9 +198,10 @@ pub fn compile_with(
     let (meshes, mesh_problems) = load_components(&project, &mut workspace.meshes, &policy);
     problems.extend(mesh_problems);
     // The written capsules as they stand, for the ball-gap warnings and the capsules the print
-    // orientation is chosen for; their problems come with the fabrication checks below.
+    // orientation is chosen for; their problems come with the fabrication checks below, and the
+    // ball-gap warnings after them, since a gap matters only for a capsule that is valid.
     let (written, _) = hand_placed_design(&project);
-    problems.extend(design::ball_gap_warnings(&project, &written));
+    let ball_gaps = design::ball_gap_warnings(&project, &written);
     let known = design::fixed_capsules(&project, &written);
     let orientations = meshes.as_ref().map(|meshes| {
         let (orientations, orientation_problems) = print_orientations(&project, meshes, &known);
@@ -235,6 +237,7 @@ pub fn compile_with(
         optimizing,
     );
     problems.extend(design_problems);
+    problems.extend(ball_gaps);
     let (meshes, orientations) = match (meshes, orientations) {
         (Some(meshes), Some(orientations)) if !problems.iter().any(Problem::is_error) => {
             (meshes, orientations)

@@ -227,7 +227,7 @@ pub fn check_output_paths(
 
 /// `path` absolute, with `.` and `..` resolved lexically (symbolic links are not followed: a
 /// link inside the project's folder is the user's choice).
-fn lexical(path: &Path) -> PathBuf {
+pub(crate) fn lexical(path: &Path) -> PathBuf {
     let absolute = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
     let mut out = PathBuf::new();
     for component in absolute.components() {

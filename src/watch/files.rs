@@ -2,11 +2,12 @@
 //! file-system events concern them.
 
 use std::collections::BTreeSet;
-use std::path::{Component, Path, PathBuf};
+use std::path::{Path, PathBuf};
 
 use notify::event::{AccessKind, AccessMode};
 use notify::EventKind;
 
+use crate::compile::lexical;
 use crate::geometry::{external_buffer_paths, FileReader, ReadPolicy};
 use crate::spec::model::Project;
 
@@ -53,7 +54,7 @@ pub fn watched_folders(files: &BTreeSet<PathBuf>) -> BTreeSet<PathBuf> {
 /// canonical (symbolic links followed) when it exists. Event paths are the watched folder joined
 /// with the file name, so they compare equal to this.
 pub fn watch_key(path: &Path) -> PathBuf {
-    let absolute = normalize(&std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf()));
+    let absolute = lexical(path);
     match (absolute.parent(), absolute.file_name()) {
         (Some(folder), Some(name)) => match folder.canonicalize() {
             Ok(folder) => folder.join(name),
@@ -61,21 +62,6 @@ pub fn watch_key(path: &Path) -> PathBuf {
         },
         _ => absolute,
     }
-}
-
-/// `.` and `..` removed lexically.
-fn normalize(path: &Path) -> PathBuf {
-    let mut out = PathBuf::new();
-    for component in path.components() {
-        match component {
-            Component::CurDir => {}
-            Component::ParentDir => {
-                out.pop();
-            }
-            other => out.push(other),
-        }
-    }
-    out
 }
 
 /// Whether an event of this kind can mean a file's content changed. Reads are left out: a build

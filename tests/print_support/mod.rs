@@ -1,9 +1,9 @@
-//! Meshes for print tests (capsules, bodies with capsule voids), binary STL, and the
-//! PrusaSlicer command line when it is installed.
+//! Meshes for print tests (capsules, bodies with capsule voids), binary STL, the example
+//! projects, and the PrusaSlicer command line when it is installed.
 #![allow(dead_code)]
 
 use std::f64::consts::PI;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use ballast::geometry::TriMesh;
@@ -265,4 +265,19 @@ pub fn slice_with(input: &Path, args: &[&str]) -> String {
         String::from_utf8_lossy(&status.stderr)
     );
     std::fs::read_to_string(&output).expect("read G-code")
+}
+
+/// The example projects, in name order.
+pub fn examples() -> Vec<PathBuf> {
+    let folder = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    let mut projects: Vec<_> = std::fs::read_dir(&folder)
+        .unwrap()
+        .map(|entry| entry.unwrap().path())
+        .filter(|path| {
+            path.extension().is_some_and(|e| e == "kdl")
+                && !path.to_string_lossy().ends_with(".solution.kdl")
+        })
+        .collect();
+    projects.sort();
+    projects
 }
