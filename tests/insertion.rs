@@ -96,7 +96,7 @@ fn a_wide_void_warns_about_its_ceiling() {
 fn lying(print: &str, ball: &str, radius: f64) -> String {
     format!(
         r#"
-component "box" mesh="../meshes/box.obj" {{
+component "box" mesh="meshes/box.obj" {{
     {print}
 }}
 wall 1
