@@ -73,9 +73,13 @@ fn goal_lines(out: &mut String, goal: &GoalCheck, capsules: &[&str]) {
                 None => "stands at every tilt tried".to_string(),
             },
         ),
-        Detail::Imbalance { topples } => (
+        Detail::Imbalance { topples, .. } => (
             "imbalance",
-            if *topples { "topples" } else { "stands" }.to_string(),
+            match goal.measured {
+                Some(value) => format!("{value:.1}"),
+                None if *topples => "stands on no slope tried".to_string(),
+                None => "stands".to_string(),
+            },
         ),
         Detail::Suspend { .. } => ("suspend", angle(goal.measured)),
         Detail::Immerse { .. } => ("immerse", angle(goal.measured)),
@@ -106,7 +110,22 @@ fn goal_lines(out: &mut String, goal: &GoalCheck, capsules: &[&str]) {
                 );
             }
         }
-        Detail::Imbalance { .. } => {}
+        Detail::Imbalance { slopes, .. } => {
+            let tilts: Vec<String> = slopes
+                .iter()
+                .map(|run| match run.stands_from {
+                    Some(value) => format!("{value:.1}"),
+                    None => "-".to_string(),
+                })
+                .collect();
+            if !tilts.is_empty() {
+                let _ = writeln!(
+                    out,
+                    "    stood from a slope of (worst direction first, then every 30° around) {}",
+                    tilts.join(" ")
+                );
+            }
+        }
         Detail::Suspend { states, .. } | Detail::Immerse { states, .. } => {
             for (index, state) in states.iter().enumerate() {
                 let _ = writeln!(

@@ -28,7 +28,7 @@ use serde::Serialize;
 
 pub use body::BallEnd;
 pub use release::{FinalState, Release};
-pub use stand::TiltRun;
+pub use stand::{SlopeRun, TiltRun};
 
 use crate::balance::{BallRest, Equilibria, GoalOutcome, PoseEvaluation, Support};
 use crate::compile::Compilation;
@@ -71,9 +71,10 @@ pub struct GoalCheck {
     /// for `suspend` and `immerse`.
     pub computed: f64,
     /// The measured value, degrees: the smallest ground tilt that toppled the model for `stand`,
-    /// the angle after release from the pose for `suspend` and `immerse`. `None` when there is
-    /// no such number: `imbalance`, a `stand` whose model toppled as it was set down, or one that
-    /// still stood at the steepest tilt tried.
+    /// minus the gentlest slope it stood on for `imbalance`, the angle after release from the
+    /// pose for `suspend` and `immerse`. `None` when there is no such number: a `stand` whose
+    /// model toppled as it was set down, or one that still stood at the steepest tilt tried; an
+    /// `imbalance` whose model stood on level ground, or toppled on every slope tried.
     pub measured: Option<f64>,
     /// Whether measured and computed agree: same state, values within [`AGREEMENT_DEGREES`].
     pub agrees: bool,
@@ -96,10 +97,17 @@ pub enum Detail {
         /// One per direction, the worst first; empty when the model toppled as it was set down.
         runs: Vec<TiltRun>,
     },
-    /// Set down.
+    /// Set down on level ground and, when it toppled there, on slopes in several directions.
     Imbalance {
-        /// Whether the model toppled by itself.
+        /// Whether the model toppled by itself on level ground.
         topples: bool,
+        /// The direction ballast computed the gentlest standing slope in (horizontal, world,
+        /// downhill); absent when the model stood on level ground.
+        #[serde(skip_serializing_if = "Option::is_none")]
+        worst_direction: Option<[f64; 3]>,
+        /// One per direction, the computed one first; empty when the model stood on level
+        /// ground.
+        slopes: Vec<SlopeRun>,
     },
     /// Hung and let go from several orientations.
     Suspend {
@@ -153,25 +161,7 @@ fn check_goal(
     match (goal, outcome) {
         (_, GoalOutcome::Stand { tilt_margin, .. }) => check_stand(model, *tilt_margin, evaluation),
         (_, GoalOutcome::Imbalance { tilt_margin, .. }) => {
-            let topples = stand::topples_when_set_down(model);
-            let disagreement = (topples != (*tilt_margin < 0.0)).then(|| {
-                format!(
-                    "computed {}, simulated {}",
-                    if *tilt_margin < 0.0 {
-                        "topples"
-                    } else {
-                        "stands"
-                    },
-                    if topples { "topples" } else { "stands" }
-                )
-            });
-            GoalCheck {
-                computed: *tilt_margin,
-                measured: None,
-                agrees: disagreement.is_none(),
-                disagreement,
-                detail: Detail::Imbalance { topples },
-            }
+            check_imbalance(model, *tilt_margin, evaluation)
         }
         (
             Goal::Suspend { .. },
@@ -213,7 +203,72 @@ fn check_goal(
             measured: None,
             agrees: false,
             disagreement: Some("the goal and its evaluation differ in kind".to_string()),
-            detail: Detail::Imbalance { topples: false },
+            detail: Detail::Imbalance {
+                topples: false,
+                worst_direction: None,
+                slopes: Vec::new(),
+            },
+        },
+    }
+}
+
+/// An imbalance goal: whether the model topples when set down on level ground, and if it does,
+/// the gentlest slope, over every direction tried, that it stands on (its tilt margin is minus
+/// that slope).
+fn check_imbalance(model: &Model, tilt_margin: f64, evaluation: &PoseEvaluation) -> GoalCheck {
+    let topples = stand::topples_when_set_down(model);
+    let (worst, slopes) = if topples {
+        let worst = worst_direction(&evaluation.support, model.up);
+        // The slopes of the directions after the first need be searched only as steep as the
+        // gentlest one found so far: the measured margin is the least over the directions.
+        let mut least = stand::MAX_TILT;
+        let slopes: Vec<SlopeRun> = tilt_directions(worst, model.up)
+            .into_iter()
+            .map(|direction| {
+                let run = stand::gentlest_standing_slope(model, direction, least);
+                if let Some(slope) = run.stands_from {
+                    least = least.min(slope);
+                }
+                run
+            })
+            .collect();
+        (Some(worst.to_array()), slopes)
+    } else {
+        (None, Vec::new())
+    };
+    let measured = slopes
+        .iter()
+        .filter_map(|run| run.stands_from)
+        .reduce(f64::min)
+        .map(|slope| -slope);
+    let computed_state = if tilt_margin < 0.0 {
+        "topples"
+    } else {
+        "stands"
+    };
+    let disagreement = match measured {
+        _ if topples != (tilt_margin < 0.0) => Some(format!(
+            "computed {computed_state}, simulated {}",
+            if topples { "topples" } else { "stands" }
+        )),
+        None if topples => Some(format!(
+            "tilt margin computed {tilt_margin:.1}°, simulated: stands on no slope up to {:.0}°",
+            stand::MAX_TILT
+        )),
+        Some(value) if (value - tilt_margin).abs() > AGREEMENT_DEGREES => Some(format!(
+            "tilt margin computed {tilt_margin:.1}°, simulated {value:.1}°"
+        )),
+        _ => None,
+    };
+    GoalCheck {
+        computed: tilt_margin,
+        measured,
+        agrees: disagreement.is_none(),
+        disagreement,
+        detail: Detail::Imbalance {
+            topples,
+            worst_direction: worst,
+            slopes,
         },
     }
 }

@@ -83,6 +83,18 @@ impl Balls {
 /// The model set down at its pose orientation with its lowest point on a horizontal ground, let
 /// settle. Returns the world, the balls, and how far the model turned while settling, degrees.
 fn set_down(model: &Model) -> (World, Balls, f64) {
+    set_down_on_slope(model, model.up, 0.0)
+}
+
+/// Gravity, seen from a ground tilted by `tilt` (radians) so that `direction` (horizontal,
+/// world) points downhill: `g (−cos θ·up + sin θ·direction)`.
+fn slope_gravity(model: &Model, direction: Vector, tilt: f64) -> Vector {
+    (direction * tilt.sin() - model.up * tilt.cos()) * GRAVITY
+}
+
+/// [`set_down`] on a ground already tilted by `tilt` (radians) so that `direction` points
+/// downhill: the balls start at the ends that tilted gravity sends them to.
+fn set_down_on_slope(model: &Model, direction: Vector, tilt: f64) -> (World, Balls, f64) {
     let lowest = model
         .hulls
         .iter()
@@ -113,6 +125,7 @@ fn set_down(model: &Model) -> (World, Balls, f64) {
     world
         .colliders
         .insert_with_parent(cuboid, handle, &mut world.bodies);
+    world.set_gravity(slope_gravity(model, direction, tilt));
     let steps = (SETTLE_TIME / world.time_step()).ceil() as usize;
     let mut balls = Balls::new(model, &mut world);
     for _ in 0..steps {
@@ -140,8 +153,7 @@ pub(crate) fn tilt(model: &Model, direction: Vector) -> Option<TiltRun> {
     if turned > TOPPLE_DEGREES {
         return None;
     }
-    // Tilting the ground by `θ` so that `direction` points downhill turns gravity, seen from the
-    // ground, to `g (−cos θ·up + sin θ·direction)`.
+    // Tilting the ground turns gravity, seen from the ground ([`slope_gravity`]).
     let settled = *world.model_body().rotation();
     let step = TILT_RATE.to_radians() * world.time_step();
     let mut tilt: f64 = 0.0;
@@ -151,7 +163,7 @@ pub(crate) fn tilt(model: &Model, direction: Vector) -> Option<TiltRun> {
             break None;
         }
         tilt += step;
-        world.set_gravity((direction * tilt.sin() - model.up * tilt.cos()) * GRAVITY);
+        world.set_gravity(slope_gravity(model, direction, tilt));
         world.step();
         balls.roll(model, &mut world);
         // Turning about the ground's normal is no toppling: only how far the model's up has
@@ -168,4 +180,64 @@ pub(crate) fn tilt(model: &Model, direction: Vector) -> Option<TiltRun> {
         direction: direction.to_array(),
         topples_at,
     })
+}
+
+/// Steps of the search for the gentlest slope a toppling model stands on, degrees: slopes this
+/// far apart are tried from level up, then the first step that stands is halved
+/// [`SLOPE_HALVINGS`] times.
+pub(crate) const SLOPE_STEP: f64 = 1.0;
+/// Halvings of the slope step once a standing slope is found: `1° / 2⁶`, about 0.016°.
+const SLOPE_HALVINGS: usize = 6;
+
+/// One search for the gentlest slope, in one direction, that a model which topples on level
+/// ground stands on.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SlopeRun {
+    /// The horizontal unit vector pointing downhill, world.
+    pub direction: [f64; 3],
+    /// The gentlest slope the model, set down on it, stood on, degrees; `None` when it toppled on
+    /// every slope tried (up to [`MAX_TILT`] in the first direction, up to the gentlest slope
+    /// found so far in the others).
+    pub stands_from: Option<f64>,
+}
+
+/// Whether the model, set down on a ground tilted by `tilt` degrees so that `direction` points
+/// downhill, stays standing.
+fn stands_on_slope(model: &Model, direction: Vector, tilt: f64) -> bool {
+    let (_, _, turned) = set_down_on_slope(model, direction, tilt.to_radians());
+    turned <= TOPPLE_DEGREES
+}
+
+/// The gentlest slope, with `direction` downhill, that the model stands on when set down on it:
+/// slopes [`SLOPE_STEP`] apart from level up to `limit` degrees (at most [`MAX_TILT`]), then
+/// bisection between the last that toppled and the first that stood. The balls start at the ends the slope's gravity sends
+/// them to, as they would after a slow tilt. Independent of ballast's formulas: only the engine's
+/// contacts decide.
+pub(crate) fn gentlest_standing_slope(model: &Model, direction: Vector, limit: f64) -> SlopeRun {
+    let mut toppled = 0.0;
+    let mut stood = None;
+    let mut tilt = SLOPE_STEP;
+    while tilt <= limit.min(MAX_TILT) {
+        if stands_on_slope(model, direction, tilt) {
+            stood = Some(tilt);
+            break;
+        }
+        toppled = tilt;
+        tilt += SLOPE_STEP;
+    }
+    let stands_from = stood.map(|mut stood| {
+        for _ in 0..SLOPE_HALVINGS {
+            let middle = 0.5 * (toppled + stood);
+            if stands_on_slope(model, direction, middle) {
+                stood = middle;
+            } else {
+                toppled = middle;
+            }
+        }
+        stood
+    });
+    SlopeRun {
+        direction: direction.to_array(),
+        stands_from,
+    }
 }
