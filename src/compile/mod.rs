@@ -41,7 +41,7 @@ pub use insertion::{direction_words, plan_insertions_into, BRIDGE_LIMIT_MM};
 pub use mesh_cache::MeshCache;
 pub use meshes::load_components;
 pub use optimization::{
-    CandidateReport, CapsuleOrigin, GoalName, Optimization, SeedReport, Timings,
+    CandidateReport, CapsuleOrigin, GoalName, Optimization, SeedReport, Starts, Timings,
 };
 pub use optimize::{
     length_decimals, optimize_design, prepare, OptimizeOptions, Preparation, WarmStart,
