@@ -10,7 +10,7 @@ use crate::diagnostic::{Problem, SourceFile};
 use crate::emit::{write_solution, Solution, SolutionCapsule};
 use crate::geometry::TriMesh;
 use crate::spec::model::Project;
-use crate::spec::{parse_solution, read_source};
+use crate::spec::{parse_solution, read_solution_source};
 
 /// The solution file's text for `design`: a header naming the project, then the infill when the
 /// project lets the optimizer choose it, then the capsules. Lengths carry [`length_decimals`]
@@ -58,7 +58,7 @@ pub fn read_solution(
     path: &Path,
     meshes: &[TriMesh],
 ) -> Result<Option<Design>, Vec<Problem>> {
-    let text = match read_source(path, "solution file") {
+    let text = match read_solution_source(path) {
         Ok(Some(text)) => text,
         Ok(None) => return Ok(None),
         Err(problem) => return Err(vec![*problem]),
