@@ -56,7 +56,7 @@ pub use outputs::{finish_interrupted_outputs, journal_path, write_outputs};
 pub use print_cache::PrintCache;
 pub use print_files::{bed_parts, print_settings};
 pub use report::{Report, REPORT_FORMAT};
-pub use solution::{read_solution, solution_text};
+pub use solution::{interrupted_solution_text, read_solution, solution_text};
 pub use workspace::{Failure, Stage, Workspace};
 
 use crate::balance::{

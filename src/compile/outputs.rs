@@ -9,7 +9,8 @@ use std::path::{Path, PathBuf};
 
 use super::output_paths::{input_files, same_file};
 use super::{
-    bed_parts, output_path, print_settings, solution_text, Compilation, DesignSource, Report,
+    bed_parts, interrupted_solution_text, output_path, print_settings, solution_text, Compilation,
+    DesignSource, Report,
 };
 use crate::emit::print_files::{file_name, write_prusa_3mf, write_sheet, write_stl};
 use crate::emit::{finish_interrupted, replace_set, write_glb};
@@ -80,15 +81,23 @@ fn encode_outputs(
     ];
     targets.extend(print_files(compilation, path, out_dir)?);
     if compilation.source == DesignSource::Optimized {
-        let text = solution_text(
+        let name = path
+            .file_name()
+            .map(|name| name.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let (project, meshes, design) = (
             &compilation.project,
-            &path
-                .file_name()
-                .map(|name| name.to_string_lossy().into_owned())
-                .unwrap_or_default(),
             &compilation.meshes,
             &compilation.design,
         );
+        let interrupted = compilation
+            .optimization
+            .as_ref()
+            .and_then(|optimization| optimization.interrupted);
+        let text = match interrupted {
+            None => solution_text(project, &name, meshes, design),
+            Some(why) => interrupted_solution_text(project, &name, meshes, design, why),
+        };
         targets.push((output_path(&output.solution, out_dir), text.into_bytes()));
     }
     Ok(targets)
