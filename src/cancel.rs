@@ -28,6 +28,18 @@ pub enum Interruption {
     TimeLimit,
 }
 
+impl Interruption {
+    /// What stopped the build, for files a user reads: "Ctrl-C (SIGINT)", "SIGTERM" or
+    /// "the time limit (`--time-limit`)".
+    pub fn cause(self) -> &'static str {
+        match self {
+            Interruption::Interrupt => "Ctrl-C (SIGINT)",
+            Interruption::Terminate => "SIGTERM",
+            Interruption::TimeLimit => "the time limit (`--time-limit`)",
+        }
+    }
+}
+
 /// Not stopped.
 const RUNNING: u8 = 0;
 /// Cancelled: whatever was found is thrown away.

@@ -1,40 +1,16 @@
 //! The `ballast` binary end to end: exit statuses, outputs, atomicity and determinism.
 
+mod cli_support;
+
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-/// Runs the binary without the disk cache, so no test writes into the user's cache folder.
-fn ballast(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_ballast"))
-        .args(args)
-        .env("NO_COLOR", "1")
-        .env("BALLAST_CACHE_DIR", "off")
-        .output()
-        .expect("the ballast binary runs")
-}
-
-fn examples() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")
-}
-
-fn stdout(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stdout).into_owned()
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
+use cli_support::{ballast, examples, scratch_folder, stderr, stdout};
 
 /// A project in a fresh folder, with a copy of the example meshes next to it.
 fn scratch_project(text: &str) -> (tempfile::TempDir, PathBuf) {
-    let folder = tempfile::tempdir().unwrap();
-    let meshes = folder.path().join("meshes");
-    fs::create_dir(&meshes).unwrap();
-    for name in ["t_shape.obj", "hinged_arm.obj"] {
-        fs::copy(examples().join("meshes").join(name), meshes.join(name)).unwrap();
-    }
-    let project = folder.path().join("model.kdl");
+    let (folder, project) = scratch_folder("", &["t_shape.obj", "hinged_arm.obj"]);
     fs::write(&project, text).unwrap();
     (folder, project)
 }
@@ -262,9 +238,22 @@ fn an_optimized_build_writes_a_solution_that_check_evaluates() {
 
     let build = ballast(&["build", project]);
     assert_eq!(build.status.code(), Some(0), "stderr: {}", stderr(&build));
-    assert!(stdout(&build).contains("optimized:"), "{}", stdout(&build));
+    // No capsule is written: the search starts from the skeleton's seeds, and says so.
+    let printed = stdout(&build);
+    let first = printed
+        .lines()
+        .find(|line| line.starts_with("optimized from "))
+        .unwrap_or_else(|| panic!("{printed}"));
+    assert!(first.contains(" skeleton seeds;"), "{first}");
+    assert!(!first.contains("written"), "{first}");
     let text = fs::read_to_string(&solution).unwrap();
     assert_eq!(text.matches("capsule \"").count(), 3, "{text}");
+    // A search that ran to its end is not marked as interrupted.
+    assert!(
+        text.starts_with("// The capsules ballast chose for model.kdl;"),
+        "{text}"
+    );
+    assert!(!text.contains("INTERRUPTED"), "{text}");
     let report: serde_json::Value =
         serde_json::from_slice(&fs::read(folder.path().join("build/model.report.json")).unwrap())
             .unwrap();
@@ -619,6 +608,12 @@ capsule "foot" component="T" radius=3 {
     assert_eq!(build.status.code(), Some(0), "stderr: {errors}");
     assert!(errors.contains("ballast::capsule::seed_moved"), "{errors}");
     assert!(errors.contains("seed `head` comes within 2 mm"), "{errors}");
+    // The search started from the two written seeds (one of them moved), not from the skeleton.
+    assert!(
+        stdout(&build).contains("optimized from 2 written seeds;"),
+        "{}",
+        stdout(&build)
+    );
     let solution = fs::read_to_string(folder.path().join("model.solution.kdl")).unwrap();
     assert!(!solution.contains("\"head\""), "{solution}");
     let check = ballast(&["check", project.to_str().unwrap()]);
@@ -651,12 +646,13 @@ fn build_stopped(project: &Path, extra: &[&str], wait: Option<std::time::Duratio
 /// Stops builds of [`T_SEEDED`] (with `extra` arguments, after `wait(attempt)` when given) until
 /// one has finished a capsule count before it stopped, checking each: exit `status`, either
 /// nothing written and said so, or every output written, the report marked `interrupted` with
-/// `reason`, and the solution file holding the report's design.
+/// `reason`, and the solution file holding the report's design, its header naming the `cause`.
 fn interrupted_builds_leave_a_complete_marked_set(
     extra: &dyn Fn(u64) -> Vec<String>,
     wait: Option<fn(u64) -> std::time::Duration>,
     status: i32,
     reason: &str,
+    cause: &str,
 ) {
     for attempt in 0..6 {
         let (folder, project) = scratch_project(T_SEEDED);
@@ -699,6 +695,26 @@ fn interrupted_builds_leave_a_complete_marked_set(
             serde_json::from_slice(&fs::read(&report_path).unwrap()).unwrap();
         assert_eq!(report["design"], "optimized");
         assert_eq!(report["optimization"]["interrupted"], reason);
+        // The solution file says, above its capsules, that the search did not end.
+        let solution = fs::read_to_string(folder.path().join("model.solution.kdl")).unwrap();
+        let header: Vec<&str> = solution
+            .lines()
+            .take_while(|line| line.starts_with("//"))
+            .collect();
+        assert_eq!(
+            header.first().copied(),
+            Some(
+                format!("// INTERRUPTED: the search for model.kdl was stopped by {cause} before it ended.")
+                    .as_str()
+            ),
+            "{solution}"
+        );
+        assert!(
+            header.iter().any(|line| line.contains(
+                "the best capsules found before the interruption, not the finished search's"
+            )),
+            "{solution}"
+        );
         // `check` evaluates the solution file written with it: the same design.
         let check = ballast(&["check", project.to_str().unwrap(), "--json"]);
         assert!(
@@ -720,6 +736,7 @@ fn sigint_during_a_long_build_leaves_a_complete_marked_output_set() {
         Some(|attempt| std::time::Duration::from_secs(3 << attempt)),
         130,
         "SIGINT",
+        "Ctrl-C (SIGINT)",
     );
 }
 
@@ -737,5 +754,6 @@ fn a_time_limit_leaves_a_complete_marked_output_set() {
         None,
         124,
         "time-limit",
+        "the time limit (`--time-limit`)",
     );
 }

@@ -7,29 +7,21 @@
 //! `target/fuzz-meshes/`.
 //!
 //! The budget is `BALLAST_FUZZ_SECONDS` seconds (default 3; CI runs longer) and the sequence is
-//! fixed by `BALLAST_FUZZ_SEED` (default 1), so a failure can be replayed.
+//! fixed by `BALLAST_FUZZ_SEED` (default 1), so a failure can be replayed (see
+//! `tests/fuzz_support`).
+
+mod fuzz_support;
 
 use std::panic::AssertUnwindSafe;
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
+use std::time::Duration;
+
+use fuzz_support::{budget, campaign, Rng};
 
 use ballast::geometry::{check_mesh, load_mesh_with, MeshLimits, MeshSelector, ReadPolicy};
 
-/// xorshift64*: small, fixed, good enough to pick mutations.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
-    }
-
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
-    }
-}
+/// A mesh file to load: its extension and its bytes.
+type Input = (&'static str, Vec<u8>);
 
 /// Text that tends to reach edge cases when dropped into OBJ or glTF JSON.
 const TOKENS: &[&str] = &[
@@ -143,7 +135,7 @@ fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
 }
 
 /// The seeds: (extension, bytes).
-fn seeds() -> Vec<(&'static str, Vec<u8>)> {
+fn seeds() -> Vec<Input> {
     use base64::Engine;
     let data_uri = format!(
         "\"uri\": \"data:application/octet-stream;base64,{}\", ",
@@ -194,7 +186,7 @@ fn seeds() -> Vec<(&'static str, Vec<u8>)> {
 }
 
 /// One to four mutations of `input`.
-fn mutate(rng: &mut Rng, input: &[u8], seeds: &[(&str, Vec<u8>)]) -> Vec<u8> {
+fn mutate(rng: &mut Rng, input: &[u8], seeds: &[Input]) -> Vec<u8> {
     let mut out = input.to_vec();
     for _ in 0..1 + rng.below(4) {
         let at = rng.below(out.len() + 1);
@@ -245,15 +237,7 @@ fn mutate(rng: &mut Rng, input: &[u8], seeds: &[(&str, Vec<u8>)]) -> Vec<u8> {
 
 #[test]
 fn mutated_meshes_never_panic() {
-    let seconds: f64 = std::env::var("BALLAST_FUZZ_SECONDS")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(3.0);
-    let seed: u64 = std::env::var("BALLAST_FUZZ_SEED")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(1);
-    let mut rng = Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1);
+    let mut rng = Rng::from_env();
     let seeds = seeds();
     let folder = tempfile::tempdir().unwrap();
     std::fs::write(folder.path().join("t.bin"), tetrahedron_bin()).unwrap();
@@ -264,49 +248,42 @@ fn mutated_meshes_never_panic() {
             max_triangles: 20_000,
         },
     };
-    let deadline = Instant::now() + Duration::from_secs_f64(seconds);
-    let (mut runs, mut loaded) = (0usize, 0usize);
-    let mut slowest = Duration::ZERO;
-    // Each seed as it is first, then mutations until the deadline.
-    let mut inputs: Vec<(&str, Vec<u8>)> = seeds.clone();
-    while runs < seeds.len() || Instant::now() < deadline {
-        let (extension, bytes) = if runs < inputs.len() {
-            inputs[runs].clone()
-        } else {
-            let (extension, base) = &inputs[rng.below(inputs.len())];
-            (*extension, mutate(&mut rng, base, &seeds))
-        };
-        let path = folder.path().join(format!("input.{extension}"));
-        std::fs::write(&path, &bytes).unwrap();
-        let selector = match rng.below(4) {
-            0 => MeshSelector::GltfNode("t".into()),
-            1 => MeshSelector::ObjObject("m".into()),
-            _ => MeshSelector::Whole,
-        };
-        let start = Instant::now();
-        let outcome = std::panic::catch_unwind(AssertUnwindSafe(|| {
-            load_mesh_with(&path, &selector, &policy).map(|loaded| check_mesh(&loaded.mesh))
-        }));
-        slowest = slowest.max(start.elapsed());
-        match outcome {
-            Ok(Ok(_)) => {
-                loaded += 1;
+    let mutate =
+        |rng: &mut Rng, base: &Input, seeds: &[Input]| (base.0, mutate(rng, &base.1, seeds));
+    let mut selectors = Rng::from_env();
+    let done = campaign(
+        &seeds,
+        budget(3.0),
+        &mut rng,
+        mutate,
+        |(extension, bytes)| {
+            let path = folder.path().join(format!("input.{extension}"));
+            std::fs::write(&path, bytes).unwrap();
+            let selector = match selectors.below(4) {
+                0 => MeshSelector::GltfNode("t".into()),
+                1 => MeshSelector::ObjObject("m".into()),
+                _ => MeshSelector::Whole,
+            };
+            let outcome = std::panic::catch_unwind(AssertUnwindSafe(|| {
+                load_mesh_with(&path, &selector, &policy).map(|loaded| check_mesh(&loaded.mesh))
+            }));
+            match outcome {
                 // A loading input is a good place to mutate from.
-                if inputs.len() < 256 {
-                    inputs.push((extension, bytes));
-                }
+                Ok(loaded) => loaded.is_ok(),
+                Err(_) => panic!(
+                    "the loader panicked: the input is saved as {}",
+                    save_crash(extension, bytes).display()
+                ),
             }
-            Ok(Err(_)) => {}
-            Err(_) => panic!(
-                "the loader panicked on input {runs}: saved as {}",
-                save_crash(extension, &bytes).display()
-            ),
-        }
-        runs += 1;
-    }
-    eprintln!("fuzz_meshes: {runs} inputs, {loaded} loaded, slowest {slowest:?}");
-    assert!(runs > seeds.len());
-    assert!(loaded >= 5, "only {loaded} inputs loaded");
+        },
+    );
+    let slowest = done.slowest.0;
+    eprintln!(
+        "fuzz_meshes: {} inputs, {} kept to mutate from, slowest {slowest:?}",
+        done.runs, done.kept
+    );
+    assert!(done.runs > seeds.len());
+    assert!(done.kept >= 5, "only {} mutated inputs loaded", done.kept);
     // Bounded work: no input takes long under the limits.
     assert!(slowest < Duration::from_secs(5), "{slowest:?}");
 }

@@ -1,22 +1,12 @@
 //! Where `ballast build` may write: never over a file it reads, never one file twice, and
 //! outside the project's folder only with `--write-outside` (or into `--out-dir`).
 
+mod cli_support;
+
 use std::fs;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
-fn ballast(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_ballast"))
-        .args(args)
-        .env("NO_COLOR", "1")
-        .env("BALLAST_CACHE_DIR", "off")
-        .output()
-        .expect("the ballast binary runs")
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
+use cli_support::{ballast, stderr};
 
 fn data(path: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(path)
@@ -25,15 +15,7 @@ fn data(path: &str) -> PathBuf {
 /// A project `model.kdl` in a fresh folder (inside `project/` of it, so `..` has somewhere to
 /// go), with the T shape's mesh in `meshes/`.
 fn project(text: &str) -> (tempfile::TempDir, PathBuf) {
-    let folder = tempfile::tempdir().unwrap();
-    let root = folder.path().join("project");
-    fs::create_dir_all(root.join("meshes")).unwrap();
-    fs::copy(
-        data("examples/meshes/t_shape.obj"),
-        root.join("meshes/t_shape.obj"),
-    )
-    .unwrap();
-    let path = root.join("model.kdl");
+    let (folder, path) = cli_support::scratch_folder("project", &["t_shape.obj"]);
     fs::write(&path, text).unwrap();
     (folder, path)
 }

@@ -3,24 +3,17 @@
 //! a folder the build cannot write fails it before anything is replaced; what killed builds left
 //! behind is removed by the next build, and nothing else is.
 
+mod cli_support;
+
 use std::collections::BTreeMap;
 use std::fs;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use ballast::compile::{finish_interrupted_outputs, journal_path};
 use ballast::emit::atomic::TempName;
-
-fn build(path: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_ballast"))
-        .arg("build")
-        .arg(path)
-        .env("NO_COLOR", "1")
-        .env("BALLAST_CACHE_DIR", "off")
-        .output()
-        .expect("the ballast binary runs")
-}
+use cli_support::build;
 
 /// The T shape with a written capsule, evaluated in two poses; `density` tells one version of
 /// the project from the other (it changes the report, the glTF file and the print settings).
@@ -35,15 +28,7 @@ fn text(density: f64) -> String {
 
 /// A fresh folder with the mesh; the project's path (not written yet).
 fn folder() -> (tempfile::TempDir, PathBuf) {
-    let folder = tempfile::tempdir().unwrap();
-    fs::create_dir(folder.path().join("meshes")).unwrap();
-    fs::copy(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/meshes/t_shape.obj"),
-        folder.path().join("meshes/t_shape.obj"),
-    )
-    .unwrap();
-    let project = folder.path().join("model.kdl");
-    (folder, project)
+    cli_support::scratch_folder("", &["t_shape.obj"])
 }
 
 /// Every file under `root` but the project, its mesh, ballast's temporary files and the journal:
@@ -273,4 +258,99 @@ fn only_ballasts_own_leftovers_are_removed() {
     for file in &kept {
         assert_eq!(fs::read(file).unwrap(), b"left here", "{}", file.display());
     }
+}
+
+/// The project of [`text`] with `output` as its output block.
+fn with_output(density: f64, output: &str) -> String {
+    format!("{}output {{ {output} }}\n", text(density))
+}
+
+#[test]
+fn an_output_the_build_no_longer_writes_is_removed_and_said() {
+    let (dir, path) = folder();
+    let root = dir.path();
+    let build_dir = root.join("build");
+    fs::write(&path, with_output(1.24, "gltf \"build/first.glb\"")).unwrap();
+    let first = build(&path);
+    assert_eq!(
+        first.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&first.stderr)
+    );
+    let old = build_dir.join("first.glb");
+    assert!(old.exists());
+    // A killed build of the old set left a temporary file of it.
+    let left = build_dir.join(
+        TempName {
+            target: "first.glb".into(),
+            pid: u32::MAX - 1,
+            n: 1,
+        }
+        .file_name(),
+    );
+    fs::write(&left, b"partial").unwrap();
+
+    // Renamed: the old file would look like this build's model.
+    fs::write(&path, with_output(1.30, "gltf \"build/second.glb\"")).unwrap();
+    let second = build(&path);
+    let printed = String::from_utf8_lossy(&second.stdout).into_owned();
+    assert_eq!(second.status.code(), Some(0), "{printed}");
+    assert!(!old.exists(), "{printed}");
+    assert!(build_dir.join("second.glb").exists());
+    assert!(
+        printed.contains(&format!(
+            "removed {} (an output of the last build that this one no longer writes)",
+            old.display()
+        )),
+        "{printed}"
+    );
+    if Path::new("/proc/self").exists() {
+        assert!(
+            !left.exists(),
+            "a killed build's temporary file of the old output is left"
+        );
+    }
+    assert_eq!(debris(root), Vec::<PathBuf>::new());
+
+    // A file of the last set that someone changed since is theirs now: it stays.
+    fs::write(build_dir.join("second.glb"), b"edited by hand").unwrap();
+    fs::write(&path, with_output(1.24, "gltf \"build/third.glb\"")).unwrap();
+    let third = build(&path);
+    let printed = String::from_utf8_lossy(&third.stdout).into_owned();
+    assert_eq!(third.status.code(), Some(0), "{printed}");
+    assert_eq!(
+        fs::read(build_dir.join("second.glb")).unwrap(),
+        b"edited by hand"
+    );
+    assert!(!printed.contains("removed "), "{printed}");
+
+    // The same build again removes nothing, and a file ballast never wrote is never removed.
+    fs::write(build_dir.join("notes.md"), b"mine").unwrap();
+    let again = build(&path);
+    assert!(!String::from_utf8_lossy(&again.stdout).contains("removed "));
+    assert_eq!(fs::read(build_dir.join("notes.md")).unwrap(), b"mine");
+    assert!(build_dir.join("third.glb").exists());
+}
+
+#[test]
+fn a_solution_file_stays_when_the_project_stops_optimizing() {
+    let (dir, path) = folder();
+    let solution = dir.path().join("model.solution.kdl");
+    let optimizing = format!("{}optimize capsules=1\n", text(1.24));
+    fs::write(&path, &optimizing).unwrap();
+    let built = build(&path);
+    assert_ne!(
+        built.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&built.stderr)
+    );
+    let design = fs::read(&solution).unwrap();
+    // Without `optimize`, the build writes no solution file; the committed one stays for when
+    // `optimize` comes back.
+    fs::write(&path, text(1.24)).unwrap();
+    let plain = build(&path);
+    assert_ne!(plain.status.code(), Some(2));
+    assert_eq!(fs::read(&solution).unwrap(), design);
 }

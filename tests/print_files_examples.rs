@@ -202,7 +202,7 @@ fn prusaslicer_slices_the_built_3mf_with_every_part_where_the_plan_put_it() {
         let out = dir.path().join(name);
         let written = ballast::compile::write_outputs(&compilation, &path, Some(&out)).unwrap();
         let model = out.join(format!("{name}.3mf"));
-        assert!(written.contains(&model));
+        assert!(written.written.contains(&model));
         let gcode_path = out.join(format!("{name}.gcode"));
         let run = std::process::Command::new("prusa-slicer")
             .args(["--export-gcode", "--dont-arrange", "-o"])

@@ -247,3 +247,107 @@ fn a_stand_on_a_sliver_is_flagged() {
     );
     assert!(with_code(&thicker, "ballast::goal::small_support").is_empty());
 }
+
+/// OBJ text of the closed mesh with `vertices` and triangles `faces` (indices from 0,
+/// counter-clockwise seen from outside).
+fn obj(vertices: &[[f64; 3]], faces: &[[usize; 3]]) -> String {
+    let mut text = String::new();
+    for [x, y, z] in vertices {
+        text += &format!("v {x} {y} {z}\n");
+    }
+    for [a, b, c] in faces {
+        text += &format!("f {} {} {}\n", a + 1, b + 1, c + 1);
+    }
+    text
+}
+
+#[test]
+fn a_stand_on_a_single_point_is_flagged_with_a_span_and_a_hint() {
+    // An upside-down square pyramid, 40 mm wide and tall, on its apex at the origin.
+    let pyramid = obj(
+        &[
+            [0.0, 0.0, 0.0],
+            [-20.0, -20.0, 40.0],
+            [20.0, -20.0, 40.0],
+            [20.0, 20.0, 40.0],
+            [-20.0, 20.0, 40.0],
+        ],
+        &[
+            [1, 2, 3],
+            [1, 3, 4],
+            [0, 2, 1],
+            [0, 3, 2],
+            [0, 4, 3],
+            [0, 1, 4],
+        ],
+    );
+    let source = project("", "pose \"on its tip\" { stand }");
+    let compilation = compiled(&pyramid, &source);
+    let found = with_code(&compilation, "ballast::goal::small_support");
+    assert_eq!(found.len(), 1, "{:#?}", compilation.warnings);
+    assert!(
+        found[0]
+            .message
+            .contains("in pose `on its tip`, the model stands on a single point"),
+        "{}",
+        found[0].message
+    );
+    assert_stand_label(found[0], &source);
+    assert!(found[0].help.as_deref().unwrap().contains("ballast poses"));
+    // The same pyramid on its base is a plain base.
+    let on_base = compiled(
+        &pyramid,
+        &project("", "pose \"on its base\" { rotate 180 0 0; stand }"),
+    );
+    assert!(
+        with_code(&on_base, "ballast::goal::small_support").is_empty(),
+        "{:#?}",
+        on_base.warnings
+    );
+}
+
+#[test]
+fn a_stand_on_an_edge_is_flagged_with_a_span_and_a_hint() {
+    // A wedge 60 mm long on its ridge along x at z = 0, 40 mm wide at its top (z = 40).
+    let wedge = obj(
+        &[
+            [-30.0, 0.0, 0.0],
+            [30.0, 0.0, 0.0],
+            [-30.0, -20.0, 40.0],
+            [30.0, -20.0, 40.0],
+            [30.0, 20.0, 40.0],
+            [-30.0, 20.0, 40.0],
+        ],
+        &[
+            [2, 3, 4],
+            [2, 4, 5],
+            [0, 1, 3],
+            [0, 3, 2],
+            [0, 5, 4],
+            [0, 4, 1],
+            [0, 2, 5],
+            [1, 4, 3],
+        ],
+    );
+    let source = project("", "pose \"on its ridge\" { stand }");
+    let compilation = compiled(&wedge, &source);
+    let found = with_code(&compilation, "ballast::goal::small_support");
+    assert_eq!(found.len(), 1, "{:#?}", compilation.warnings);
+    assert!(
+        found[0]
+            .message
+            .contains("in pose `on its ridge`, the model stands on an edge"),
+        "{}",
+        found[0].message
+    );
+    assert_stand_label(found[0], &source);
+    assert!(found[0].help.as_deref().unwrap().contains("`down`"));
+}
+
+/// The warning's one label points at the `stand` goal in `source`.
+fn assert_stand_label(warning: &Problem, source: &str) {
+    assert_eq!(warning.labels.len(), 1, "{warning:#?}");
+    let span = warning.labels[0].0;
+    let labelled = &source[span.offset()..span.offset() + span.len()];
+    assert!(labelled.starts_with("stand"), "{labelled:?}");
+}

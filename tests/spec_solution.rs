@@ -194,3 +194,30 @@ fn truncated_and_mangled_solutions_never_panic() {
         let _ = ballast::diagnostic::render_plain(&parsed.problems, "s.kdl", text);
     }
 }
+
+#[test]
+fn an_unreadable_solution_file_has_its_own_code_apart_from_the_project_files() {
+    let folder = tempfile::tempdir().unwrap();
+    // Not UTF-8: the file is there but cannot be read as text.
+    let bytes = b"capsule \"a\" \xff\xfe\n";
+    let solution = folder.path().join("teddy.solution.kdl");
+    std::fs::write(&solution, bytes).unwrap();
+    let problems = ballast::compile::read_solution(&project("mm", ""), &solution, &[])
+        .expect_err("an unreadable solution file is an error");
+    assert_eq!(problems.len(), 1, "{problems:#?}");
+    assert_eq!(problems[0].code, codes::SOLUTION_UNREADABLE);
+    assert_eq!(problems[0].code, "ballast::solution::unreadable");
+    assert!(
+        problems[0]
+            .message
+            .contains("cannot read the solution file"),
+        "{}",
+        problems[0].message
+    );
+
+    let project_file = folder.path().join("teddy.kdl");
+    std::fs::write(&project_file, bytes).unwrap();
+    let problem = ballast::spec::read_source(&project_file, "project file")
+        .expect_err("an unreadable project file is an error");
+    assert_eq!(problem.code, "ballast::file::unreadable");
+}

@@ -1,8 +1,10 @@
 //! `ballast watch` end to end: the real binary watches a scratch folder while the tests edit it.
 //!
-//! Every wait polls the binary's output with a generous timeout instead of sleeping a fixed time,
-//! so a loaded machine only makes the tests slower. The few negative checks (no rebuild happened)
-//! wait a fixed time well beyond the debounce window.
+//! Every wait polls the binary's output for the event it waits for, until a generous deadline
+//! ([`timeout`]: 15 minutes, or `BALLAST_TEST_TIMEOUT` seconds), so a loaded machine only makes
+//! the tests slower; a test that gives up says what it waited for and what was printed. The few
+//! negative checks (no rebuild happened) wait a fixed time well beyond the debounce window and
+//! look for a build starting, not only one finishing.
 
 mod edit_support;
 
@@ -15,9 +17,22 @@ use std::sync::{Arc, Mutex};
 use std::thread;
 use std::time::{Duration, Instant};
 
-/// How long a build may take before a test gives up: optimizing builds take seconds in a debug
-/// build and more on a busy machine.
-const TIMEOUT: Duration = Duration::from_secs(120);
+/// How long a test waits for an event (a build finishing, a line printed) before it gives up:
+/// `BALLAST_TEST_TIMEOUT` seconds when set, else 15 minutes. Optimizing builds take seconds in a
+/// debug build, and many times that on a machine busy with other builds; the deadline only
+/// bounds a test that would otherwise hang.
+fn timeout() -> Duration {
+    const DEFAULT_SECONDS: u64 = 900;
+    let seconds = std::env::var("BALLAST_TEST_TIMEOUT")
+        .ok()
+        .map(|text| {
+            text.trim().parse::<u64>().unwrap_or_else(|_| {
+                panic!("BALLAST_TEST_TIMEOUT={text:?} is not a whole number of seconds")
+            })
+        })
+        .unwrap_or(DEFAULT_SECONDS);
+    Duration::from_secs(seconds)
+}
 
 /// Longer than the debounce window and the time a fast build takes, for checks that nothing
 /// happened.
@@ -67,52 +82,39 @@ impl Watch {
         self.output.lock().unwrap().clone()
     }
 
-    /// Builds finished so far, good and bad.
-    fn builds(&self) -> usize {
-        let output = self.output();
-        let good = output
-            .lines()
-            .filter(|line| line.starts_with(GOOD) && !line.contains(EARLY))
-            .count();
-        good + output.matches(BAD).count()
-    }
-
     /// Waits until `builds` builds have finished; returns the output from the start of the last
     /// one.
     fn wait_builds(&self, builds: usize) -> String {
-        let start = Instant::now();
-        while self.builds() < builds {
-            assert!(
-                start.elapsed() < TIMEOUT,
-                "waited {TIMEOUT:?} for build {builds}; output so far:\n{}",
-                self.output()
-            );
-            thread::sleep(Duration::from_millis(50));
-        }
+        self.wait_until(
+            |output| finished_builds(output) >= builds,
+            &format!("build {builds} to finish"),
+        );
         last_build(&self.output())
     }
 
-    /// Waits until no build has finished for [`QUIET`]; returns the number of builds.
+    /// Waits until every build begun has finished and none has begun for [`QUIET`]; returns the
+    /// number of builds.
     fn settle(&self) -> usize {
-        let mut builds = self.builds();
         loop {
+            let begun = started_builds(&self.output());
+            self.wait_builds(begun);
             thread::sleep(QUIET);
-            let now = self.builds();
-            if now == builds {
-                return now;
+            let output = self.output();
+            if started_builds(&output) == begun && finished_builds(&output) == begun {
+                return begun;
             }
-            builds = now;
         }
     }
 
-    /// Checks that no build starts within [`QUIET`].
+    /// Checks that, after `builds` finished builds, no other build starts (or finishes) within
+    /// [`QUIET`].
     fn assert_quiet(&self, builds: usize) {
         thread::sleep(QUIET);
+        let output = self.output();
         assert_eq!(
-            self.builds(),
-            builds,
-            "an unexpected rebuild; output:\n{}",
-            self.output()
+            (started_builds(&output), finished_builds(&output)),
+            (builds, builds),
+            "an unexpected rebuild (builds started, finished); output:\n{output}"
         );
     }
 }
@@ -134,6 +136,23 @@ fn collect(stream: impl Read + Send + 'static, output: Arc<Mutex<String>>) {
             output.push('\n');
         }
     });
+}
+
+/// Builds finished in `output`, good and bad.
+fn finished_builds(output: &str) -> usize {
+    let good = output
+        .lines()
+        .filter(|line| line.starts_with(GOOD) && !line.contains(EARLY))
+        .count();
+    good + output.matches(BAD).count()
+}
+
+/// Builds begun in `output`: each starts with a heading line.
+fn started_builds(output: &str) -> usize {
+    output
+        .lines()
+        .filter(|line| line.starts_with("building ") || line.starts_with("changed: "))
+        .count()
 }
 
 /// The output from the last build's heading line on.
@@ -407,12 +426,16 @@ fn ctrl_c_stops_with_status_zero() {
         .status()
         .unwrap();
     assert!(status.success());
-    let start = Instant::now();
+    let (start, limit) = (Instant::now(), timeout());
     let code = loop {
         if let Some(status) = watch.child.try_wait().unwrap() {
             break status.code();
         }
-        assert!(start.elapsed() < TIMEOUT, "{}", watch.output());
+        assert!(
+            start.elapsed() < limit,
+            "waited {limit:?} for watch to stop after SIGINT; output so far:\n{}",
+            watch.output()
+        );
         thread::sleep(Duration::from_millis(50));
     };
     assert_eq!(code, Some(0), "{}", watch.output());
@@ -438,12 +461,14 @@ impl Watch {
         );
     }
 
+    /// Waits until the output so far is `done`; past [`timeout`], fails saying `what` it waited
+    /// for and what was printed.
     fn wait_until(&self, done: impl Fn(&str) -> bool, what: &str) {
-        let begun = Instant::now();
+        let (begun, limit) = (Instant::now(), timeout());
         while !done(&self.output()) {
             assert!(
-                begun.elapsed() < TIMEOUT,
-                "waited {TIMEOUT:?} for {what:?}; output so far:\n{}",
+                begun.elapsed() < limit,
+                "waited {limit:?} for {what:?} (set BALLAST_TEST_TIMEOUT to wait longer); output so far:\n{}",
                 self.output()
             );
             thread::sleep(Duration::from_millis(50));

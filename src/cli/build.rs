@@ -75,8 +75,14 @@ pub fn run(
         );
     }
     print!("{}", table::summary(&compilation, &file_name(path)));
-    for target in &written {
+    for target in &written.written {
         println!("wrote {}", target.display());
+    }
+    for stale in &written.removed {
+        println!(
+            "removed {} (an output of the last build that this one no longer writes)",
+            stale.display()
+        );
     }
     match (interrupted, &compilation.optimization) {
         (Some(why), Some(optimization)) => {

@@ -4,7 +4,7 @@
 use std::fmt::Write;
 
 use super::table::plural;
-use crate::compile::{Compilation, Optimization};
+use crate::compile::{Compilation, Optimization, Starts};
 
 /// What the optimizer did: every capsule count tried (the chosen one marked), the stage times
 /// (with the meshes whose precomputation was read `from_disk`), the random-start ranking when
@@ -17,9 +17,8 @@ pub fn optimization(
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "optimized: {} seed{}, {} capsule count{} tried",
-        optimization.seeds.iter().filter(|s| s.seeded).count(),
-        plural(optimization.seeds.iter().filter(|s| s.seeded).count()),
+        "optimized from {}; {} capsule count{} tried",
+        started_from(&optimization.starts),
         optimization.candidates.len(),
         plural(optimization.candidates.len()),
     );
@@ -114,6 +113,33 @@ pub fn optimization(
     out
 }
 
+/// Where the capsules the search started from came from, e.g. "3 written seeds and 1 pinned
+/// capsule".
+fn started_from(starts: &Starts) -> String {
+    let count = |n: usize, what: &str| format!("{n} {what}{}", plural(n));
+    let mut parts = Vec::new();
+    if starts.written > 0 {
+        parts.push(count(starts.written, "written seed"));
+    }
+    if starts.skeleton > 0 {
+        parts.push(count(starts.skeleton, "skeleton seed"));
+    }
+    if starts.earlier > 0 {
+        parts.push(format!(
+            "the previous build's {}",
+            count(starts.earlier, "capsule")
+        ));
+    }
+    if starts.pinned > 0 {
+        parts.push(count(starts.pinned, "pinned capsule"));
+    }
+    match parts.split_last() {
+        None => "no capsule (no skeleton segment is deep enough to seed one)".to_string(),
+        Some((last, [])) => last.clone(),
+        Some((last, rest)) => format!("{} and {last}", rest.join(", ")),
+    }
+}
+
 /// Why the chosen capsule count was chosen, saying plainly when it misses some goal.
 fn chosen_rule(optimization: &Optimization) -> String {
     match (optimization.requested, optimization.meets_goals) {
@@ -146,6 +172,7 @@ mod tests {
             warm_started: false,
             candidates: Vec::new(),
             seeds: Vec::new(),
+            starts: Starts::default(),
             exhaustive: Vec::new(),
             conflicts: Vec::new(),
             timings: Timings::default(),
@@ -153,6 +180,26 @@ mod tests {
             origins: Vec::new(),
             warnings: Vec::new(),
         }
+    }
+
+    #[test]
+    fn the_first_line_says_where_the_start_capsules_came_from() {
+        let starts = |pinned, written, skeleton, earlier| {
+            started_from(&Starts {
+                pinned,
+                written,
+                skeleton,
+                earlier,
+            })
+        };
+        assert_eq!(starts(0, 0, 5, 0), "5 skeleton seeds");
+        assert_eq!(starts(1, 2, 0, 0), "2 written seeds and 1 pinned capsule");
+        assert_eq!(
+            starts(2, 0, 0, 1),
+            "the previous build's 1 capsule and 2 pinned capsules"
+        );
+        assert_eq!(starts(1, 0, 3, 0), "3 skeleton seeds and 1 pinned capsule");
+        assert!(starts(0, 0, 0, 0).starts_with("no capsule"));
     }
 
     #[test]

@@ -159,7 +159,8 @@ impl Session<'_> {
                 meshes_loaded: self.workspace.meshes.loaded(),
                 compile_seconds,
                 write_seconds,
-                written: &written,
+                written: &written.written,
+                removed: &written.removed,
                 warm_started,
             })
         );
@@ -201,6 +202,8 @@ struct SummaryInput<'a> {
     compile_seconds: f64,
     write_seconds: f64,
     written: &'a [PathBuf],
+    /// Outputs of the last build this one no longer writes, removed.
+    removed: &'a [PathBuf],
     /// Optimized from the last design: the full search follows.
     warm_started: bool,
 }
@@ -296,6 +299,18 @@ fn summary(input: &SummaryInput) -> String {
         .map(|path| shown(&watch::watch_key(path)).display().to_string())
         .collect();
     let _ = write!(out, "  wrote {}", written.join(", "));
+    if !input.removed.is_empty() {
+        let removed: Vec<String> = input
+            .removed
+            .iter()
+            .map(|path| shown(&watch::watch_key(path)).display().to_string())
+            .collect();
+        let _ = write!(
+            out,
+            "; removed {} (no longer an output)",
+            removed.join(", ")
+        );
+    }
     if input.warm_started {
         out.push_str("; now the full search, as `build` runs it");
     }

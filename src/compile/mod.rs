@@ -41,7 +41,7 @@ pub use insertion::{direction_words, plan_insertions_into, BRIDGE_LIMIT_MM};
 pub use mesh_cache::MeshCache;
 pub use meshes::load_components;
 pub use optimization::{
-    CandidateReport, CapsuleOrigin, GoalName, Optimization, SeedReport, Timings,
+    CandidateReport, CapsuleOrigin, GoalName, Optimization, SeedReport, Starts, Timings,
 };
 pub use optimize::{
     length_decimals, optimize_design, prepare, OptimizeOptions, Preparation, WarmStart,
@@ -55,11 +55,11 @@ pub use output_paths::{
     check_output_paths, input_files, output_targets, OutputTarget, WriteOptions, DUPLICATE_OUTPUT,
     OUTSIDE_PROJECT, OVERWRITES_INPUT,
 };
-pub use outputs::{finish_interrupted_outputs, journal_path, write_outputs};
+pub use outputs::{finish_interrupted_outputs, journal_path, write_outputs, WrittenOutputs};
 pub use print_cache::PrintCache;
 pub use print_files::{bed_parts, print_settings};
 pub use report::{Report, REPORT_FORMAT};
-pub use solution::{read_solution, solution_text};
+pub use solution::{interrupted_solution_text, read_solution, solution_text};
 pub use workspace::{Failure, Stage, Workspace};
 
 use crate::balance::{

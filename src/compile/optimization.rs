@@ -8,7 +8,7 @@ use super::design::round;
 use crate::cancel::Interruption;
 use crate::diagnostic::Problem as Diagnostic;
 use crate::fabrication::CapsuleIssue;
-use crate::optimize::{Candidate, Conflict, Ranking, SeedRepair, SeedSite};
+use crate::optimize::{Candidate, Conflict, Origin, Ranking, SeedRepair, SeedSite, StartCapsule};
 use crate::spec::model::Project;
 
 /// What the optimizer did: every capsule count tried and which one was chosen.
@@ -32,6 +32,10 @@ pub struct Optimization {
     pub candidates: Vec<CandidateReport>,
     /// Every skeleton segment's midpoint and whether a capsule was seeded there.
     pub seeds: Vec<SeedReport>,
+    /// How many capsules the search started from, by where they came from (the terminal's
+    /// summary; the report says it per capsule in `origins`).
+    #[serde(skip)]
+    pub starts: Starts,
     /// Where each capsule of the chosen design came from, in design order.
     pub origins: Vec<CapsuleOrigin>,
     /// Where the heuristic ranks among random starts, per capsule count (empty unless asked).
@@ -46,6 +50,36 @@ pub struct Optimization {
     /// travel with the compilation's warnings, not in the report).
     #[serde(skip)]
     pub warnings: Vec<Diagnostic>,
+}
+
+/// The capsules a search started from, counted by where they came from.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Starts {
+    /// Written with `pinned=#true`: kept as written.
+    pub pinned: usize,
+    /// Written in the project file, not pinned (after any repair; a seed dropped is not counted).
+    pub written: usize,
+    /// Seeded at skeleton segments' midpoints.
+    pub skeleton: usize,
+    /// Capsules of the previous build's design (watch mode's warm start).
+    pub earlier: usize,
+}
+
+impl Starts {
+    /// The counts of `seeds`.
+    pub(super) fn of(seeds: &[StartCapsule]) -> Starts {
+        let mut starts = Starts::default();
+        for seed in seeds {
+            let count = match seed.origin {
+                _ if seed.pinned => &mut starts.pinned,
+                Origin::Written => &mut starts.written,
+                Origin::Skeleton(_) => &mut starts.skeleton,
+                Origin::Earlier | Origin::Random => &mut starts.earlier,
+            };
+            *count += 1;
+        }
+        starts
+    }
 }
 
 /// Wall-clock seconds of each optimizer stage.

@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use super::optimization::{
     candidate_report, conflict_report, repair_warning, seed_report, CapsuleOrigin, Optimization,
-    Timings,
+    Starts, Timings,
 };
 use super::workspace::{Stage, Workspace};
 use crate::design::Design;
@@ -339,6 +339,7 @@ fn optimize_from(
             .iter()
             .map(|site| seed_report(project, site))
             .collect(),
+        starts: Starts::of(&seeds),
         origins,
         exhaustive,
         conflicts,

@@ -9,21 +9,35 @@ use std::path::{Path, PathBuf};
 
 use super::output_paths::{input_files, same_file};
 use super::{
-    bed_parts, output_path, print_settings, solution_text, Compilation, DesignSource, Report,
+    bed_parts, interrupted_solution_text, output_path, print_settings, solution_text, Compilation,
+    DesignSource, Report,
 };
 use crate::emit::print_files::{file_name, write_prusa_3mf, write_sheet, write_stl};
 use crate::emit::{finish_interrupted, replace_set, write_glb};
 use crate::geometry::{MeshLimits, ReadPolicy};
 
+/// The files a build wrote, and those of the previous build's set that it removed.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct WrittenOutputs {
+    /// Every output written, in the order replaced.
+    pub written: Vec<PathBuf>,
+    /// Outputs the previous build (of the same project into the same folder) wrote that this one
+    /// no longer writes (an output removed from the `output` block, renamed, a component gone),
+    /// removed so that no stale file looks current. Only files ballast's manifest names that
+    /// still hold what it wrote, never an input.
+    pub removed: Vec<PathBuf>,
+}
+
 /// Encodes every output of `compilation` (the project read from `path`), then replaces them as
-/// one set where the project says, or in `out_dir`; returns the paths written, in order. Nothing
-/// is replaced when an output cannot be encoded, would overwrite a file the build read, or cannot
-/// be written (a read-only folder): the old outputs stay as they were.
+/// one set where the project says, or in `out_dir`, removing the previous set's files this one no
+/// longer has; returns what was written and removed. Nothing is replaced when an output cannot be
+/// encoded, would overwrite a file the build read, or cannot be written (a read-only folder): the
+/// old outputs stay as they were.
 pub fn write_outputs(
     compilation: &Compilation,
     path: &Path,
     out_dir: Option<&Path>,
-) -> Result<Vec<PathBuf>, String> {
+) -> Result<WrittenOutputs, String> {
     let targets = encode_outputs(compilation, path, out_dir)?;
     // Every buffer counts as an input here, wherever it is: refusing to overwrite one more file
     // is safe.
@@ -41,9 +55,18 @@ pub fn write_outputs(
             ));
         }
     }
-    replace_set(&journal_path(path, out_dir), &targets)
+    // The project's solution file stays even when this build writes none (the project no longer
+    // optimizes): it is the design `check` reads when `optimize` comes back, and it is committed.
+    let solution = output_path(&compilation.project.output.solution, out_dir);
+    let kept = |file: &Path| {
+        inputs.iter().any(|input| same_file(file, input)) || same_file(file, &solution)
+    };
+    let removed = replace_set(&journal_path(path, out_dir), &targets, &kept)
         .map_err(|error| format!("cannot write the outputs: {error}"))?;
-    Ok(targets.into_iter().map(|(target, _)| target).collect())
+    Ok(WrittenOutputs {
+        written: targets.into_iter().map(|(target, _)| target).collect(),
+        removed,
+    })
 }
 
 /// Finishes replacing the outputs of a build of the project at `path` (into `out_dir`) that was
@@ -54,7 +77,8 @@ pub fn finish_interrupted_outputs(path: &Path, out_dir: Option<&Path>) -> io::Re
 
 /// The journal of the output set of the project at `path`: a hidden file in `out_dir`, else
 /// beside the project, named after the project file. It exists only while a build replaces its
-/// outputs, or after a kill then.
+/// outputs, or after a kill then. Beside it, [`manifest_path`](crate::emit::manifest_path) names
+/// the files of the last set written.
 pub fn journal_path(path: &Path, out_dir: Option<&Path>) -> PathBuf {
     let folder = out_dir.map_or_else(|| crate::emit::atomic::folder_of(path), Path::to_path_buf);
     let mut name = std::ffi::OsString::from(".");
@@ -80,15 +104,23 @@ fn encode_outputs(
     ];
     targets.extend(print_files(compilation, path, out_dir)?);
     if compilation.source == DesignSource::Optimized {
-        let text = solution_text(
+        let name = path
+            .file_name()
+            .map(|name| name.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let (project, meshes, design) = (
             &compilation.project,
-            &path
-                .file_name()
-                .map(|name| name.to_string_lossy().into_owned())
-                .unwrap_or_default(),
             &compilation.meshes,
             &compilation.design,
         );
+        let interrupted = compilation
+            .optimization
+            .as_ref()
+            .and_then(|optimization| optimization.interrupted);
+        let text = match interrupted {
+            None => solution_text(project, &name, meshes, design),
+            Some(why) => interrupted_solution_text(project, &name, meshes, design, why),
+        };
         targets.push((output_path(&output.solution, out_dir), text.into_bytes()));
     }
     Ok(targets)

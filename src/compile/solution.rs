@@ -5,13 +5,14 @@ use std::sync::Arc;
 
 use super::design::{fabrication_problems, hand_placed_design};
 use super::optimize::length_decimals;
+use crate::cancel::Interruption;
 use crate::design::Design;
 use crate::diagnostic::{Problem, SourceFile};
 use crate::emit::{write_solution, Solution, SolutionCapsule};
 use crate::fabrication::PrintSetup;
 use crate::geometry::TriMesh;
 use crate::spec::model::Project;
-use crate::spec::{parse_solution, read_source};
+use crate::spec::{parse_solution, read_solution_source};
 
 /// The solution file's text for `design`: a header naming the project, then the infill when the
 /// project lets the optimizer choose it, then the capsules. Lengths carry [`length_decimals`]
@@ -22,6 +23,30 @@ pub fn solution_text(
     project_name: &str,
     meshes: &[TriMesh],
     design: &Design,
+) -> String {
+    solution_text_after(project, project_name, meshes, design, None)
+}
+
+/// [`solution_text`] for a design the optimizer found before `interrupted` stopped its search:
+/// the header says that it is the best found by then, not the finished search's. The same design
+/// stopped the same way gives the same text (no time or date is written).
+pub fn interrupted_solution_text(
+    project: &Project,
+    project_name: &str,
+    meshes: &[TriMesh],
+    design: &Design,
+    interrupted: Interruption,
+) -> String {
+    solution_text_after(project, project_name, meshes, design, Some(interrupted))
+}
+
+/// [`solution_text`], its header saying whether the search was `interrupted`.
+fn solution_text_after(
+    project: &Project,
+    project_name: &str,
+    meshes: &[TriMesh],
+    design: &Design,
+    interrupted: Option<Interruption>,
 ) -> String {
     let capsules = design
         .capsules
@@ -39,17 +64,35 @@ pub fn solution_text(
         })
         .collect();
     write_solution(&Solution {
-        header: vec![
-            format!(
-                "The capsules ballast chose for {project_name}; lengths in the project's units ({}).",
-                project.units.keyword()
-            ),
-            "`ballast check` evaluates them; `ballast build` writes this file anew.".to_string(),
-        ],
+        header: header(project, project_name, interrupted),
         infill: project.infill.range.map(|_| design.infill),
         capsules,
         decimals: length_decimals(meshes),
     })
+}
+
+/// The solution file's comment lines: what the capsules are, in which units, and what reads and
+/// writes the file.
+fn header(project: &Project, project_name: &str, interrupted: Option<Interruption>) -> Vec<String> {
+    let units = project.units.keyword();
+    match interrupted {
+        None => vec![
+            format!(
+                "The capsules ballast chose for {project_name}; lengths in the project's units ({units})."
+            ),
+            "`ballast check` evaluates them; `ballast build` writes this file anew.".to_string(),
+        ],
+        Some(why) => vec![
+            format!(
+                "INTERRUPTED: the search for {project_name} was stopped by {} before it ended.",
+                why.cause()
+            ),
+            format!(
+                "These are the best capsules found before the interruption, not the finished search's; lengths in the project's units ({units})."
+            ),
+            "`ballast check` evaluates them; a `ballast build` that runs to the end writes this file anew.".to_string(),
+        ],
+    }
 }
 
 /// The design in the solution file at `path`: `Ok(None)` when there is no such file; every
@@ -61,7 +104,7 @@ pub fn read_solution(
     meshes: &[TriMesh],
     print: &PrintSetup,
 ) -> Result<Option<Design>, Vec<Problem>> {
-    let text = match read_source(path, "solution file") {
+    let text = match read_solution_source(path) {
         Ok(Some(text)) => text,
         Ok(None) => return Ok(None),
         Err(problem) => return Err(vec![*problem]),

@@ -11,6 +11,6 @@ pub mod solution;
 
 pub use atomic::write_atomic;
 pub use gltf::{write_glb, GltfError};
-pub use output_set::{finish_interrupted, replace_set};
+pub use output_set::{finish_interrupted, manifest_path, replace_set};
 pub use scene::{SceneCapsule, SceneComponent, SceneModel, ScenePose};
 pub use solution::{write_solution, Solution, SolutionCapsule};

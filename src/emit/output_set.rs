@@ -5,14 +5,22 @@
 //! 1. every new file is written to a temporary sibling of its target and synced
 //!    ([`write_temp`]); a failure here (a read-only folder, a full disk) removes those temporary
 //!    files and leaves every old file as it was;
-//! 2. the journal, naming each temporary file and its target, is written atomically: the commit
-//!    point;
-//! 3. each temporary file is renamed over its target, in the set's order;
-//! 4. the journal is removed.
+//! 2. the journal, naming each temporary file and its target, and the files of the previous set
+//!    that the new one no longer has, is written atomically: the commit point;
+//! 3. each temporary file is renamed over its target, in the set's order, then those files of the
+//!    previous set are removed;
+//! 4. the manifest, naming every file of the new set with the hash of what was written, replaces
+//!    the old one, and the journal is removed.
 //!
 //! A kill before step 2 leaves the old set and some temporary files, which the next
 //! [`replace_set`] removes ([`remove_stale_temps`]); a kill after it leaves a journal, which the
-//! next [`finish_interrupted`] completes (renaming what is left), so the set becomes the new one.
+//! next [`finish_interrupted`] completes (renaming what is left, removing what is no longer in the
+//! set, writing the manifest), so the set becomes the new one.
+//!
+//! A file of the previous set is removed only when the manifest names it, it still holds exactly
+//! the bytes written then (its BLAKE3 hash), no file of the new set is it, and the caller does not
+//! protect it (an input of the build): a file ballast did not write, or that someone changed since,
+//! is never removed.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::ffi::OsString;
@@ -27,13 +35,21 @@ use super::atomic::{folder_of, sync_dir, write_atomic, write_temp, TempName};
 /// The journal's format number.
 const JOURNAL_FORMAT: u32 = 1;
 
-/// What the journal holds: each temporary file (by name, in its target's folder) and its target.
+/// The manifest's format number.
+const MANIFEST_FORMAT: u32 = 1;
+
+/// What the journal holds: each temporary file (by name, in its target's folder) and its target,
+/// and the files of the previous set to remove.
 #[derive(Debug, Serialize, Deserialize)]
 struct Journal {
     /// [`JOURNAL_FORMAT`].
     ballast_output_set: u32,
     /// In the order they are renamed.
     files: Vec<JournalEntry>,
+    /// Files of the previous set that the new one does not have, each with the hash of the bytes
+    /// the previous set wrote to it.
+    #[serde(default)]
+    remove: Vec<WrittenFile>,
 }
 
 /// One file of the set.
@@ -43,59 +59,134 @@ struct JournalEntry {
     target: String,
     /// The temporary file's name, a sibling of the target.
     temp: String,
+    /// The BLAKE3 hash of the new bytes, hexadecimal (absent in a journal of an older ballast).
+    #[serde(default)]
+    blake3: Option<String>,
+}
+
+/// What the manifest holds: the files of the set last written.
+#[derive(Debug, Serialize, Deserialize)]
+struct Manifest {
+    /// [`MANIFEST_FORMAT`].
+    ballast_output_manifest: u32,
+    /// In the set's order.
+    files: Vec<WrittenFile>,
+}
+
+/// A file ballast wrote and what it wrote to it.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+struct WrittenFile {
+    /// The file: relative to the manifest's folder in a manifest (so that a copied folder's
+    /// manifest names the copy's files), absolute in a journal or outside that folder.
+    path: String,
+    /// The BLAKE3 hash of the bytes written, hexadecimal; `None` when not known, and then the file
+    /// is never removed.
+    blake3: Option<String>,
+}
+
+/// The manifest beside `journal`: named like it, with `.manifest` appended. Unlike the journal it
+/// stays between builds.
+pub fn manifest_path(journal: &Path) -> PathBuf {
+    let mut name = journal.file_name().unwrap_or_default().to_os_string();
+    name.push(".manifest");
+    journal.with_file_name(name)
 }
 
 /// Replaces the files `files` (path, new bytes), in that order, as one set, with the journal at
-/// `journal`: first finishes an interrupted replacement recorded there and removes temporary
-/// files that earlier writers of these targets left, then the four steps of the module's
-/// documentation. An error before the commit point leaves every old file as it was; an error
-/// renaming leaves the journal, so the next call finishes the set.
-pub fn replace_set(journal: &Path, files: &[(PathBuf, Vec<u8>)]) -> io::Result<()> {
+/// `journal` (and the manifest at [`manifest_path`]): first finishes an interrupted replacement
+/// recorded there and removes temporary files that earlier writers of these targets (or of the
+/// previous set's) left, then the four steps of the module's documentation. Files of the previous
+/// set that this one does not have are removed, except those `protected` says to keep (the
+/// build's inputs); returns them. An error before the commit point leaves every old file as it
+/// was; an error renaming leaves the journal, so the next call finishes the set.
+pub fn replace_set(
+    journal: &Path,
+    files: &[(PathBuf, Vec<u8>)],
+    protected: &dyn Fn(&Path) -> bool,
+) -> io::Result<Vec<PathBuf>> {
     finish_interrupted(journal)?;
     let targets: Vec<PathBuf> = files
         .iter()
         .map(|(path, _)| std::path::absolute(path))
         .collect::<io::Result<_>>()?;
     let journal = std::path::absolute(journal)?;
-    remove_stale_temps(targets.iter().chain([&journal]));
+    let manifest = manifest_path(&journal);
+    let previous = read_manifest(&manifest);
+    remove_stale_temps(
+        targets
+            .iter()
+            .chain([&journal, &manifest])
+            .chain(previous.iter().map(|(path, _)| path)),
+    );
     check_targets(&targets)?;
+    let remove: Vec<WrittenFile> = previous
+        .into_iter()
+        .filter(|(path, hash)| {
+            !targets
+                .iter()
+                .any(|target| target == path || same_file(target, path))
+                && !protected(path)
+                && still_written(path, hash.as_deref())
+        })
+        .map(|(path, blake3)| {
+            Ok(WrittenFile {
+                path: utf8(&path)?.to_owned(),
+                blake3,
+            })
+        })
+        .collect::<io::Result<_>>()?;
+
+    let written: Vec<WrittenFile> = targets
+        .iter()
+        .zip(files)
+        .map(|(target, (_, bytes))| {
+            Ok(WrittenFile {
+                path: utf8(target)?.to_owned(),
+                blake3: Some(blake3::hash(bytes).to_hex().to_string()),
+            })
+        })
+        .collect::<io::Result<_>>()?;
 
     let mut temps: Vec<PathBuf> = Vec::with_capacity(files.len());
-    let written = (|| {
+    let committed = (|| {
         for (target, (_, bytes)) in targets.iter().zip(files) {
             temps.push(write_temp(target, bytes)?);
         }
-        let entries = targets
+        let entries = written
             .iter()
             .zip(&temps)
-            .map(|(target, temp)| {
+            .map(|(file, temp)| {
                 Ok(JournalEntry {
-                    target: utf8(target)?.to_owned(),
+                    target: file.path.clone(),
                     temp: utf8(Path::new(temp.file_name().unwrap_or_default()))?.to_owned(),
+                    blake3: file.blake3.clone(),
                 })
             })
             .collect::<io::Result<Vec<_>>>()?;
         let text = serde_json::to_string_pretty(&Journal {
             ballast_output_set: JOURNAL_FORMAT,
             files: entries,
+            remove: remove.clone(),
         })
         .map_err(io::Error::other)?;
         write_atomic(&journal, text.as_bytes())
     })();
-    if let Err(error) = written {
+    if let Err(error) = committed {
         for temp in &temps {
             let _ = fs::remove_file(temp);
         }
         return Err(error);
     }
-    rename_all(&journal, targets.iter().zip(&temps))
+    complete(&journal, targets.iter().zip(&temps), &remove, &written)
 }
 
 /// Completes the replacement recorded in the journal at `journal`, if there is one: renames each
-/// temporary file still there over its target, then removes the journal. A journal that does not
+/// temporary file still there over its target, removes the previous set's files it names that
+/// still hold what was written to them, writes the manifest, then removes the journal. A journal that does not
 /// read as one (not written by ballast) is removed unread; an entry whose temporary file is not
 /// ballast's temporary file of that very target is skipped.
 pub fn finish_interrupted(journal: &Path) -> io::Result<()> {
+    let journal = &std::path::absolute(journal)?;
     let text = match fs::read(journal) {
         Ok(text) => text,
         Err(error) if error.kind() == io::ErrorKind::NotFound => return Ok(()),
@@ -117,16 +208,39 @@ pub fn finish_interrupted(journal: &Path) -> io::Result<()> {
                 .then(|| (folder_of(&target).join(&entry.temp), target))
         })
         .collect();
-    rename_all(journal, pairs.iter().map(|(temp, target)| (target, temp)))
+    let written: Vec<WrittenFile> = read
+        .files
+        .iter()
+        .map(|entry| WrittenFile {
+            path: entry.target.clone(),
+            blake3: entry.blake3.clone(),
+        })
+        .collect();
+    let remove: Vec<WrittenFile> = read
+        .remove
+        .into_iter()
+        .filter(|file| Path::new(&file.path).is_absolute())
+        .collect();
+    complete(
+        journal,
+        pairs.iter().map(|(temp, target)| (target, temp)),
+        &remove,
+        &written,
+    )?;
+    Ok(())
 }
 
-/// Step 3 and 4: renames each temporary file over its target (one already gone was renamed by a
-/// finisher running at the same time), syncs their folders, then removes the journal. On the
-/// first failure the journal stays, so the set is finished later.
-fn rename_all<'a>(
+/// Steps 3 and 4: renames each temporary file over its target (one already gone was renamed by a
+/// finisher running at the same time), removes the files of `remove` that still hold what was
+/// written to them, syncs the folders, writes the manifest of the set `written`, then removes the
+/// journal; returns the files removed. On the first failure to rename the journal stays, so the
+/// set is finished later.
+fn complete<'a>(
     journal: &Path,
     pairs: impl Iterator<Item = (&'a PathBuf, &'a PathBuf)>,
-) -> io::Result<()> {
+    remove: &[WrittenFile],
+    written: &[WrittenFile],
+) -> io::Result<Vec<PathBuf>> {
     let mut folders = BTreeSet::new();
     for (target, temp) in pairs {
         match fs::rename(temp, target) {
@@ -144,10 +258,89 @@ fn rename_all<'a>(
         }
         folders.insert(folder_of(target));
     }
+    let mut removed = Vec::new();
+    for file in remove {
+        let path = PathBuf::from(&file.path);
+        if still_written(&path, file.blake3.as_deref()) && fs::remove_file(&path).is_ok() {
+            folders.insert(folder_of(&path));
+            removed.push(path);
+        }
+    }
     for folder in &folders {
         sync_dir(folder);
     }
-    remove_journal(journal)
+    write_manifest(&manifest_path(journal), written)?;
+    remove_journal(journal)?;
+    Ok(removed)
+}
+
+/// The files the manifest at `path` names, absolute, with their hashes; none when there is no
+/// manifest or it does not read as one.
+fn read_manifest(path: &Path) -> Vec<(PathBuf, Option<String>)> {
+    let Some(manifest) = fs::read(path)
+        .ok()
+        .and_then(|text| serde_json::from_slice::<Manifest>(&text).ok())
+        .filter(|manifest| manifest.ballast_output_manifest == MANIFEST_FORMAT)
+    else {
+        return Vec::new();
+    };
+    let folder = folder_of(path);
+    manifest
+        .files
+        .into_iter()
+        .map(|file| (folder.join(&file.path), file.blake3))
+        .collect()
+}
+
+/// Writes the manifest at `path` naming `files` (absolute paths), relative to its folder where
+/// they are inside it.
+fn write_manifest(path: &Path, files: &[WrittenFile]) -> io::Result<()> {
+    let folder = folder_of(path);
+    let files = files
+        .iter()
+        .map(|file| WrittenFile {
+            path: Path::new(&file.path).strip_prefix(&folder).map_or_else(
+                |_| file.path.clone(),
+                |relative| relative.to_string_lossy().into_owned(),
+            ),
+            blake3: file.blake3.clone(),
+        })
+        .collect();
+    let text = serde_json::to_string_pretty(&Manifest {
+        ballast_output_manifest: MANIFEST_FORMAT,
+        files,
+    })
+    .map_err(io::Error::other)?;
+    write_atomic(path, text.as_bytes())
+}
+
+/// Whether `path` is a regular file (not a link, not a folder) that holds exactly the bytes of
+/// hash `blake3`; never when the hash is not known.
+fn still_written(path: &Path, blake3: Option<&str>) -> bool {
+    let Some(expected) = blake3 else {
+        return false;
+    };
+    if !fs::symlink_metadata(path).is_ok_and(|metadata| metadata.is_file()) {
+        return false;
+    }
+    fs::read(path).is_ok_and(|bytes| blake3::hash(&bytes).to_hex().as_str() == expected)
+}
+
+/// Whether `a` and `b` are one existing file (the same device and inode on Unix).
+fn same_file(a: &Path, b: &Path) -> bool {
+    let (Ok(first), Ok(second)) = (fs::metadata(a), fs::metadata(b)) else {
+        return false;
+    };
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        (first.dev(), first.ino()) == (second.dev(), second.ino())
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = (first, second);
+        matches!((a.canonicalize(), b.canonicalize()), (Ok(a), Ok(b)) if a == b)
+    }
 }
 
 fn remove_journal(journal: &Path) -> io::Result<()> {
@@ -252,13 +445,40 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let journal = dir.path().join(".journal");
         let old = set(dir.path(), "old");
-        replace_set(&journal, &old).unwrap();
+        replace_set(&journal, &old, &|_| false).unwrap();
         let new = set(dir.path(), "new");
-        replace_set(&journal, &new).unwrap();
+        replace_set(&journal, &new, &|_| false).unwrap();
         let expected: Vec<_> = new.iter().map(|(_, b)| Some(b.clone())).collect();
         assert_eq!(read(&new), expected);
-        assert_eq!(names(dir.path()), ["a.glb", "c.kdl", "sub"]);
+        assert_eq!(
+            names(dir.path()),
+            [".journal.manifest", "a.glb", "c.kdl", "sub"]
+        );
         assert_eq!(names(&dir.path().join("sub")), ["b.json"]);
+    }
+
+    #[test]
+    fn files_the_new_set_lacks_are_removed_unless_protected_or_changed() {
+        let dir = tempfile::tempdir().unwrap();
+        let journal = dir.path().join(".journal");
+        let old = set(dir.path(), "old");
+        replace_set(&journal, &old, &|_| false).unwrap();
+        // The new set has only `a.glb`; `sub/b.json` is protected (an input), `c.kdl` not.
+        let new = vec![old[0].clone()];
+        let b = old[1].0.clone();
+        let removed = replace_set(&journal, &new, &|path| path == b).unwrap();
+        assert_eq!(removed, [std::path::absolute(&old[2].0).unwrap()]);
+        assert!(!old[2].0.exists() && b.exists());
+        // Still in the manifest? No: the manifest names the set last written, `a.glb` alone, so
+        // `sub/b.json` is not ballast's to remove any more.
+        let removed = replace_set(&journal, &new, &|_| false).unwrap();
+        assert!(removed.is_empty() && b.exists());
+        // A file of the set changed since it was written is not removed.
+        replace_set(&journal, &old, &|_| false).unwrap();
+        fs::write(&old[2].0, "edited").unwrap();
+        let removed = replace_set(&journal, &new, &|_| false).unwrap();
+        assert_eq!(removed, [std::path::absolute(&old[1].0).unwrap()]);
+        assert_eq!(fs::read(&old[2].0).unwrap(), b"edited");
     }
 
     #[test]
@@ -266,7 +486,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let journal = dir.path().join(".journal");
         let old = set(dir.path(), "old");
-        replace_set(&journal, &old).unwrap();
+        replace_set(&journal, &old, &|_| false).unwrap();
         // What a kill after the commit point, with the first file renamed, leaves.
         let new = set(dir.path(), "new");
         let temps: Vec<PathBuf> = new.iter().map(|(p, b)| write_temp(p, b).unwrap()).collect();
@@ -276,11 +496,13 @@ mod tests {
             .map(|((target, _), temp)| JournalEntry {
                 target: target.to_str().unwrap().into(),
                 temp: temp.file_name().unwrap().to_str().unwrap().into(),
+                blake3: None,
             })
             .collect();
         let text = serde_json::to_string(&Journal {
             ballast_output_set: JOURNAL_FORMAT,
             files: entries,
+            remove: Vec::new(),
         })
         .unwrap();
         fs::write(&journal, text).unwrap();
@@ -311,20 +533,23 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let journal = dir.path().join(".journal");
         let old = set(dir.path(), "old");
-        replace_set(&journal, &old).unwrap();
+        replace_set(&journal, &old, &|_| false).unwrap();
         let before = read(&old);
         // The last target is a folder: refused before anything is written.
         let mut new = set(dir.path(), "new");
         fs::create_dir_all(dir.path().join("d")).unwrap();
         new.push((dir.path().join("d"), b"x".to_vec()));
-        assert!(replace_set(&journal, &new).is_err());
+        assert!(replace_set(&journal, &new, &|_| false).is_err());
         assert_eq!(read(&old), before);
         // A file where a folder should be: fails while writing, after the first temporary file.
         let mut new = set(dir.path(), "new");
         new.push((dir.path().join("a.glb").join("inner"), b"x".to_vec()));
-        assert!(replace_set(&journal, &new).is_err());
+        assert!(replace_set(&journal, &new, &|_| false).is_err());
         assert_eq!(read(&old), before);
-        assert_eq!(names(dir.path()), ["a.glb", "c.kdl", "d", "sub"]);
+        assert_eq!(
+            names(dir.path()),
+            [".journal.manifest", "a.glb", "c.kdl", "d", "sub"]
+        );
     }
 
     #[test]

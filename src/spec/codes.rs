@@ -3,8 +3,11 @@
 
 /// The text is not valid KDL v2 (or is too large or too deeply nested to read).
 pub const SYNTAX: &str = "ballast::syntax";
-/// A project or solution file that cannot be read.
+/// A project file that cannot be read (or is not UTF-8 text).
 pub const FILE_UNREADABLE: &str = "ballast::file::unreadable";
+/// A solution file that cannot be read (or is not UTF-8 text); scripts matched this code before
+/// the project file had one, so it stays distinct.
+pub const SOLUTION_UNREADABLE: &str = "ballast::solution::unreadable";
 /// A project or solution file that is a folder, a device, a pipe or a socket.
 pub const FILE_NOT_REGULAR: &str = "ballast::file::not_a_file";
 /// A project or solution file larger than the most ballast reads.

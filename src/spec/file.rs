@@ -5,17 +5,33 @@
 use std::io::Read;
 use std::path::Path;
 
-use super::codes::{FILE_NOT_REGULAR, FILE_TOO_LARGE, FILE_UNREADABLE};
+use super::codes::{FILE_NOT_REGULAR, FILE_TOO_LARGE, FILE_UNREADABLE, SOLUTION_UNREADABLE};
 use super::syntax::{MAX_SOURCE_BYTES, TOO_LARGE_HELP};
 use crate::diagnostic::Problem;
 
 /// Reads the text of the project or solution file at `path` (`what` names it in messages:
 /// "project file", "solution file"). `Ok(None)` when there is no file there; a problem when it
-/// is not a regular file, is larger than [`MAX_SOURCE_BYTES`], or cannot be read as UTF-8 text.
+/// is not a regular file, is larger than [`MAX_SOURCE_BYTES`], or cannot be read as UTF-8 text
+/// (that one [`FILE_UNREADABLE`]).
 pub fn read_source(path: &Path, what: &str) -> Result<Option<String>, Box<Problem>> {
+    read_coded(path, what, FILE_UNREADABLE)
+}
+
+/// [`read_source`] for the solution file at `path`: a file that cannot be read as UTF-8 text is
+/// [`SOLUTION_UNREADABLE`], so that it is told from an unreadable project file.
+pub fn read_solution_source(path: &Path) -> Result<Option<String>, Box<Problem>> {
+    read_coded(path, "solution file", SOLUTION_UNREADABLE)
+}
+
+/// [`read_source`], a file that cannot be read being the problem `unreadable_code`.
+fn read_coded(
+    path: &Path,
+    what: &str,
+    unreadable_code: &'static str,
+) -> Result<Option<String>, Box<Problem>> {
     let unreadable = |error: std::io::Error| {
         Box::new(Problem::error(
-            FILE_UNREADABLE,
+            unreadable_code,
             format!("cannot read the {what} {}: {error}", path.display()),
         ))
     };

@@ -20,7 +20,7 @@ mod tree;
 mod value;
 pub mod vocabulary;
 
-pub use file::read_source;
+pub use file::{read_solution_source, read_source};
 pub use parse::{parse_project, Parsed, MAX_PROBLEMS};
 pub use solution::{parse_solution, ParsedSolution};
 pub use syntax::MAX_SOURCE_BYTES;
