@@ -17,8 +17,8 @@ use crate::objective::{GridInterior, Parameters};
 pub use crate::optimize::length_decimals;
 use crate::optimize::{
     capsule_radius, choose, content_hash, default_cell, explain_conflicts, grid_scale, rank,
-    repair_seeds, run_heuristic, skeleton_seeds, Candidate, GoalRef, GridKey, Method, Origin,
-    Outcome, Problem, Rules, SeedRepair, SeedSite, StartCapsule,
+    repair_seeds, run_heuristic, skeleton_seeds, Candidate, ConflictSpace, GoalRef, GridKey,
+    Method, Origin, Outcome, Problem, Rules, SeedRepair, SeedSite, StartCapsule,
 };
 use crate::spec::model::{Optimize, Project};
 
@@ -304,14 +304,19 @@ fn optimize_from(
                     .map(move |(goal, _)| GoalRef { pose, goal })
             })
             .collect();
-        let starts = [seeds_for(&seeds, &candidates[chosen]), seeds.clone()];
+        let starts = conflict_starts(&seeds, &candidates, chosen, requested);
+        let written = |problem: &Problem, outcome: &Outcome| rounded(problem, outcome, meshes);
+        let space = ConflictSpace {
+            starts: &starts,
+            written: &written,
+        };
         explain_conflicts(
             project,
             meshes,
             prints,
             print,
             &interior,
-            &starts,
+            &space,
             &unmet,
             &workspace.cancel,
         )
@@ -498,12 +503,48 @@ fn named(
     (design, origins)
 }
 
-/// The start for explaining conflicts: the chosen candidate's capsules where the heuristic left
-/// them, or the seeds when it has none.
-fn seeds_for(seeds: &[StartCapsule], candidate: &Candidate) -> Vec<StartCapsule> {
-    if candidate.outcome.design.capsules.is_empty() {
-        return seeds.to_vec();
+/// The starts for explaining conflicts, all in the design space the build searched: with a
+/// capsule count asked for, the chosen candidate (that count) where the heuristic left it and as
+/// its round started, and with one movable capsule, each seed alone beside the pinned ones;
+/// otherwise every candidate the heuristic reached, where it left it and as its round started.
+fn conflict_starts(
+    seeds: &[StartCapsule],
+    candidates: &[Candidate],
+    chosen: usize,
+    requested: Option<usize>,
+) -> Vec<Vec<StartCapsule>> {
+    let mut starts: Vec<Vec<StartCapsule>> = Vec::new();
+    let mut add = |start: Vec<StartCapsule>| {
+        if !starts.contains(&start) {
+            starts.push(start);
+        }
+    };
+    for (i, candidate) in candidates.iter().enumerate() {
+        if requested.is_some() && i != chosen {
+            continue;
+        }
+        add(seeds_for(seeds, candidate));
+        add(candidate.starts.clone());
     }
+    let movable = candidates[chosen]
+        .starts
+        .iter()
+        .filter(|c| !c.pinned)
+        .count();
+    if requested.is_some() && movable == 1 {
+        let pinned: Vec<StartCapsule> = seeds.iter().filter(|s| s.pinned).cloned().collect();
+        for alone in seeds.iter().filter(|s| !s.pinned) {
+            let mut start = pinned.clone();
+            start.push(alone.clone());
+            add(start);
+        }
+    }
+    starts
+}
+
+/// The start for explaining conflicts: the chosen candidate's capsules where the heuristic left
+/// them (none when it has none).
+fn seeds_for(seeds: &[StartCapsule], candidate: &Candidate) -> Vec<StartCapsule> {
     candidate
         .outcome
         .design

@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use serde::Serialize;
 
-use super::problem::{Problem, StartCapsule};
+use super::problem::{Outcome, Problem, StartCapsule};
 use super::solver::Method;
 use crate::cancel::Cancel;
 use crate::fabrication::PrintSetup;
@@ -32,11 +32,22 @@ pub struct Conflict {
     pub shortfall: f64,
 }
 
+/// The design space a build searches, which the explanation searches too.
+pub struct Space<'a> {
+    /// The starts, each a design of the space (e.g. the capsule count asked for): the heuristic's
+    /// designs and the seeds of their rounds.
+    pub starts: &'a [Vec<StartCapsule>],
+    /// Turns a reached outcome into the design the solution file would hold, judged again: a
+    /// set of goals counts as met only when that design meets it.
+    pub written: &'a dyn Fn(&Problem, &Outcome) -> Outcome,
+}
+
 /// Explains why the goals `unmet` (of `project`) were not met by optimizing for smaller sets of
 /// goals: first each goal of the project alone, then each unmet goal paired with every other goal
-/// that can be met alone. Each set of goals is optimized from every one of `starts` (e.g. the
-/// chosen design and the seeds), keeping the best. Returns the goals unreachable alone, then the
-/// pairs that conflict, in project order.
+/// that can be met alone. Each set of goals is optimized from every start of `space` (designs of
+/// exactly the space the build searched, such as the capsule count asked for), keeping the best,
+/// each design judged as the solution file would hold it. Returns the goals unreachable alone,
+/// then the pairs that conflict, in project order.
 #[allow(clippy::too_many_arguments)]
 pub fn explain(
     project: &Project,
@@ -44,7 +55,7 @@ pub fn explain(
     prints: &[PrintVolumes],
     print: &PrintSetup,
     interior: &Arc<GridInterior>,
-    starts: &[Vec<StartCapsule>],
+    space: &Space,
     unmet: &[GoalRef],
     cancel: &Cancel,
 ) -> Vec<Conflict> {
@@ -65,11 +76,12 @@ pub fn explain(
             Method::Hybrid,
         )
         .with_cancel(cancel.clone());
-        starts
+        space
+            .starts
             .iter()
             .map(|start| {
-                let outcome = problem.optimize(start);
-                (outcome.meets_goals, outcome.value.to_degrees())
+                let written = (space.written)(&problem, &problem.optimize(start));
+                (written.meets_goals, written.value.to_degrees())
             })
             .max_by(|a, b| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1)))
             .unwrap_or((false, f64::INFINITY))

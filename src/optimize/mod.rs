@@ -18,7 +18,7 @@ mod test_meshes;
 
 pub use bounds::design_bounds;
 pub use cache::{Built, GridKey, PrecomputeCache};
-pub use conflicts::{explain as explain_conflicts, Conflict, GoalRef};
+pub use conflicts::{explain as explain_conflicts, Conflict, GoalRef, Space as ConflictSpace};
 pub use disk_cache::DiskCache;
 pub use exhaustive::{rank, Ranking};
 pub use grids::{content_hash, default_cell};
