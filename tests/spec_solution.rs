@@ -202,7 +202,13 @@ fn an_unreadable_solution_file_has_its_own_code_apart_from_the_project_files() {
     let bytes = b"capsule \"a\" \xff\xfe\n";
     let solution = folder.path().join("teddy.solution.kdl");
     std::fs::write(&solution, bytes).unwrap();
-    let problems = ballast::compile::read_solution(&project("mm", ""), &solution, &[])
+    let project = project("mm", "");
+    // No component: no print direction to check insertion along.
+    let print = ballast::fabrication::PrintSetup::from_rotations(
+        &[],
+        ballast::compile::layer_grid(&project),
+    );
+    let problems = ballast::compile::read_solution(&project, &solution, &[], &print)
         .expect_err("an unreadable solution file is an error");
     assert_eq!(problems.len(), 1, "{problems:#?}");
     assert_eq!(problems[0].code, codes::SOLUTION_UNREADABLE);
