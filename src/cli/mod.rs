@@ -264,12 +264,14 @@ fn compile_file(
             );
             match format {
                 MessageFormat::Human => eprintln!("error: {}", problem.message),
-                MessageFormat::Json => print_problems(format, &[problem.clone()], &name, ""),
+                MessageFormat::Json => {
+                    print_problems(format, std::slice::from_ref(&problem), &name, "")
+                }
             }
             return Err(invalid(String::new(), vec![problem]));
         }
         Err(problem) => {
-            print_problems(format, &[(*problem).clone()], &name, "");
+            print_problems(format, std::slice::from_ref(&*problem), &name, "");
             return Err(invalid(String::new(), vec![*problem]));
         }
     };
