@@ -91,11 +91,12 @@ fn model() -> SceneModel {
                 ball_centres: vec![Point3::new(12.0, 50.0, 20.0), Point3::new(5.0, 5.0, 14.0)],
                 centre_of_mass: Point3::new(48.0, 52.0, 31.0),
                 support_polygon: vec![
-                    Point3::new(0.0, 0.0, 0.0),
-                    Point3::new(100.0, 0.0, 0.0),
-                    Point3::new(100.0, 100.0, 0.0),
-                    Point3::new(0.0, 100.0, 0.0),
+                    Point3::new(0.0, 0.0, -15.0),
+                    Point3::new(100.0, 0.0, -15.0),
+                    Point3::new(100.0, 100.0, -15.0),
+                    Point3::new(0.0, 100.0, -15.0),
                 ],
+                ground: Some(-15.0),
                 suspension_point: None,
                 buoyancy_centre: Some(Point3::new(50.0, 50.0, 20.0)),
                 extras: json!({"margin_mm": 12.5, "stable": true, "goals": [1, 2.5]}),
@@ -109,6 +110,7 @@ fn model() -> SceneModel {
                 ball_centres: vec![Point3::new(38.0, 50.0, 20.0), Point3::new(5.0, 5.0, 6.0)],
                 centre_of_mass: Point3::new(-7.0, 3.0, -50.0),
                 support_polygon: vec![Point3::new(0.0, 0.0, 0.0), Point3::new(10.0, 0.0, 0.0)],
+                ground: None,
                 suspension_point: Some(Point3::new(0.0, 0.0, 120.0)),
                 buoyancy_centre: None,
                 extras: json!({"tilt_deg": -3.25}),
@@ -144,12 +146,26 @@ fn origin_of(m: &Matrix4<f32>) -> Vector3<f32> {
     (m * Vector4::new(0.0, 0.0, 0.0, 1.0)).xyz()
 }
 
-fn close(a: &[f32], b: &[f32], tol: f32) -> bool {
-    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| (x - y).abs() <= tol)
-}
-
 fn extras(value: &gltf::json::Extras) -> serde_json::Value {
     serde_json::from_str(value.as_ref().expect("extras present").get()).unwrap()
+}
+
+/// A project point (millimetres, Z up) in glTF's frame (metres, Y up), before the pose's offset.
+fn to_gltf(p: &Point3<f64>) -> Vector3<f32> {
+    Vector3::new(p.x, p.z, -p.y).cast::<f32>() * 0.001
+}
+
+/// The world positions of the vertices of `name`'s mesh in the scene whose worlds are given.
+fn world_vertices(
+    gltf: &gltf::Gltf,
+    worlds: &BTreeMap<String, Matrix4<f32>>,
+    name: &str,
+) -> Vec<Vector3<f32>> {
+    let m = worlds[name];
+    read_positions(gltf, &node(&gltf.document, name).mesh().unwrap())
+        .iter()
+        .map(|p| (m * p.push(1.0)).xyz())
+        .collect()
 }
 
 #[test]
@@ -167,12 +183,41 @@ fn round_trip_through_a_gltf_reader() {
         .unwrap()
         .starts_with("ballast "));
 
+    // One scene per pose holds its group alone; the last, the default, holds every pose group.
     let scene_names: Vec<_> = doc.scenes().map(|s| s.name().unwrap().to_owned()).collect();
-    assert_eq!(scene_names, ["standing", "hanging"]);
+    assert_eq!(scene_names, ["standing", "hanging", "all poses"]);
+    assert_eq!(doc.default_scene().unwrap().index(), 2);
+    let roots = |scene: usize| -> Vec<String> {
+        doc.scenes()
+            .nth(scene)
+            .unwrap()
+            .nodes()
+            .map(|n| n.name().unwrap().to_owned())
+            .collect()
+    };
+    assert_eq!(roots(0), ["standing"]);
+    assert_eq!(roots(1), ["hanging"]);
+    assert_eq!(roots(2), ["standing", "hanging"]);
 
-    for (scene, pose) in model.poses.iter().enumerate() {
+    let worlds = world_matrices(doc, 2);
+    // Units are in the vertices and translations: no node scales by the unit.
+    for n in doc.nodes() {
+        let (_, _, s) = n.transform().decomposed();
+        let marker = [
+            "ball",
+            "centre of mass",
+            "gravity",
+            "string",
+            "buoyancy centre",
+        ]
+        .iter()
+        .any(|m| n.name().unwrap().ends_with(m));
+        assert!(marker || s == [1.0; 3], "{:?} scales by {s:?}", n.name());
+    }
+
+    let mut spans = Vec::new();
+    for pose in &model.poses {
         let p = &pose.name;
-        let worlds = world_matrices(doc, scene);
         let mut expected = vec![
             p.clone(),
             format!("{p}/body"),
@@ -183,115 +228,134 @@ fn round_trip_through_a_gltf_reader() {
             format!("{p}/keel/fore/ball"),
             format!("{p}/centre of mass"),
             format!("{p}/gravity"),
-            format!("{p}/support polygon"),
         ];
+        if pose.ground.is_some() {
+            expected.push(format!("{p}/support polygon"));
+        }
         expected.push(if pose.suspension_point.is_some() {
             format!("{p}/string")
         } else {
             format!("{p}/buoyancy centre")
         });
+        let mut names: Vec<String> = worlds
+            .keys()
+            .filter(|n| *n == p || n.starts_with(&format!("{p}/")))
+            .cloned()
+            .collect();
+        names.sort();
         expected.sort();
-        assert_eq!(worlds.keys().cloned().collect::<Vec<_>>(), expected);
+        assert_eq!(names, expected);
 
-        // The root turns project up (Z) onto glTF +Y and scales millimetres to metres.
-        let root = node(doc, p);
-        let (t, r, s) = root.transform().decomposed();
-        assert_eq!(t, [0.0; 3]);
-        assert!(close(&s, &[0.001; 3], 1e-9));
-        let up_to_y =
-            UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(r[3], r[0], r[1], r[2]));
-        assert!((up_to_y * Vector3::<f32>::z() - Vector3::y()).norm() < 1e-6);
-        assert_eq!(extras(root.extras()), pose.extras);
+        // The group: a translation only; a standing pose has its ground at height 0, a hanging
+        // one keeps its height.
+        let group = node(doc, p);
+        let (offset, r, s) = group.transform().decomposed();
+        assert_eq!((r, s), ([0.0, 0.0, 0.0, 1.0], [1.0; 3]));
+        let offset = Vector3::from(offset);
+        let lift = pose.ground.map_or(0.0, |g| -g as f32 * 0.001);
+        assert!((offset.y - lift).abs() < 1e-7, "{offset:?}");
+        assert_eq!(extras(group.extras()), pose.extras);
+        let place = |q: &Point3<f64>| to_gltf(q) + offset;
 
-        // Component nodes carry the pose's isometry exactly (to single precision).
+        // Component vertices land where the pose puts them.
+        let mut xs = Vec::new();
         for (component, name) in ["body", "keel"].iter().enumerate() {
-            let iso = &pose.component_transforms[component];
-            let (t, r, s) = node(doc, &format!("{p}/{name}")).transform().decomposed();
-            let v = iso.translation.vector.cast::<f32>();
-            assert!(close(&t, &[v.x, v.y, v.z], 1e-4), "{t:?} vs {v:?}");
-            let q = iso.rotation.coords.cast::<f32>();
-            let same = close(&r, &[q.x, q.y, q.z, q.w], 1e-6);
-            let opposite = close(&r, &[-q.x, -q.y, -q.z, -q.w], 1e-6);
-            assert!(same || opposite, "{r:?} vs {q:?}");
-            assert_eq!(s, [1.0; 3]);
+            let t = &pose.component_transforms[component];
+            let found = world_vertices(&gltf, &worlds, &format!("{p}/{name}"));
+            for (v, local) in found.iter().zip(&model.components[component].positions) {
+                let want = place(&(t * local));
+                assert!((v - want).norm() < 1e-6, "{v:?} vs {want:?}");
+                xs.push(v.x);
+            }
         }
-
-        // Balls sit at the given centres, sized by the ball radius, under their component.
-        for (capsule, path) in ["body/left", "keel/fore"].iter().enumerate() {
-            let ball = node(doc, &format!("{p}/{path}/ball"));
-            let (t, _, s) = ball.transform().decomposed();
-            let c = pose.ball_centres[capsule].cast::<f32>();
-            assert!(close(&t, &[c.x, c.y, c.z], 1e-4));
-            assert!(close(
-                &s,
-                &[model.capsules[capsule].ball_radius as f32; 3],
-                1e-6
-            ));
-        }
-
-        // The centre of mass in glTF world: (x, y, z) mm, Z up, becomes (x, z, -y) / 1000 m.
-        let com = pose.centre_of_mass.cast::<f32>();
-        let expected = Vector3::new(com.x, com.z, -com.y) * 0.001;
-        let found = origin_of(&worlds[&format!("{p}/centre of mass")]);
-        assert!(
-            (found - expected).norm() < 1e-6,
-            "{found:?} vs {expected:?}"
+        spans.push(
+            xs.iter()
+                .fold((f32::MAX, f32::MIN), |(lo, hi), &x| (lo.min(x), hi.max(x))),
         );
+
+        // Balls sit at their centres, sized by the ball radius in metres.
+        for (capsule, path) in ["body/left", "keel/fore"].iter().enumerate() {
+            let m = worlds[&format!("{p}/{path}/ball")];
+            let t = &pose.component_transforms[model.capsules[capsule].component];
+            let want = place(&(t * pose.ball_centres[capsule]));
+            assert!((origin_of(&m) - want).norm() < 1e-6);
+            let radius = (m * Vector4::new(1.0, 0.0, 0.0, 0.0)).xyz().norm();
+            let expected = model.capsules[capsule].ball_radius as f32 * 0.001;
+            assert!((radius - expected).abs() < 1e-7, "{radius} vs {expected}");
+        }
+
+        let com = place(&pose.centre_of_mass);
+        let found = origin_of(&worlds[&format!("{p}/centre of mass")]);
+        assert!((found - com).norm() < 1e-6, "{found:?} vs {com:?}");
         assert_eq!(
             extras(node(doc, &format!("{p}/centre of mass")).extras()),
             pose.extras
         );
 
-        // Gravity starts at the centre of mass and points down glTF -Y.
-        let gravity = node(doc, &format!("{p}/gravity"));
-        let to_world = worlds[&format!("{p}/gravity")];
-        let positions = read_positions(&gltf, &gravity.mesh().unwrap());
-        let start = (to_world * positions[0].push(1.0)).xyz();
-        let tip = (to_world * positions[1].push(1.0)).xyz();
-        assert!((start - expected).norm() < 1e-6);
-        let down = (tip - start).normalize();
-        assert!((down + Vector3::y()).norm() < 1e-5, "{down:?}");
+        // Gravity: a thin solid from the centre of mass straight down -Y.
+        let arrow = world_vertices(&gltf, &worlds, &format!("{p}/gravity"));
+        let tip = arrow
+            .iter()
+            .fold(arrow[0], |a, v| if v.y < a.y { *v } else { a });
+        let top = arrow.iter().map(|v| v.y).fold(f32::MIN, f32::max);
+        assert!((top - com.y).abs() < 1e-6 && tip.y < com.y);
+        assert!((tip.xz() - com.xz()).norm() < 1e-6, "{tip:?} vs {com:?}");
+        let width = arrow
+            .iter()
+            .map(|v| (v.xz() - com.xz()).norm())
+            .fold(0.0, f32::max);
+        assert!(width < 0.1 * (com.y - tip.y), "a thin arrow: {width}");
+
+        // The support polygon: thin tubes through its corners, on the ground at height 0.
+        if pose.ground.is_some() {
+            let tubes = world_vertices(&gltf, &worlds, &format!("{p}/support polygon"));
+            for v in &tubes {
+                assert!(v.y.abs() < 1e-3, "{v:?} off the ground");
+            }
+            for corner in &pose.support_polygon {
+                let c = place(corner);
+                assert!(tubes.iter().any(|v| (v - c).norm() < 1e-6));
+            }
+        }
+    }
+    // Side by side: the poses' components do not overlap along X.
+    assert!(spans[0].1 < spans[1].0, "{spans:?}");
+
+    // Every primitive is triangles: nothing is drawn as lines.
+    for mesh in doc.meshes() {
+        for prim in mesh.primitives() {
+            assert_eq!(
+                prim.mode(),
+                gltf::mesh::Mode::Triangles,
+                "{:?}",
+                mesh.name()
+            );
+        }
     }
 
-    // The support polygon: a loop through four points, then a single segment.
-    let standing = node(doc, "standing/support polygon").mesh().unwrap();
-    let prim = standing.primitives().next().unwrap();
-    assert_eq!(prim.mode(), gltf::mesh::Mode::LineLoop);
-    assert_eq!(read_positions(&gltf, &standing).len(), 4);
-    let hanging = node(doc, "hanging/support polygon").mesh().unwrap();
-    assert_eq!(
-        hanging.primitives().next().unwrap().mode(),
-        gltf::mesh::Mode::Lines
-    );
-
-    // One mesh per component, shared by both poses, holding the input vertices.
+    // One mesh per component, shared by both poses, holding the input vertices in metres.
     let body_a = node(doc, "standing/body").mesh().unwrap();
     let body_b = node(doc, "hanging/body").mesh().unwrap();
     assert_eq!(body_a.index(), body_b.index());
     let expected: Vec<Vector3<f32>> = model.components[0]
         .positions
         .iter()
-        .map(|p| p.coords.cast())
+        .map(|p| p.coords.cast::<f32>() * 0.001)
         .collect();
     assert_eq!(read_positions(&gltf, &body_a), expected);
-    let prim = body_a.primitives().next().unwrap();
-    let material = prim.material();
-    assert_eq!(material.alpha_mode(), gltf::material::AlphaMode::Opaque);
-    assert!(!material.double_sided());
 
-    // Capsules are translucent; balls share one sphere mesh.
-    let capsule = node(doc, "standing/body/left").mesh().unwrap();
-    let capsule_material = capsule.primitives().next().unwrap().material();
-    assert_eq!(
-        capsule_material.alpha_mode(),
-        gltf::material::AlphaMode::Blend
-    );
-    assert!(
-        capsule_material
-            .pbr_metallic_roughness()
-            .base_color_factor()[3]
-            < 1.0
-    );
+    // The body and the capsules are translucent, so what is inside shows; balls share a sphere.
+    for name in ["standing/body", "standing/body/left"] {
+        let material = node(doc, name)
+            .mesh()
+            .unwrap()
+            .primitives()
+            .next()
+            .unwrap()
+            .material();
+        assert_eq!(material.alpha_mode(), gltf::material::AlphaMode::Blend);
+        assert!(material.pbr_metallic_roughness().base_color_factor()[3] < 1.0);
+    }
     let ball_meshes: Vec<_> = doc
         .nodes()
         .filter(|n| n.name().unwrap().ends_with("/ball"))
@@ -373,13 +437,10 @@ fn any_up_axis_ends_up_as_gltf_y() {
         let bytes = write_glb(&model).unwrap();
         let gltf = gltf::Gltf::from_slice(&bytes).unwrap();
         let worlds = world_matrices(&gltf.document, 1);
-        // The string runs from the suspension point along project up.
-        let string = node(&gltf.document, "hanging/string");
-        let positions = read_positions(&gltf, &string.mesh().unwrap());
-        let m = worlds["hanging/string"];
-        let dir = (m * positions[1].push(1.0) - m * positions[0].push(1.0))
-            .xyz()
-            .normalize();
+        // The string runs from the suspension point along project up: its tube's first vertex
+        // is the centre of its bottom, its last the centre of its top.
+        let tube = world_vertices(&gltf, &worlds, "hanging/string");
+        let dir = (tube[tube.len() - 1] - tube[0]).normalize();
         assert!(
             (dir - Vector3::y()).norm() < 1e-5,
             "up {up:?} gives {dir:?}"

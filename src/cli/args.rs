@@ -30,6 +30,10 @@ pub enum Command {
         /// Print the JSON report on standard output instead of the table.
         #[arg(long)]
         json: bool,
+        /// How diagnostics are printed: `human` (drawn on standard error) or `json` (one JSON
+        /// object per diagnostic on standard output, every other line of output on standard error).
+        #[arg(long, value_enum, value_name = "FORMAT", default_value_t = MessageFormat::Human)]
+        message_format: MessageFormat,
         /// Read the solution file from this folder (where `build --out-dir` wrote it) instead of
         /// the path the project names.
         #[arg(long, value_name = "DIR")]
@@ -97,6 +101,10 @@ pub enum Command {
         /// `..`); refused otherwise.
         #[arg(long)]
         write_outside: bool,
+        /// How diagnostics are printed: `human` (drawn on standard error) or `json` (one JSON
+        /// object per diagnostic on standard output, every other line of output on standard error).
+        #[arg(long, value_enum, value_name = "FORMAT", default_value_t = MessageFormat::Human)]
+        message_format: MessageFormat,
         /// Stop the optimizer's search after this many seconds of build and write the best design
         /// found so far.
         #[arg(long, value_name = "SECONDS", value_parser = positive_seconds)]
@@ -148,6 +156,10 @@ pub enum Command {
         /// `..`); refused otherwise.
         #[arg(long)]
         write_outside: bool,
+        /// How diagnostics are printed: `human` (drawn on standard error) or `json` (one JSON
+        /// object per diagnostic on standard output, every other line of output on standard error).
+        #[arg(long, value_enum, value_name = "FORMAT", default_value_t = MessageFormat::Human)]
+        message_format: MessageFormat,
         /// How to optimize.
         #[command(flatten)]
         optimize: OptimizeArgs,
@@ -187,6 +199,15 @@ pub struct InputArgs {
     /// The most triangles one mesh may have (and three times as many vertices read).
     #[arg(long, value_name = "N", default_value_t = crate::geometry::DEFAULT_MAX_TRIANGLES)]
     pub max_triangles: usize,
+}
+
+/// How `check`, `build` and `watch` print diagnostics (`--message-format`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum MessageFormat {
+    /// Drawn against the source on standard error.
+    Human,
+    /// One JSON object per line on standard output; the rest of the output on standard error.
+    Json,
 }
 
 /// The local solvers `build --solver` offers.

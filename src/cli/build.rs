@@ -13,17 +13,18 @@ use signal_hook::consts::{SIGINT, SIGTERM};
 use signal_hook::iterator::Signals;
 
 use super::{
-    compile_file, file_name, goals_status, optimization_table, progress, table, NotCompiled,
-    EXIT_INVALID, EXIT_SIGINT, EXIT_SIGTERM, EXIT_TIME_LIMIT,
+    compile_file, file_name, goals_status, optimization_table, progress, say, table, MessageFormat,
+    NotCompiled, EXIT_INVALID, EXIT_SIGINT, EXIT_SIGTERM, EXIT_TIME_LIMIT,
 };
 use crate::cancel::{Cancel, Interruption};
 use crate::compile::{write_outputs, CompileOptions, Workspace};
 use crate::optimize::PrecomputeCache;
 
 /// Builds the project at `path` as `options` say, with grids and skeletons from `cache`, the
-/// optimizer's search stopped after `time_limit` when given.
+/// optimizer's search stopped after `time_limit` when given, diagnostics printed as `format` says.
 pub fn run(
     path: &Path,
+    format: MessageFormat,
     options: &CompileOptions,
     cache: PrecomputeCache,
     time_limit: Option<Duration>,
@@ -41,9 +42,9 @@ pub fn run(
             cancel.interrupt(Interruption::TimeLimit);
         });
     }
-    let compilation = match compile_file(path, options, &mut workspace) {
+    let compilation = match compile_file(path, options, &mut workspace, format) {
         Ok(compilation) => compilation,
-        Err(NotCompiled::Invalid) => return EXIT_INVALID,
+        Err(NotCompiled::Invalid(_)) => return EXIT_INVALID,
         Err(NotCompiled::Cancelled) => {
             let why = workspace
                 .cancel
@@ -69,19 +70,22 @@ pub fn run(
         .and_then(|o| o.interrupted);
     if let Some(optimization) = &compilation.optimization {
         let from_disk = workspace.cache.built().loaded;
-        print!(
-            "{}",
-            optimization_table::optimization(optimization, &compilation, from_disk)
+        say(
+            format,
+            &optimization_table::optimization(optimization, &compilation, from_disk),
         );
     }
-    print!("{}", table::summary(&compilation, &file_name(path)));
+    say(format, &table::summary(&compilation, &file_name(path)));
     for target in &written.written {
-        println!("wrote {}", target.display());
+        say(format, &format!("wrote {}\n", target.display()));
     }
     for stale in &written.removed {
-        println!(
-            "removed {} (an output of the last build that this one no longer writes)",
-            stale.display()
+        say(
+            format,
+            &format!(
+                "removed {} (an output of the last build that this one no longer writes)\n",
+                stale.display()
+            ),
         );
     }
     match (interrupted, &compilation.optimization) {
@@ -92,7 +96,9 @@ pub fn run(
                 optimization.candidates.len(),
                 if optimization.candidates.len() == 1 { "" } else { "s" }
             );
-            println!("{message}");
+            if format == MessageFormat::Human {
+                println!("{message}");
+            }
             eprintln!("{message}");
             exit_status(why)
         }

@@ -21,16 +21,17 @@ use std::path::Path;
 
 use clap::Parser;
 
-pub use args::{Cli, Command, InputArgs, OptimizeArgs, Solver};
+pub use args::{Cli, Command, InputArgs, MessageFormat, OptimizeArgs, Solver};
 
 use crate::compile::{
     compile_with, finish_interrupted_outputs, Compilation, CompileOptions, Failure,
     OptimizeOptions, Workspace, WriteOptions,
 };
+use crate::diagnostic::Problem;
 use crate::geometry::MeshLimits;
 use crate::optimize::{DiskCache, Method, PrecomputeCache};
 use crate::sliced::SlicedOptions;
-use crate::spec::read_source;
+use crate::spec::{codes, read_source};
 
 /// Every goal of every pose is met.
 pub const EXIT_MET: i32 = 0;
@@ -64,10 +65,12 @@ pub fn run() -> i32 {
             project,
             inputs,
             json,
+            message_format,
             out_dir,
         } => check::run(
             &project,
             json,
+            message_format,
             &CompileOptions {
                 out_dir,
                 ..input_options(&inputs)
@@ -102,10 +105,12 @@ pub fn run() -> i32 {
             inputs,
             out_dir,
             write_outside,
+            message_format,
             time_limit,
             optimize,
         } => build::run(
             &project,
+            message_format,
             &optimize_options(out_dir, write_outside, &optimize, &inputs),
             precompute_cache(&optimize),
             time_limit.map(std::time::Duration::from_secs_f64),
@@ -128,9 +133,11 @@ pub fn run() -> i32 {
             inputs,
             out_dir,
             write_outside,
+            message_format,
             optimize,
         } => watch::run(
             &project,
+            message_format,
             &optimize_options(out_dir, write_outside, &optimize, &inputs),
             precompute_cache(&optimize),
         ),
@@ -189,17 +196,51 @@ fn precompute_cache(args: &OptimizeArgs) -> PrecomputeCache {
 /// Why [`compile_file`] gave no compilation.
 enum NotCompiled {
     /// The project is unreadable or invalid; its diagnostics were printed.
-    Invalid,
+    Invalid(Invalid),
     /// The workspace's cancel flag was set.
     Cancelled,
 }
 
+/// An unreadable or invalid project: its diagnostics and the text their spans point into.
+struct Invalid {
+    /// The project file's name, as given.
+    name: String,
+    /// Its text (empty when it could not be read).
+    source: String,
+    /// Every problem found, warnings too.
+    problems: Vec<Problem>,
+}
+
+/// Prints `text`, the human-readable output of a command: on standard output, or on standard error
+/// when standard output carries JSON diagnostics.
+fn say(format: MessageFormat, text: &str) {
+    match format {
+        MessageFormat::Human => print!("{text}"),
+        MessageFormat::Json => eprint!("{text}"),
+    }
+}
+
+/// Prints `problems` found in `source` (named `name`) as `format` says.
+fn print_problems(format: MessageFormat, problems: &[Problem], name: &str, source: &str) {
+    if problems.is_empty() {
+        return;
+    }
+    match format {
+        MessageFormat::Human => eprint!(
+            "{}",
+            diagnostics::render_for_terminal(problems, name, source)
+        ),
+        MessageFormat::Json => print!("{}", diagnostics::render_json_lines(problems, name, source)),
+    }
+}
+
 /// Reads and compiles the project at `path` as `options` say, in `workspace` (its cache, cancel
-/// flag and progress), printing every diagnostic (warnings too) to standard error.
+/// flag and progress), printing every diagnostic (warnings too) as `format` says.
 fn compile_file(
     path: &Path,
     options: &CompileOptions,
     workspace: &mut Workspace,
+    format: MessageFormat,
 ) -> Result<Compilation, NotCompiled> {
     // A build killed while it replaced its outputs left a journal: finishing it first means
     // every command sees one build's outputs (the solution file `check` reads among them).
@@ -207,44 +248,49 @@ fn compile_file(
         eprintln!("warning: cannot finish replacing the outputs of an interrupted build: {error}");
     }
     let name = path.display().to_string();
+    let invalid = |source: String, problems: Vec<Problem>| {
+        NotCompiled::Invalid(Invalid {
+            name: name.clone(),
+            source,
+            problems,
+        })
+    };
     let source = match read_source(path, "project file") {
         Ok(Some(source)) => source,
         Ok(None) => {
-            eprintln!("error: cannot read {name}: there is no such file");
-            return Err(NotCompiled::Invalid);
+            let problem = Problem::error(
+                codes::FILE_UNREADABLE,
+                format!("cannot read {name}: there is no such file"),
+            );
+            match format {
+                MessageFormat::Human => eprintln!("error: {}", problem.message),
+                MessageFormat::Json => {
+                    print_problems(format, std::slice::from_ref(&problem), &name, "")
+                }
+            }
+            return Err(invalid(String::new(), vec![problem]));
         }
         Err(problem) => {
-            eprint!(
-                "{}",
-                diagnostics::render_for_terminal(&[*problem], &name, "")
-            );
-            return Err(NotCompiled::Invalid);
+            print_problems(format, std::slice::from_ref(&*problem), &name, "");
+            return Err(invalid(String::new(), vec![*problem]));
         }
     };
     let compiled = compile_with(&source, path, options, workspace);
     progress::clear(workspace);
     match compiled {
         Ok(compilation) => {
-            if !compilation.warnings.is_empty() {
-                eprint!(
-                    "{}",
-                    diagnostics::render_for_terminal(&compilation.warnings, &name, &source)
-                );
-            }
+            print_problems(format, &compilation.warnings, &name, &source);
             Ok(compilation)
         }
         Err(Failure::Cancelled) => Err(NotCompiled::Cancelled),
         Err(Failure::Invalid(problems)) => {
-            eprint!(
-                "{}",
-                diagnostics::render_for_terminal(&problems, &name, &source)
-            );
+            print_problems(format, &problems, &name, &source);
             let errors = problems.iter().filter(|p| p.is_error()).count();
             eprintln!(
                 "error: {name} is invalid: {errors} error{}",
                 if errors == 1 { "" } else { "s" }
             );
-            Err(NotCompiled::Invalid)
+            Err(invalid(source, problems))
         }
     }
 }

@@ -3,14 +3,15 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use super::{compile_file, file_name, EXIT_INVALID, EXIT_MET};
+use super::{compile_file, file_name, MessageFormat, EXIT_INVALID, EXIT_MET};
 use crate::balance::{resting_facets, ComponentBody, RestingFacet};
 use crate::compile::{CompileOptions, Workspace};
 
 /// Lists the stable facets of the project at `path`, the components placed as the pose named
 /// `pose` (default: the first) places them.
 pub fn run(path: &Path, pose: Option<&str>, options: &CompileOptions) -> i32 {
-    let Ok(compilation) = compile_file(path, options, &mut Workspace::new()) else {
+    let Ok(compilation) = compile_file(path, options, &mut Workspace::new(), MessageFormat::Human)
+    else {
         return EXIT_INVALID;
     };
     let project = &compilation.project;

@@ -6,7 +6,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use super::diagnostics::render_for_terminal;
-use super::{compile_file, file_name, EXIT_INVALID, EXIT_MET, EXIT_UNMET};
+use super::{compile_file, file_name, MessageFormat, EXIT_INVALID, EXIT_MET, EXIT_UNMET};
 use crate::compile::{CompileOptions, Workspace};
 use crate::diagnostic::{Problem, SourceFile};
 use crate::gcode::GcodeError;
@@ -22,7 +22,8 @@ pub fn run(
     options: &CompileOptions,
     sliced: &SlicedOptions,
 ) -> i32 {
-    let Ok(compilation) = compile_file(path, options, &mut Workspace::new()) else {
+    let Ok(compilation) = compile_file(path, options, &mut Workspace::new(), MessageFormat::Human)
+    else {
         return EXIT_INVALID;
     };
     let text = match std::fs::read_to_string(gcode) {

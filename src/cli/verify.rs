@@ -4,13 +4,14 @@
 use std::fmt::Write;
 use std::path::Path;
 
-use super::{compile_file, file_name, EXIT_INVALID, EXIT_MET, EXIT_UNMET};
+use super::{compile_file, file_name, MessageFormat, EXIT_INVALID, EXIT_MET, EXIT_UNMET};
 use crate::compile::{CompileOptions, Workspace};
 use crate::verify::{verify, BallEnd, Detail, FinalState, GoalCheck, Verification};
 
 /// Verifies the project at `path`; prints the table, or the verification as JSON when `json`.
 pub fn run(path: &Path, json: bool, options: &CompileOptions) -> i32 {
-    let Ok(compilation) = compile_file(path, options, &mut Workspace::new()) else {
+    let Ok(compilation) = compile_file(path, options, &mut Workspace::new(), MessageFormat::Human)
+    else {
         return EXIT_INVALID;
     };
     let verification = verify(&compilation);

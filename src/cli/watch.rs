@@ -12,18 +12,26 @@ use std::fmt::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use super::{compile_file, file_name, progress, NotCompiled, EXIT_INVALID, EXIT_MET};
+use super::{
+    compile_file, file_name, progress, say, MessageFormat, NotCompiled, EXIT_INVALID, EXIT_MET,
+};
 use crate::cancel::Cancel;
 use crate::compile::{write_outputs, Compilation, CompileOptions, WarmStart, Workspace};
 use crate::optimize::{Built, PrecomputeCache};
 use crate::spec::{parse_project, read_source};
 use crate::watch::{self, differences, list, referenced_files, shown, Snapshot};
 
-/// Watches the project at `path` until Ctrl-C (status 0), with grids and skeletons from `cache`;
-/// status 2 when watching cannot start.
-pub fn run(path: &Path, options: &CompileOptions, cache: PrecomputeCache) -> i32 {
+/// Watches the project at `path` until Ctrl-C (status 0), with grids and skeletons from `cache`,
+/// diagnostics printed as `format` says; status 2 when watching cannot start.
+pub fn run(
+    path: &Path,
+    format: MessageFormat,
+    options: &CompileOptions,
+    cache: PrecomputeCache,
+) -> i32 {
     let mut session = Session {
         path,
+        format,
         options,
         workspace: Workspace {
             cache,
@@ -35,11 +43,14 @@ pub fn run(path: &Path, options: &CompileOptions, cache: PrecomputeCache) -> i32
     };
     // Watched from before the first build, so a save during it is not missed.
     session.follow_parsed();
-    println!("watching {}; Ctrl-C to stop", file_name(path));
+    say(
+        format,
+        &format!("watching {}; Ctrl-C to stop\n", file_name(path)),
+    );
     let files = session.files.clone();
     match watch::run(files, |changed, cancel| session.rebuild(changed, cancel)) {
         Ok(()) => {
-            println!("stopped watching {}", file_name(path));
+            say(format, &format!("stopped watching {}\n", file_name(path)));
             EXIT_MET
         }
         Err(message) => {
@@ -52,6 +63,8 @@ pub fn run(path: &Path, options: &CompileOptions, cache: PrecomputeCache) -> i32
 /// What a watch session keeps between builds.
 struct Session<'a> {
     path: &'a Path,
+    /// How diagnostics are printed; the rest of the output goes where it leaves room.
+    format: MessageFormat,
     options: &'a CompileOptions,
     /// Grids and skeletons, reused while the meshes stay the same.
     workspace: Workspace,
@@ -84,12 +97,14 @@ impl Session<'_> {
     fn rebuild(&mut self, changed: &[PathBuf], cancel: &Cancel) -> BTreeSet<PathBuf> {
         self.workspace.cancel = cancel.clone();
         let name = file_name(self.path);
-        println!();
         if changed.is_empty() {
-            println!("building {name}");
+            say(self.format, &format!("\nbuilding {name}\n"));
         } else {
             let changed: BTreeSet<PathBuf> = changed.iter().cloned().collect();
-            println!("changed: {}; rebuilding {name}", list(&changed));
+            say(
+                self.format,
+                &format!("\nchanged: {}; rebuilding {name}\n", list(&changed)),
+            );
         }
         let warm = self.last.as_ref().map(|last| last.design.clone());
         if self.step(warm) == Step::WarmStarted {
@@ -109,17 +124,23 @@ impl Session<'_> {
         }
         self.workspace.start_build();
         let start = Instant::now();
-        let compiled = compile_file(self.path, &options, &mut self.workspace);
+        let compiled = compile_file(self.path, &options, &mut self.workspace, self.format);
         let compile_seconds = start.elapsed().as_secs_f64();
         let compilation = match compiled {
             Ok(compilation) => compilation,
-            Err(NotCompiled::Invalid) => {
-                println!("{name} is invalid: the last good outputs are left as they were");
+            Err(NotCompiled::Invalid(_)) => {
+                say(
+                    self.format,
+                    &format!("{name} is invalid: the last good outputs are left as they were\n"),
+                );
                 self.follow_parsed();
                 return Step::Stopped;
             }
             Err(NotCompiled::Cancelled) => {
-                println!("cancelled: the last good outputs are left as they were");
+                say(
+                    self.format,
+                    "cancelled: the last good outputs are left as they were\n",
+                );
                 return Step::Stopped;
             }
         };
@@ -135,8 +156,11 @@ impl Session<'_> {
             Ok(written) => written,
             Err(message) => {
                 eprintln!("error: {message}");
-                println!(
-                    "{name} built but not written: the last good outputs are left as they were"
+                say(
+                    self.format,
+                    &format!(
+                        "{name} built but not written: the last good outputs are left as they were\n"
+                    ),
                 );
                 return Step::Stopped;
             }
@@ -147,9 +171,9 @@ impl Session<'_> {
             .as_ref()
             .is_some_and(|optimization| optimization.warm_started);
         let snapshot = Snapshot::new(&compilation);
-        print!(
-            "{}",
-            summary(&SummaryInput {
+        say(
+            self.format,
+            &summary(&SummaryInput {
                 name: &name,
                 compilation: &compilation,
                 snapshot: &snapshot,
@@ -162,7 +186,7 @@ impl Session<'_> {
                 written: &written.written,
                 removed: &written.removed,
                 warm_started,
-            })
+            }),
         );
         self.last = Some(Last {
             snapshot,

@@ -4,7 +4,8 @@
 
 use nalgebra::{Isometry3, Point3, Vector3};
 
-/// Everything the glTF writer draws. Lengths in project units; `unit_in_metres` scales to glTF metres.
+/// Everything the glTF writer draws. Lengths in project units; the writer converts them to glTF's
+/// metres with `unit_in_metres` and turns `up` onto glTF's +Y.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SceneModel {
     /// Length of one project unit in metres, e.g. `0.001` for millimetres.
@@ -15,7 +16,7 @@ pub struct SceneModel {
     pub components: Vec<SceneComponent>,
     /// The capsule-shaped voids, each inside one component.
     pub capsules: Vec<SceneCapsule>,
-    /// One glTF scene is written per pose.
+    /// Each pose is a group in the default scene and has a glTF scene of its own.
     pub poses: Vec<ScenePose>,
 }
 
@@ -60,10 +61,13 @@ pub struct ScenePose {
     pub centre_of_mass: Point3<f64>,
     /// Convex support polygon in order, world (may be empty, 1 or 2 points).
     pub support_polygon: Vec<Point3<f64>>,
+    /// Height of the ground along up when the pose stands on it, project units; `None` when it
+    /// hangs or floats (then no support polygon is drawn and the pose keeps its height).
+    pub ground: Option<f64>,
     /// Where the model hangs from a string in this pose, world.
     pub suspension_point: Option<Point3<f64>>,
     /// Centre of buoyancy when the model is immersed in this pose, world.
     pub buoyancy_centre: Option<Point3<f64>>,
-    /// Per-pose numbers, attached to the scene's root node and to the centre-of-mass node.
+    /// Per-pose numbers, attached to the pose's group node and to the centre-of-mass node.
     pub extras: serde_json::Value,
 }

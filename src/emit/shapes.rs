@@ -95,24 +95,123 @@ pub(crate) fn unit_octahedron() -> ShapeMesh {
     }
 }
 
-/// Line segments (pairs of points) of an arrow of length 1 from the origin along `direction`,
-/// with a four-barbed head.
-pub(crate) fn unit_arrow(direction: &Vector3<f64>) -> Vec<Point3<f64>> {
+/// Segments around a thin tube (arrow shaft, string, support polygon edge).
+const TUBE_SEGMENTS: u32 = 12;
+/// Radius of an arrow's shaft, as a fraction of its length.
+const ARROW_SHAFT: f64 = 0.015;
+/// Radius and length of an arrow's head, as fractions of its length.
+const ARROW_HEAD_RADIUS: f64 = 0.05;
+const ARROW_HEAD_LENGTH: f64 = 0.15;
+
+/// A thin solid arrow of length 1 from the origin along `direction`: a shaft and a conical head,
+/// flat shaded (no normals), so every renderer draws it (line primitives are not always drawn).
+pub(crate) fn unit_arrow(direction: &Vector3<f64>) -> ShapeMesh {
     let d = direction.normalize();
-    let (u, v) = perpendiculars(&d);
-    let tip = Point3::from(d);
-    let back = tip - d * 0.12;
-    let mut lines = vec![Point3::origin(), tip];
-    for barb in [u, -u, v, -v] {
-        lines.push(tip);
-        lines.push(back + barb * 0.05);
-    }
-    lines
+    let neck = Point3::from(d * (1.0 - ARROW_HEAD_LENGTH));
+    let mut mesh = tube(&Point3::origin(), &neck, ARROW_SHAFT);
+    append(&mut mesh, cone(&neck, &Point3::from(d), ARROW_HEAD_RADIUS));
+    mesh
 }
 
-/// One line segment of length 1 from the origin along `direction`.
-pub(crate) fn unit_line(direction: &Vector3<f64>) -> Vec<Point3<f64>> {
-    vec![Point3::origin(), Point3::from(direction.normalize())]
+/// A thin tube of length 1 from the origin along `direction`, its radius `radius`.
+pub(crate) fn unit_line(direction: &Vector3<f64>, radius: f64) -> ShapeMesh {
+    tube(
+        &Point3::origin(),
+        &Point3::from(direction.normalize()),
+        radius,
+    )
+}
+
+/// Thin tubes of radius `radius` along the edges of the closed polygon `points` (one tube for two
+/// points, none for fewer).
+pub(crate) fn polygon_tubes(points: &[Point3<f64>], radius: f64) -> ShapeMesh {
+    let mut mesh = ShapeMesh {
+        positions: Vec::new(),
+        normals: Vec::new(),
+        triangles: Vec::new(),
+    };
+    let edges = match points.len() {
+        0 | 1 => 0,
+        2 => 1,
+        n => n,
+    };
+    for i in 0..edges {
+        let (a, b) = (points[i], points[(i + 1) % points.len()]);
+        if (b - a).norm() > 0.0 {
+            append(&mut mesh, tube(&a, &b, radius));
+        }
+    }
+    mesh
+}
+
+/// A closed cylinder around the segment `from`-`to`, flat shaded.
+fn tube(from: &Point3<f64>, to: &Point3<f64>, radius: f64) -> ShapeMesh {
+    let axis = to - from;
+    let rotation = rotation_from_z(&axis);
+    let length = axis.norm();
+    let ring = |z: f64| {
+        (0..TUBE_SEGMENTS).map(move |j| {
+            let phi = 2.0 * PI * f64::from(j) / f64::from(TUBE_SEGMENTS);
+            Vector3::new(radius * phi.cos(), radius * phi.sin(), z)
+        })
+    };
+    // Bottom centre, bottom ring, top ring, top centre.
+    let local: Vec<Vector3<f64>> = std::iter::once(Vector3::zeros())
+        .chain(ring(0.0))
+        .chain(ring(length))
+        .chain(std::iter::once(Vector3::new(0.0, 0.0, length)))
+        .collect();
+    let n = TUBE_SEGMENTS;
+    let top_centre = 2 * n + 1;
+    let mut triangles = Vec::new();
+    for j in 0..n {
+        let (b0, b1) = (1 + j, 1 + (j + 1) % n);
+        let (t0, t1) = (b0 + n, b1 + n);
+        triangles.push([0, b1, b0]);
+        triangles.push([b0, b1, t1]);
+        triangles.push([b0, t1, t0]);
+        triangles.push([top_centre, t0, t1]);
+    }
+    ShapeMesh {
+        positions: local.iter().map(|v| from + rotation * v).collect(),
+        normals: Vec::new(),
+        triangles,
+    }
+}
+
+/// A closed cone with its base of radius `radius` at `base` and its apex at `apex`, flat shaded.
+fn cone(base: &Point3<f64>, apex: &Point3<f64>, radius: f64) -> ShapeMesh {
+    let axis = apex - base;
+    let rotation = rotation_from_z(&axis);
+    let length = axis.norm();
+    let local: Vec<Vector3<f64>> = std::iter::once(Vector3::zeros())
+        .chain((0..TUBE_SEGMENTS).map(|j| {
+            let phi = 2.0 * PI * f64::from(j) / f64::from(TUBE_SEGMENTS);
+            Vector3::new(radius * phi.cos(), radius * phi.sin(), 0.0)
+        }))
+        .chain(std::iter::once(Vector3::new(0.0, 0.0, length)))
+        .collect();
+    let n = TUBE_SEGMENTS;
+    let tip = n + 1;
+    let mut triangles = Vec::new();
+    for j in 0..n {
+        let (b0, b1) = (1 + j, 1 + (j + 1) % n);
+        triangles.push([0, b1, b0]);
+        triangles.push([b0, b1, tip]);
+    }
+    ShapeMesh {
+        positions: local.iter().map(|v| base + rotation * v).collect(),
+        normals: Vec::new(),
+        triangles,
+    }
+}
+
+/// Adds `other`'s vertices and triangles to `mesh` (flat shaded meshes only).
+fn append(mesh: &mut ShapeMesh, other: ShapeMesh) {
+    let offset = u32::try_from(mesh.positions.len()).expect("small shapes");
+    mesh.positions.extend(other.positions);
+    mesh.triangles
+        .extend(other.triangles.iter().map(|t| t.map(|i| i + offset)));
 }
 
 /// The rotation taking +Z onto `axis` (identity for a zero axis).
@@ -124,18 +223,6 @@ fn rotation_from_z(axis: &Vector3<f64>) -> UnitQuaternion<f64> {
         // Antiparallel: half a turn about any perpendicular axis.
         UnitQuaternion::from_axis_angle(&Vector3::x_axis(), PI)
     })
-}
-
-/// Two unit vectors perpendicular to the unit vector `d` and to each other.
-fn perpendiculars(d: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
-    let helper = if d.x.abs() < 0.9 {
-        Vector3::x()
-    } else {
-        Vector3::y()
-    };
-    let u = d.cross(&helper).normalize();
-    let v = d.cross(&u);
-    (u, v)
 }
 
 /// A surface of revolution about +Z: a pole on top, one ring of `SEGMENTS` vertices per
@@ -289,18 +376,41 @@ mod tests {
     }
 
     #[test]
-    fn arrow_points_along_its_direction() {
+    fn arrow_and_tubes_are_closed_thin_solids_along_their_direction() {
         let d = Vector3::new(0.0, 0.0, -1.0);
-        let lines = unit_arrow(&d);
-        assert_eq!(lines.len() % 2, 0);
-        assert_eq!(lines[1], Point3::new(0.0, 0.0, -1.0));
-        for pair in lines.chunks(2).skip(1) {
-            assert_eq!(pair[0], lines[1]);
-            assert!(pair[1].z > -1.0);
+        let arrow = unit_arrow(&d);
+        // Shaft and head are each closed and outward.
+        assert!(volume(&arrow) > 0.0);
+        assert!(min_triangle_area(&arrow) > 1e-6);
+        let lowest = arrow.positions.iter().map(|p| p.z).fold(f64::MAX, f64::min);
+        assert!((lowest + 1.0).abs() < 1e-12);
+        for p in &arrow.positions {
+            assert!(p.z <= 1e-12 && p.coords.xy().norm() <= ARROW_HEAD_RADIUS + 1e-12);
         }
+
+        let line = unit_line(&Vector3::new(0.0, 3.0, 0.0), 0.01);
+        assert_closed(&line);
+        let exact = PI * 0.01 * 0.01;
+        assert!((volume(&line) - exact).abs() < 0.05 * exact);
+        let top = line.positions.iter().map(|p| p.y).fold(f64::MIN, f64::max);
+        assert!((top - 1.0).abs() < 1e-12);
+
+        let square = [
+            Point3::new(0.0, 0.0, 0.0),
+            Point3::new(1.0, 0.0, 0.0),
+            Point3::new(1.0, 1.0, 0.0),
+            Point3::new(0.0, 1.0, 0.0),
+        ];
+        let tubes = polygon_tubes(&square, 0.01);
         assert_eq!(
-            unit_line(&Vector3::new(0.0, 3.0, 0.0))[1],
-            Point3::new(0.0, 1.0, 0.0)
+            tubes.triangles.len(),
+            4 * unit_line(&d, 0.01).triangles.len()
         );
+        assert!((volume(&tubes) - 4.0 * exact).abs() < 0.2 * exact);
+        assert_eq!(
+            polygon_tubes(&square[..2], 0.01).triangles.len(),
+            line.triangles.len()
+        );
+        assert!(polygon_tubes(&square[..1], 0.01).triangles.is_empty());
     }
 }

@@ -228,7 +228,8 @@ impl Watched {
             }
         }
         if files != self.files {
-            println!("watching {}", list(&files));
+            // A status line: on standard error, so standard output can carry JSON diagnostics.
+            eprintln!("watching {}", list(&files));
         }
         *lock(&self.shared) = files.clone();
         self.files = files;
