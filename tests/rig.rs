@@ -188,9 +188,7 @@ pose "reach one" {
 
 /// The codes of the problems `source` gives, with the text each first label points at.
 fn problems(folder: &Path, source: &str) -> Vec<(String, String, String)> {
-    let problems = compiled(folder, source)
-        .err()
-        .expect("the project is invalid");
+    let problems = compiled(folder, source).expect_err("the project is invalid");
     problems
         .iter()
         .map(|problem| {
