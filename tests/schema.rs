@@ -350,9 +350,11 @@ fn validate(document: &KdlDocument, schema: &[SchemaNode]) -> Vec<String> {
 
 fn validate_block(nodes: &[KdlNode], schema: &[SchemaNode], path: &str, errors: &mut Vec<String>) {
     for rule in schema {
+        // A top-level `rig`'s parts are components, as the schema's `component` says.
+        let stands_in = |name: &str| path.is_empty() && rule.name == "component" && name == "rig";
         let count = nodes
             .iter()
-            .filter(|n| n.name().value() == rule.name)
+            .filter(|n| n.name().value() == rule.name || stands_in(n.name().value()))
             .count();
         if count < rule.min || rule.max.is_some_and(|max| count > max) {
             errors.push(format!(

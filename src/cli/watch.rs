@@ -18,7 +18,7 @@ use super::{
 use crate::cancel::Cancel;
 use crate::compile::{write_outputs, Compilation, CompileOptions, WarmStart, Workspace};
 use crate::optimize::{Built, PrecomputeCache};
-use crate::spec::{parse_project, read_source};
+use crate::spec::{parse_project_with, read_source};
 use crate::watch::{self, differences, list, referenced_files, shown, Snapshot};
 
 /// Watches the project at `path` until Ctrl-C (status 0), with grids and skeletons from `cache`,
@@ -200,17 +200,19 @@ impl Session<'_> {
     }
 
     /// Follows the files the project names if it can be parsed (before the first build, after
-    /// an invalid one); otherwise keeps the set it had.
+    /// an invalid one); otherwise keeps the set it had, and adds its rig file.
     fn follow_parsed(&mut self) {
         let Ok(Some(source)) = read_source(self.path, "project file") else {
             return;
         };
-        if let Some(project) = parse_project(&source, self.path).project {
-            self.files = referenced_files(
-                self.path,
-                Some(&project),
-                &self.options.read_policy(self.path),
-            );
+        let policy = self.options.read_policy(self.path);
+        let parsed = parse_project_with(&source, self.path, &policy);
+        match parsed.project {
+            Some(project) => self.files = referenced_files(self.path, Some(&project), &policy),
+            // A rig that cannot be read yet is followed, to build once it is fixed.
+            None => self
+                .files
+                .extend(parsed.rig.as_deref().map(watch::watch_key)),
         }
     }
 }

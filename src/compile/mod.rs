@@ -71,7 +71,7 @@ use crate::diagnostic::Problem;
 use crate::fabrication::{Orientation, PrintPlan};
 use crate::geometry::{MassProperties, MeshLimits, PrintVolumes, ReadPolicy, TriMesh};
 use crate::spec::model::Project;
-use crate::spec::parse_project;
+use crate::spec::parse_project_with;
 
 /// Where the evaluated design came from.
 #[derive(Debug, Clone, PartialEq)]
@@ -179,12 +179,12 @@ pub fn compile_with(
     options: &CompileOptions,
     workspace: &mut Workspace,
 ) -> Result<Compilation, Failure> {
-    let parsed = parse_project(source, project_path);
+    let policy = options.read_policy(project_path);
+    let parsed = parse_project_with(source, project_path, &policy);
     let mut problems = parsed.problems;
     let Some(mut project) = parsed.project else {
         return Err(Failure::Invalid(problems));
     };
-    let policy = options.read_policy(project_path);
     if let Some(writes) = options.writes {
         problems.extend(check_output_paths(
             &project,

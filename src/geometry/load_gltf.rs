@@ -16,7 +16,7 @@ use super::gltf_buffers::resolve_buffers;
 use super::load::{check_triangles, check_vertices, index_u32, LoadError, MeshSelector, RawMesh};
 use super::load_files::{FileReader, MeshLimits};
 
-fn err(message: impl Into<String>) -> LoadError {
+pub(super) fn err(message: impl Into<String>) -> LoadError {
     LoadError::Gltf {
         message: message.into(),
     }
@@ -38,13 +38,8 @@ pub(crate) fn parse_gltf(
     selector: &MeshSelector,
     reader: &mut FileReader,
 ) -> Result<RawMesh, LoadError> {
-    check_glb_header(bytes)?;
-    let gltf::Gltf { document, blob } =
-        gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| err(e.to_string()))?;
-    check_position_indices(document.as_json())?;
-    let document = Document::from_json(document.into_json()).map_err(|e| err(e.to_string()))?;
+    let (document, buffers) = open_document(bytes, base, reader)?;
     let limits = *reader.limits();
-    let buffers = resolve_buffers(&document, base, blob, reader)?;
     let hierarchy = Hierarchy::new(&document)?;
 
     let instances = match selector.part_name() {
@@ -77,6 +72,22 @@ pub(crate) fn parse_gltf(
         }
     }
     Ok(raw)
+}
+
+/// The validated document of a glTF or GLB file and its buffers, read through `reader`
+/// (relative buffer URIs against `base`).
+pub(super) fn open_document(
+    bytes: &[u8],
+    base: &Path,
+    reader: &mut FileReader,
+) -> Result<(Document, Vec<Vec<u8>>), LoadError> {
+    check_glb_header(bytes)?;
+    let gltf::Gltf { document, blob } =
+        gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| err(e.to_string()))?;
+    check_position_indices(document.as_json())?;
+    let document = Document::from_json(document.into_json()).map_err(|e| err(e.to_string()))?;
+    let buffers = resolve_buffers(&document, base, blob, reader)?;
+    Ok((document, buffers))
 }
 
 /// gltf-json's validation indexes the accessors with each primitive's `POSITION` index before
@@ -118,16 +129,20 @@ fn check_glb_header(bytes: &[u8]) -> Result<(), LoadError> {
 
 /// The node forest with every node's world transform. A node with two parents, and a cycle,
 /// are errors.
-struct Hierarchy {
-    roots: Vec<usize>,
-    children: Vec<Vec<usize>>,
-    mesh: Vec<Option<usize>>,
+pub(super) struct Hierarchy {
+    /// The nodes without a parent, in index order.
+    pub(super) roots: Vec<usize>,
+    /// Each node's children, as the file lists them.
+    pub(super) children: Vec<Vec<usize>>,
+    /// Each node's mesh.
+    pub(super) mesh: Vec<Option<usize>>,
     /// The product of the local transforms from the root down to the node.
-    world: Vec<Matrix4<f64>>,
+    pub(super) world: Vec<Matrix4<f64>>,
 }
 
 impl Hierarchy {
-    fn new(document: &Document) -> Result<Self, LoadError> {
+    /// The hierarchy of `document`'s nodes.
+    pub(super) fn new(document: &Document) -> Result<Self, LoadError> {
         let n = document.nodes().len();
         let mut has_parent = vec![false; n];
         let mut children = vec![Vec::new(); n];
@@ -172,7 +187,7 @@ impl Hierarchy {
     }
 
     /// Every (mesh, world transform) under the given nodes, the nodes included, depth first.
-    fn mesh_instances(&self, from: &[usize]) -> Vec<(usize, Matrix4<f64>)> {
+    pub(super) fn mesh_instances(&self, from: &[usize]) -> Vec<(usize, Matrix4<f64>)> {
         let mut out = Vec::new();
         let mut visited = vec![false; self.world.len()];
         let mut stack: Vec<usize> = from.iter().rev().copied().collect();
@@ -241,7 +256,7 @@ fn select_named(
 }
 
 /// A node's local transform in f64 (a decomposed transform is composed as T·R·S in f64).
-fn local_matrix(transform: Transform) -> Result<Matrix4<f64>, LoadError> {
+pub(super) fn local_matrix(transform: Transform) -> Result<Matrix4<f64>, LoadError> {
     match transform {
         Transform::Matrix { matrix } => Ok(Matrix4::from_fn(|r, c| f64::from(matrix[c][r]))),
         Transform::Decomposed {
@@ -375,7 +390,7 @@ static ZEROS: [u8; 16] = [0; 16];
 
 /// The bytes of each element of `accessor` (each `size` bytes long), with sparse substitutions
 /// applied. Every range is checked against the buffers.
-fn elements<'b>(
+pub(super) fn elements<'b>(
     accessor: &Accessor,
     buffers: &'b [Vec<u8>],
     size: usize,

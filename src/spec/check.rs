@@ -75,7 +75,12 @@ impl Checker<'_> {
             checked.push(self.node(node, spec));
         }
         for spec in allowed.iter().filter(|spec| spec.required) {
-            if !checked.iter().any(|node| node.name == spec.name) {
+            // A rig's parts are components too.
+            let stands_in = |node: &Node| spec.name == "component" && node.name == "rig";
+            if !checked
+                .iter()
+                .any(|node| node.name == spec.name || stands_in(node))
+            {
                 self.missing_node(spec, parent);
             }
         }
@@ -410,7 +415,7 @@ fn kind_words(kind: ValueKind) -> &'static str {
 fn example(spec: &NodeSpec) -> String {
     match (spec.name, spec.args.max) {
         ("pose", _) => r#"pose "rest" { stand }"#.to_owned(),
-        ("component", _) => r#"component "body" mesh="body.obj""#.to_owned(),
+        ("component", _) => r#"component "body" mesh="body.obj"` or `rig "figure.glb""#.to_owned(),
         (name, 3) => format!("{name} x y z"),
         (name, _) => name.to_owned(),
     }

@@ -67,3 +67,25 @@ pub const GRID_TOO_FINE: &str = "ballast::optimize::grid_too_fine";
 pub const SOLUTION_INFILL: &str = "ballast::solution::infill";
 /// A G-code file given to `verify --gcode` has a move word whose value is not a number.
 pub const GCODE_NUMBER: &str = "ballast::gcode::not_a_number";
+/// A `rig` file that cannot be read as glTF.
+pub const RIG_UNREADABLE: &str = "ballast::rig::unreadable";
+/// A `rig`'s `nodes` list names a node the file does not have.
+pub const RIG_UNKNOWN_NODE: &str = "ballast::rig::unknown_node";
+/// A rig part that is not one node: a name several nodes share.
+pub const RIG_AMBIGUOUS_NODE: &str = "ballast::rig::ambiguous_node";
+/// A rig part without a mesh of its own, or a rig scene without mesh nodes.
+pub const RIG_NO_MESH: &str = "ballast::rig::no_mesh";
+/// A mesh node of a rig's scene without a name, which a component needs.
+pub const RIG_UNNAMED_NODE: &str = "ballast::rig::unnamed_node";
+/// A rig part that is a skinned mesh (out of scope: parts are rigid).
+pub const RIG_SKINNED: &str = "ballast::rig::skinned";
+/// A pose's `animation=` that the rig does not have.
+pub const RIG_UNKNOWN_ANIMATION: &str = "ballast::rig::unknown_animation";
+/// A pose's `animation=` in a project without a `rig`.
+pub const RIG_MISSING: &str = "ballast::rig::missing";
+/// A pose's `time=` outside its animation's keys.
+pub const RIG_TIME_OUTSIDE: &str = "ballast::rig::time_outside";
+/// A pose from an animation with several keys and no `time=`.
+pub const RIG_TIME_NEEDED: &str = "ballast::rig::time_needed";
+/// An animation that moves a rig part other than rigidly (scale, shear, mirror, morph weights).
+pub const RIG_NOT_RIGID: &str = "ballast::rig::not_rigid";

@@ -12,6 +12,7 @@ mod mesh_frame;
 pub mod model;
 mod parse;
 mod resolve;
+mod rig;
 mod solution;
 pub mod stock;
 pub(crate) mod syntax;
@@ -21,6 +22,6 @@ mod value;
 pub mod vocabulary;
 
 pub use file::{read_solution_source, read_source};
-pub use parse::{parse_project, Parsed, MAX_PROBLEMS};
+pub use parse::{parse_project, parse_project_with, Parsed, MAX_PROBLEMS};
 pub use solution::{parse_solution, ParsedSolution};
 pub use syntax::MAX_SOURCE_BYTES;

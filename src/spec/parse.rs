@@ -5,7 +5,7 @@
 //! vocabulary, and [`resolve`](super::resolve) builds the project and checks the rules that span
 //! several nodes. Every stage reports all it finds, so one run shows every mistake.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use kdl::KdlDocument;
 
@@ -16,6 +16,7 @@ use super::resolve::resolve;
 use super::syntax;
 use super::vocabulary;
 use crate::diagnostic::Problem;
+use crate::geometry::ReadPolicy;
 
 /// The outcome of reading a project file: the project when there were no errors, and every
 /// problem found.
@@ -25,11 +26,33 @@ pub struct Parsed {
     pub project: Option<Project>,
     /// Every problem found, in source order (problems without a location last).
     pub problems: Vec<Problem>,
+    /// The `rig` file the project names, resolved against its folder, whether or not it could
+    /// be read (so that watch mode follows it while it is broken).
+    pub rig: Option<PathBuf>,
 }
 
 /// Reads the project file `source`, found at `project_path` (against whose folder its relative
-/// paths are resolved). Mesh files are not opened. Never panics, whatever the text.
+/// paths are resolved). Mesh files are not opened; a `rig` file is read (for its nodes and
+/// animations) from inside the project's folder, within the default mesh limits. Never panics,
+/// whatever the text.
 pub fn parse_project(source: &str, project_path: &Path) -> Parsed {
+    parse_project_with(
+        source,
+        project_path,
+        &ReadPolicy::within(folder_of(project_path)),
+    )
+}
+
+/// The folder of the project file (`.` for a bare file name).
+fn folder_of(project_path: &Path) -> &Path {
+    match project_path.parent() {
+        Some(folder) if !folder.as_os_str().is_empty() => folder,
+        _ => Path::new("."),
+    }
+}
+
+/// [`parse_project`], reading a `rig` file only as `policy` allows.
+pub fn parse_project_with(source: &str, project_path: &Path, policy: &ReadPolicy) -> Parsed {
     let document = match syntax::read(source) {
         Ok(document) => document,
         Err(mut problems) => {
@@ -37,6 +60,7 @@ pub fn parse_project(source: &str, project_path: &Path) -> Parsed {
             return Parsed {
                 project: None,
                 problems,
+                rig: None,
             };
         }
     };
@@ -49,7 +73,7 @@ pub fn parse_project(source: &str, project_path: &Path) -> Parsed {
         units,
         &mut problems,
     );
-    let project = resolve(&nodes, units, project_path, &mut problems);
+    let project = resolve(&nodes, units, project_path, policy, &mut problems);
     problems.sort_by_key(|problem| {
         problem
             .labels
@@ -58,7 +82,16 @@ pub fn parse_project(source: &str, project_path: &Path) -> Parsed {
     });
     keep_at_most_max(&mut problems);
     let project = (!problems.iter().any(Problem::is_error)).then_some(project);
-    Parsed { project, problems }
+    let rig = nodes
+        .iter()
+        .find(|node| node.name == "rig")
+        .and_then(|node| node.text_arg())
+        .map(|path| folder_of(project_path).join(path.value));
+    Parsed {
+        project,
+        problems,
+        rig,
+    }
 }
 
 /// The most problems one file's reading keeps; the rest are counted in one last problem.

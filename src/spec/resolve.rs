@@ -16,19 +16,22 @@ use super::model::{
     Axis, Ball, Capsule, Component, FrameSource, Goal, Infill, MassModel, Material, MeshFrame,
     Optimize, Output, Pose, Print, PrintOrientation, Project, Spanned, Units,
 };
+use super::rig::{self, RigSource};
 use super::stock::stock_diameters_mm;
 use super::transform::{compose, rotation, Step};
 use super::tree::Node;
 use super::value::listing;
 use super::vocabulary;
 use crate::diagnostic::Problem;
-use crate::geometry::MeshSelector;
+use crate::geometry::{MeshSelector, ReadPolicy};
 
 /// Builds the project from the checked top-level `nodes`, reporting cross-node problems.
+/// A `rig` is read through `policy`.
 pub fn resolve(
     nodes: &[Node],
     units: Units,
     project_path: &Path,
+    policy: &ReadPolicy,
     problems: &mut Vec<Problem>,
 ) -> Project {
     let folder = project_path.parent().unwrap_or(Path::new(""));
@@ -38,10 +41,11 @@ pub fn resolve(
         up: Axis::Z,
         folder,
         components: Vec::new(),
+        rig: None,
         problems,
     };
     resolver.up = resolver.written_up();
-    resolver.components();
+    resolver.components(policy);
     let poses = resolver.poses();
     let capsules = resolver.capsules();
     let optimize = resolver.optimize(&capsules);
@@ -81,6 +85,7 @@ pub fn resolve_solution(
         up: project.up,
         folder: Path::new(""),
         components: project.components.clone(),
+        rig: None,
         problems,
     };
     let capsules = resolver.capsules();
@@ -95,6 +100,8 @@ struct Resolver<'a> {
     up: Axis,
     folder: &'a Path,
     components: Vec<Component>,
+    /// The `rig`, when there is one and it could be read.
+    rig: Option<RigSource>,
     problems: &'a mut Vec<Problem>,
 }
 
@@ -279,9 +286,18 @@ impl<'a> Resolver<'a> {
         Infill { value, range }
     }
 
-    /// The components, in file order; one per `component` node, so indices match the file.
-    fn components(&mut self) {
-        for node in self.all("component") {
+    /// The components, in file order: one per `component` node, and the parts of the `rig`
+    /// where it is written (read through `policy`).
+    fn components(&mut self, policy: &ReadPolicy) {
+        let nodes = self.nodes;
+        for node in nodes
+            .iter()
+            .filter(|node| matches!(node.name, "component" | "rig"))
+        {
+            if node.name == "rig" {
+                self.rig_components(node, policy);
+                continue;
+            }
             let name = name_among(&self.components, "component", node, self.problems, |c| {
                 &c.name
             });
@@ -319,6 +335,76 @@ impl<'a> Resolver<'a> {
                 span: node.span,
             });
         }
+    }
+
+    /// The parts of the rig `node` names, appended to the components; reports a part named as
+    /// an earlier component.
+    fn rig_components(&mut self, node: &Node, policy: &ReadPolicy) {
+        let Some(path) = node.text_arg() else {
+            return;
+        };
+        let frame = self.mesh_frame(node, Path::new(&path.value));
+        let first = self.components.len();
+        let Some((source, parts)) =
+            rig::read(node, self.folder, frame, policy, first, self.problems)
+        else {
+            return;
+        };
+        for part in parts {
+            if let Some(earlier) = self
+                .components
+                .iter()
+                .find(|component| component.name.value == part.name.value)
+            {
+                self.problems.push(
+                    Problem::error(
+                        codes::DUPLICATE_NAME,
+                        format!("two components are called `{}`", part.name.value),
+                    )
+                    .with_label(part.name.span, "a part of the rig")
+                    .with_label(earlier.name.span, "first named here")
+                    .with_help("rename the component, or list the rig's other nodes with `nodes`"),
+                );
+            }
+            self.components.push(part);
+        }
+        self.rig = Some(source);
+    }
+
+    /// The component transforms a pose's `animation=` gives, when it has one; reports
+    /// `animation=` without a rig and `time=` without `animation=`.
+    fn animated(&mut self, node: &Node) -> Vec<(usize, Isometry3<f64>)> {
+        let Some(animation) = node.text("animation") else {
+            if let Some(time) = node.prop("time") {
+                self.problems.push(
+                    Problem::error(
+                        codes::MISSING_PROPERTY,
+                        "`time=` says when in an animation, but the pose has no `animation=`",
+                    )
+                    .with_label(time.span, "a time in no animation")
+                    .with_help("add `animation=\"name\"`, or remove `time=`"),
+                );
+            }
+            return Vec::new();
+        };
+        let Some(source) = &self.rig else {
+            if self.top("rig").is_none() {
+                self.problems.push(
+                    Problem::error(
+                        codes::RIG_MISSING,
+                        "the pose takes its parts from an animation, but the project has no `rig`",
+                    )
+                    .with_label(animation.span, "an animation of no rig")
+                    .with_help(
+                        "add `rig \"figure.glb\"` to read the parts and animations of a glTF file",
+                    ),
+                );
+            }
+            return Vec::new();
+        };
+        source
+            .animated(node, &animation, self.units, self.up, self.problems)
+            .unwrap_or_default()
     }
 
     /// How a component's mesh coordinates become rest-frame coordinates: `mesh-units=`,
@@ -401,6 +487,9 @@ impl<'a> Resolver<'a> {
         for node in self.all("pose") {
             let name = name_among(&poses, "pose", node, self.problems, |pose| &pose.name);
             let mut component_transforms = vec![Isometry3::identity(); self.components.len()];
+            for (index, transform) in self.animated(node) {
+                component_transforms[index] = transform;
+            }
             let mut moved: Vec<(usize, SourceSpan)> = Vec::new();
             for block in node.children_named("component") {
                 let Some(component) = block.text_arg() else {

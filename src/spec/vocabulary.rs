@@ -293,9 +293,24 @@ pub const DOCUMENT: &[NodeSpec] = &[
         required: true,
     },
     NodeSpec {
+        name: "rig",
+        args: PATH_ARG,
+        props: &[
+            prop("mesh-units", ValueKind::Enum(UNITS)),
+            prop("mesh-up", ValueKind::Enum(AXES)),
+            prop("scale", ValueKind::Positive),
+        ],
+        children: &[leaf("nodes", args(ValueKind::String, 1, usize::MAX), &[])],
+        repeatable: false,
+        required: false,
+    },
+    NodeSpec {
         name: "pose",
         args: NAME_ARG,
-        props: &[],
+        props: &[
+            prop("animation", ValueKind::String),
+            prop("time", ValueKind::NonNegative),
+        ],
         children: POSE_CHILDREN,
         repeatable: true,
         required: true,

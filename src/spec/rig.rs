@@ -1,0 +1,410 @@
+//! The `rig` node: components from the mesh nodes of a glTF file, and the component transforms
+//! of a pose from one of its animations (`pose "wave" animation="Wave" time=1`).
+//!
+//! Each part is its mesh node's mesh, in the node's rest world transform (as a component with
+//! `node=` reads it). In a pose from an animation, a part moves by its node's world transform at
+//! the pose's time times the inverse of its rest transform, turned and scaled from the file's
+//! frame into the rest frame; that must be a rigid motion, or the pose is refused.
+
+use std::path::{Path, PathBuf};
+
+use nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, UnitQuaternion};
+
+use super::codes;
+use super::model::{Axis, Component, MeshFrame, Spanned, Units};
+use super::tree::{Node, Scalar};
+use super::value::listing;
+use super::vocabulary;
+use crate::diagnostic::Problem;
+use crate::geometry::{read_rig, LoadError, MeshSelector, ReadPolicy, Rig};
+
+/// How far a part's motion may be from rigid (in its linear part, per entry) and still count as
+/// rigid: glTF stores transforms in 32-bit floats.
+const RIGID_TOLERANCE: f64 = 1e-4;
+
+/// A rig that was read, and which of its nodes became which components.
+#[derive(Debug)]
+pub(super) struct RigSource {
+    rig: Rig,
+    /// The file, as the `rig` node writes it.
+    path: Spanned<PathBuf>,
+    /// Per part: its node in the rig and its index among the project's components.
+    parts: Vec<(usize, usize)>,
+    frame: MeshFrame,
+}
+
+/// Reads the rig a `rig` node names and returns its parts as components, to be numbered from
+/// `first_index`; `None` (after reporting why) when the file cannot be used. `frame` is how the
+/// file's coordinates become rest-frame coordinates.
+pub(super) fn read(
+    node: &Node,
+    folder: &Path,
+    frame: MeshFrame,
+    policy: &ReadPolicy,
+    first_index: usize,
+    problems: &mut Vec<Problem>,
+) -> Option<(RigSource, Vec<Component>)> {
+    let written = node.text_arg()?;
+    let path = Spanned::new(folder.join(&written.value), written.span);
+    let rig = match read_rig(&path.value, policy) {
+        Ok(rig) => rig,
+        Err(error) => {
+            problems.push(unreadable(&written, &error));
+            return None;
+        }
+    };
+    let chosen = match node.child("nodes") {
+        Some(list) => listed_nodes(&rig, list, problems),
+        None => scene_nodes(&rig, &written, problems),
+    };
+    let mut components: Vec<Component> = Vec::new();
+    let mut parts = Vec::new();
+    for (index, name) in chosen {
+        if let Some(first) = components.iter().find(|c| c.name.value == name.value) {
+            problems.push(
+                Problem::error(
+                    codes::DUPLICATE_NAME,
+                    format!("the rig lists node `{}` twice", name.value),
+                )
+                .with_label(name.span, "listed again here")
+                .with_label(first.name.span, "first listed here")
+                .with_help("list each node once"),
+            );
+            continue;
+        }
+        if rig.nodes[index].skinned {
+            problems.push(
+                Problem::error(
+                    codes::RIG_SKINNED,
+                    format!(
+                        "node `{}` of the rig is a skinned mesh, which bends with its joints",
+                        name.value
+                    ),
+                )
+                .with_label(name.span, "skinned")
+                .with_help(
+                    "a rig's parts must be rigid: in the editor, separate the mesh into one \
+                     object per part and parent each to its bone (Blender: Ctrl+P, Bone) instead \
+                     of an armature modifier",
+                ),
+            );
+            continue;
+        }
+        parts.push((index, first_index + components.len()));
+        components.push(Component {
+            name: name.clone(),
+            mesh: path.clone(),
+            selector: MeshSelector::GltfNode(name.value),
+            frame: frame.clone(),
+            print: None,
+            span: node.span,
+        });
+    }
+    let source = RigSource {
+        rig,
+        path,
+        parts,
+        frame,
+    };
+    Some((source, components))
+}
+
+/// The nodes a `nodes` list names, each with the span of its name; reports names the rig does
+/// not have, names two nodes share, and nodes without a mesh.
+fn listed_nodes(
+    rig: &Rig,
+    list: &Node,
+    problems: &mut Vec<Problem>,
+) -> Vec<(usize, Spanned<String>)> {
+    let mut chosen = Vec::new();
+    for value in list.args.iter().flatten() {
+        let Scalar::Text(name) = &value.scalar else {
+            continue;
+        };
+        let name = Spanned::new(name.clone(), value.span);
+        let found: Vec<usize> = (0..rig.nodes.len())
+            .filter(|&index| rig.nodes[index].name.as_deref() == Some(name.value.as_str()))
+            .collect();
+        match found.as_slice() {
+            [index] if rig.nodes[*index].has_mesh => chosen.push((*index, name)),
+            [_] => problems.push(
+                Problem::error(
+                    codes::RIG_NO_MESH,
+                    format!("node `{}` of the rig has no mesh of its own", name.value),
+                )
+                .with_label(name.span, "no mesh")
+                .with_help(format!(
+                    "list the mesh nodes that hang under it: the rig's mesh nodes are {}",
+                    mesh_names(rig)
+                )),
+            ),
+            [] => problems.push(unknown_node(rig, &name)),
+            many => problems.push(
+                Problem::error(
+                    codes::RIG_AMBIGUOUS_NODE,
+                    format!(
+                        "{} nodes of the rig are called `{}`",
+                        many.len(),
+                        name.value
+                    ),
+                )
+                .with_label(name.span, "more than one node")
+                .with_help("give each node its own name in the editor"),
+            ),
+        }
+    }
+    chosen
+}
+
+/// The mesh nodes of the rig's scene, each spanned by the rig's path; reports unnamed ones
+/// (a component needs a name) and a scene without meshes.
+fn scene_nodes(
+    rig: &Rig,
+    written: &Spanned<String>,
+    problems: &mut Vec<Problem>,
+) -> Vec<(usize, Spanned<String>)> {
+    if rig.scene_meshes.is_empty() {
+        problems.push(
+            Problem::error(
+                codes::RIG_NO_MESH,
+                format!("the scene of `{}` has no mesh nodes", written.value),
+            )
+            .with_label(written.span, "no parts")
+            .with_help("a rig's parts are the mesh nodes of its default scene"),
+        );
+    }
+    let mut chosen = Vec::new();
+    for &index in &rig.scene_meshes {
+        match &rig.nodes[index].name {
+            Some(name) => chosen.push((index, Spanned::new(name.clone(), written.span))),
+            None => problems.push(
+                Problem::error(
+                    codes::RIG_UNNAMED_NODE,
+                    format!("mesh node {index} of `{}` has no name", written.value),
+                )
+                .with_label(written.span, "in this rig")
+                .with_help("every part becomes a component named after its node: name the node in the editor, or list the parts with `nodes`"),
+            ),
+        }
+    }
+    let names: Vec<&str> = chosen.iter().map(|(_, name)| name.value.as_str()).collect();
+    for (position, name) in names.iter().enumerate() {
+        if names[..position].contains(name) {
+            problems.push(
+                Problem::error(
+                    codes::RIG_AMBIGUOUS_NODE,
+                    format!(
+                        "several mesh nodes of `{}` are called `{name}`",
+                        written.value
+                    ),
+                )
+                .with_label(written.span, "in this rig")
+                .with_help("give each node its own name in the editor"),
+            );
+        }
+    }
+    chosen
+}
+
+fn mesh_names(rig: &Rig) -> String {
+    let names: Vec<&str> = rig
+        .nodes
+        .iter()
+        .filter(|node| node.has_mesh)
+        .filter_map(|node| node.name.as_deref())
+        .collect();
+    if names.is_empty() {
+        return "none".to_owned();
+    }
+    listing(&names, |name| format!("`{name}`"), "and")
+}
+
+fn unknown_node(rig: &Rig, name: &Spanned<String>) -> Problem {
+    let known = rig.nodes.iter().filter_map(|node| node.name.as_deref());
+    let help = match vocabulary::suggest(&name.value, known) {
+        Some(close) => format!("did you mean `{close}`?"),
+        None => format!("the rig's mesh nodes are {}", mesh_names(rig)),
+    };
+    Problem::error(
+        codes::RIG_UNKNOWN_NODE,
+        format!("the rig has no node called `{}`", name.value),
+    )
+    .with_label(name.span, "not a node of the rig")
+    .with_help(help)
+}
+
+fn unreadable(written: &Spanned<String>, error: &LoadError) -> Problem {
+    let (message, help) = match error {
+        LoadError::NotFound { .. } => (
+            format!("rig file `{}` does not exist", written.value),
+            "paths are relative to the folder of the project file",
+        ),
+        LoadError::OutsideFolder { .. } => (
+            format!(
+                "rig file `{}` is outside the project's folder",
+                written.value
+            ),
+            "move the file into the project's folder, or pass `--read-outside`",
+        ),
+        other => (
+            format!("cannot read rig `{}`: {other}", written.value),
+            "a rig is a glTF (.gltf) or binary glTF (.glb) file",
+        ),
+    };
+    Problem::error(codes::RIG_UNREADABLE, message)
+        .with_label(written.span, "this rig")
+        .with_help(help)
+}
+
+impl RigSource {
+    /// The component transforms (component index, rest frame to model frame) of the pose
+    /// `pose`, whose `animation=` is `animation`; `None` after reporting an unknown animation, a
+    /// missing or out-of-range time, or a part the animation does not move rigidly.
+    pub(super) fn animated(
+        &self,
+        pose: &Node,
+        animation: &Spanned<String>,
+        units: Units,
+        up: Axis,
+        problems: &mut Vec<Problem>,
+    ) -> Option<Vec<(usize, Isometry3<f64>)>> {
+        let rig = &self.rig;
+        let Some(index) = rig
+            .animations
+            .iter()
+            .position(|a| a.name.as_deref() == Some(animation.value.as_str()))
+        else {
+            problems.push(self.unknown_animation(animation));
+            return None;
+        };
+        let clip = &rig.animations[index];
+        let time = match pose.prop("time").zip(pose.number("time")) {
+            Some((value, time)) => {
+                let slack = 1e-6 * (1.0 + clip.end.abs());
+                let has_keys = clip.most_keys > 0;
+                if has_keys && (time < clip.start - slack || time > clip.end + slack) {
+                    problems.push(
+                        Problem::error(
+                            codes::RIG_TIME_OUTSIDE,
+                            format!(
+                                "time {time} s is outside animation `{}`, which runs from {} s to {} s",
+                                animation.value, clip.start, clip.end
+                            ),
+                        )
+                        .with_label(value.span, "outside the animation")
+                        .with_help(format!(
+                            "give a time from {} to {} (seconds)",
+                            clip.start, clip.end
+                        )),
+                    );
+                    return None;
+                }
+                time
+            }
+            None if clip.most_keys > 1 => {
+                problems.push(
+                    Problem::error(
+                        codes::RIG_TIME_NEEDED,
+                        format!(
+                            "animation `{}` has keys from {} s to {} s: the pose must say when",
+                            animation.value, clip.start, clip.end
+                        ),
+                    )
+                    .with_label(animation.span, "more than one key")
+                    .with_help(format!(
+                        "add `time=` in seconds, e.g. `time={}`, or give the animation a single \
+                         (STEP) key",
+                        clip.end
+                    )),
+                );
+                return None;
+            }
+            None if clip.most_keys == 1 => clip.start,
+            None => 0.0,
+        };
+        let posed = rig.posed(index, time);
+        let morphed: Vec<usize> = clip.morphed_nodes().collect();
+        let turn = self.frame.rotation(up);
+        let factor = self.frame.factor(units);
+        let mut transforms = Vec::new();
+        let mut rigid = true;
+        for &(node, component) in &self.parts {
+            let name = rig.nodes[node].name.as_deref().unwrap_or("");
+            let motion = rig.nodes[node]
+                .rest
+                .try_inverse()
+                .map(|rest_inverse| posed[node] * rest_inverse);
+            let linear: Option<Matrix3<f64>> =
+                motion.map(|m| m.fixed_view::<3, 3>(0, 0).into_owned());
+            let is_rigid = linear.is_some_and(|l| {
+                (l.transpose() * l - Matrix3::identity()).amax() < RIGID_TOLERANCE
+                    && l.determinant() > 0.0
+            });
+            if !is_rigid || morphed.contains(&node) {
+                let what = if morphed.contains(&node) {
+                    "changes the morph target weights of"
+                } else {
+                    "scales, shears or mirrors"
+                };
+                problems.push(
+                    Problem::error(
+                        codes::RIG_NOT_RIGID,
+                        format!(
+                            "animation `{}` at {time} s {what} part `{name}`: a printed part \
+                             only moves rigidly",
+                            animation.value
+                        ),
+                    )
+                    .with_label(animation.span, "this animation")
+                    .with_label(self.path.span, "in this rig")
+                    .with_help(
+                        "key only the rotation and location of the part's bones, and keep their \
+                         scale at 1",
+                    ),
+                );
+                rigid = false;
+                continue;
+            }
+            let (Some(motion), Some(linear)) = (motion, linear) else {
+                continue;
+            };
+            let turned = turn.matrix() * linear * turn.matrix().transpose();
+            let rotation = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_eps(
+                &turned,
+                1e-12,
+                100,
+                Rotation3::identity(),
+            ));
+            let shift = turn * motion.fixed_view::<3, 1>(0, 3).into_owned() * factor;
+            transforms.push((
+                component,
+                Isometry3::from_parts(Translation3::from(shift), rotation),
+            ));
+        }
+        rigid.then_some(transforms)
+    }
+
+    fn unknown_animation(&self, animation: &Spanned<String>) -> Problem {
+        let known: Vec<&str> = self
+            .rig
+            .animations
+            .iter()
+            .filter_map(|a| a.name.as_deref())
+            .collect();
+        let help = match vocabulary::suggest(&animation.value, known.iter().copied()) {
+            Some(close) => format!("did you mean `{close}`?"),
+            None if known.is_empty() => "the rig has no named animations".to_owned(),
+            None => format!(
+                "the rig's animations are {}",
+                listing(&known, |name| format!("`{name}`"), "and")
+            ),
+        };
+        Problem::error(
+            codes::RIG_UNKNOWN_ANIMATION,
+            format!("the rig has no animation called `{}`", animation.value),
+        )
+        .with_label(animation.span, "not an animation of the rig")
+        .with_label(self.path.span, "this rig")
+        .with_help(help)
+    }
+}

@@ -1,0 +1,329 @@
+//! A rig: components from a glTF file's mesh nodes, poses from its animations. A project read
+//! from a rig must give the report of the same project written by hand (components by `node=`,
+//! each pose's part moved by a `component` block about its joint); its mistakes are diagnostics
+//! with spans.
+
+mod rig_support;
+
+use std::fs;
+use std::path::Path;
+
+use ballast::compile::{compile, Compilation, Report};
+use rig_support::{figure, figure_animations, rig_glb, turn, Animation, Channel, Joint};
+
+fn compiled(folder: &Path, source: &str) -> Result<Compilation, Vec<ballast::diagnostic::Problem>> {
+    let path = folder.join("model.kdl");
+    fs::write(&path, source).unwrap();
+    compile(source, &path)
+}
+
+fn report(folder: &Path, compilation: &Compilation) -> serde_json::Value {
+    serde_json::from_str(&Report::new(compilation, &folder.join("model.kdl")).to_json()).unwrap()
+}
+
+/// Whether two reports agree: the same keys, strings and flags, and numbers within `1e-6` of
+/// their size (the rig's turns are 32-bit floats, the hand-written ones 64-bit).
+fn agree(a: &serde_json::Value, b: &serde_json::Value, at: &str) -> Result<(), String> {
+    use serde_json::Value;
+    match (a, b) {
+        (Value::Number(x), Value::Number(y)) => {
+            let (x, y) = (x.as_f64().unwrap(), y.as_f64().unwrap());
+            if (x - y).abs() <= 1e-6 * (1.0 + x.abs().max(y.abs())) {
+                Ok(())
+            } else {
+                Err(format!("{at}: {x} against {y}"))
+            }
+        }
+        (Value::Array(x), Value::Array(y)) if x.len() == y.len() => x
+            .iter()
+            .zip(y)
+            .enumerate()
+            .try_for_each(|(i, (x, y))| agree(x, y, &format!("{at}[{i}]"))),
+        (Value::Object(x), Value::Object(y)) if x.len() == y.len() => {
+            x.iter().try_for_each(|(k, v)| {
+                let other = y.get(k).ok_or(format!("{at}.{k}: missing"))?;
+                agree(v, other, &format!("{at}.{k}"))
+            })
+        }
+        _ if a == b => Ok(()),
+        _ => Err(format!("{at}: {a} against {b}")),
+    }
+}
+
+const HEADER: &str = r#"units mm
+up z
+material "PLA" density=1.24
+print model="uniform"
+ball { diameters 8; }
+capsule "weight" component="Torso" radius=4.2 {
+    from -10 0 62
+    to 10 0 70
+}
+"#;
+
+/// The figure's rig project: its six parts from the rig, four poses from its animations.
+const RIG_POSES: &str = r#"rig "figure.glb"
+pose "stand" { stand margin=1 }
+pose "wave" animation="Wave" time=1 { stand margin=1; }
+pose "half wave" animation="Wave" time=0.5 { stand margin=1; }
+pose "reach" animation="Reach" { stand margin=1; }
+"#;
+
+/// The same by hand: the joints at their rest positions in the project's frame (glTF's
+/// `(x, y, z)` metres is `(1000 x, −1000 z, 1000 y)` here), a turn about glTF's +Z is one about
+/// −Y here, about +X one about +X.
+const HAND_POSES: &str = r#"component "Torso" mesh="figure.glb" node="Torso"
+component "Head" mesh="figure.glb" node="Head"
+component "Arm.L" mesh="figure.glb" node="Arm.L"
+component "Arm.R" mesh="figure.glb" node="Arm.R"
+component "Leg.L" mesh="figure.glb" node="Leg.L"
+component "Leg.R" mesh="figure.glb" node="Leg.R"
+pose "stand" { stand margin=1 }
+pose "wave" {
+    component "Arm.R" {
+        pivot -20 0 85
+        rotate 0 150 0
+    }
+    stand margin=1
+}
+pose "half wave" {
+    component "Arm.R" {
+        pivot -20 0 85
+        rotate 0 75 0
+    }
+    stand margin=1
+}
+pose "reach" {
+    component "Arm.L" {
+        pivot 20 0 85
+        rotate -90 0 0
+    }
+    component "Arm.R" {
+        pivot -20 0 85
+        rotate -90 0 0
+    }
+    stand margin=1
+}
+"#;
+
+fn figure_folder() -> tempfile::TempDir {
+    let folder = tempfile::tempdir().unwrap();
+    fs::write(
+        folder.path().join("figure.glb"),
+        rig_glb(&figure(), &figure_animations()),
+    )
+    .unwrap();
+    folder
+}
+
+#[test]
+fn a_rig_with_animated_poses_reports_as_the_project_written_by_hand() {
+    let rigged_folder = figure_folder();
+    let hand_folder = figure_folder();
+    let rigged = compiled(rigged_folder.path(), &format!("{HEADER}{RIG_POSES}")).unwrap();
+    let hand = compiled(hand_folder.path(), &format!("{HEADER}{HAND_POSES}")).unwrap();
+    let names: Vec<&str> = rigged
+        .project
+        .components
+        .iter()
+        .map(|c| c.name.value.as_str())
+        .collect();
+    assert_eq!(names, ["Torso", "Head", "Arm.L", "Arm.R", "Leg.L", "Leg.R"]);
+    // The poses differ: the arms move the centre of mass.
+    let com = |c: &Compilation, pose: usize| c.poses[pose].centre_of_mass;
+    assert!((com(&rigged, 0)[2] - com(&rigged, 1)[2]).abs() > 0.5);
+    assert!((com(&rigged, 0)[1] - com(&rigged, 3)[1]).abs() > 0.5);
+    agree(
+        &report(rigged_folder.path(), &rigged),
+        &report(hand_folder.path(), &hand),
+        "report",
+    )
+    .unwrap();
+}
+
+#[test]
+fn a_rig_in_metres_weighs_its_boxes_in_a_millimetre_project() {
+    let folder = figure_folder();
+    let source = "units mm\nmaterial \"PLA\" density=1.25\nprint model=\"uniform\"\n\
+                  rig \"figure.glb\" { nodes \"Torso\" \"Head\"; }\npose \"p\"\n";
+    let compilation = compiled(folder.path(), source).unwrap();
+    // Closed form: 40 × 40 × 24 mm and 24 × 24 × 24 mm of 1.25 g/cm³.
+    let expected = 1.25 * (40.0 * 40.0 * 24.0 + 24.0 * 24.0 * 24.0) / 1000.0;
+    let mass = compilation.poses[0].mass;
+    assert!(
+        (mass - expected).abs() < 1e-6 * expected,
+        "{mass} g, not {expected} g"
+    );
+    assert_eq!(compilation.project.components.len(), 2);
+}
+
+#[test]
+fn a_transform_written_in_a_pose_overrides_the_animation() {
+    let rigged_folder = figure_folder();
+    let hand_folder = figure_folder();
+    let rig = r#"rig "figure.glb"
+pose "reach one" animation="Reach" {
+    component "Arm.L" { }
+    stand
+}
+"#;
+    let hand = r#"rig "figure.glb"
+pose "reach one" {
+    component "Arm.R" {
+        pivot -20 0 85
+        rotate -90 0 0
+    }
+    stand
+}
+"#;
+    let rigged = compiled(rigged_folder.path(), &format!("{HEADER}{rig}")).unwrap();
+    let by_hand = compiled(hand_folder.path(), &format!("{HEADER}{hand}")).unwrap();
+    agree(
+        &report(rigged_folder.path(), &rigged),
+        &report(hand_folder.path(), &by_hand),
+        "report",
+    )
+    .unwrap();
+}
+
+/// The codes of the problems `source` gives, with the text each first label points at.
+fn problems(folder: &Path, source: &str) -> Vec<(String, String, String)> {
+    let problems = compiled(folder, source).expect_err("the project is invalid");
+    problems
+        .iter()
+        .map(|problem| {
+            let text = problem.labels.first().map_or(String::new(), |(span, _)| {
+                source[span.offset()..span.offset() + span.len()].to_owned()
+            });
+            (
+                problem.code.to_string(),
+                text,
+                problem.help.clone().unwrap_or_default(),
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn unknown_names_and_times_are_diagnostics_on_their_text() {
+    let folder = figure_folder();
+    let source = r#"rig "figure.glb" { nodes "Torso" "Haed"; }
+pose "a" animation="Wvae" time=0.5 { stand; }
+pose "b" animation="Wave" time=3 { stand; }
+pose "c" animation="Wave" { stand; }
+pose "d" time=1 { stand; }
+"#;
+    let found = problems(folder.path(), source);
+    let expect = [
+        (
+            "ballast::rig::unknown_node",
+            "\"Haed\"",
+            "did you mean `Head`?",
+        ),
+        (
+            "ballast::rig::unknown_animation",
+            "\"Wvae\"",
+            "did you mean `Wave`?",
+        ),
+        (
+            "ballast::rig::time_outside",
+            "3",
+            "give a time from 0 to 1 (seconds)",
+        ),
+        ("ballast::rig::time_needed", "\"Wave\"", ""),
+        ("ballast::missing_property", "1", ""),
+    ];
+    assert_eq!(found.len(), expect.len(), "{found:#?}");
+    for ((code, text, help), (want_code, want_text, want_help)) in found.iter().zip(expect) {
+        assert_eq!((code.as_str(), text.as_str()), (want_code, want_text));
+        assert!(help.starts_with(want_help), "{help}");
+    }
+}
+
+#[test]
+fn an_animation_without_a_rig_and_a_missing_rig_file_are_diagnostics() {
+    let folder = tempfile::tempdir().unwrap();
+    let found = problems(
+        folder.path(),
+        "component \"a\" mesh=\"a.obj\"\npose \"p\" animation=\"Wave\"\n",
+    );
+    assert!(found
+        .iter()
+        .any(|(code, text, _)| code == "ballast::rig::missing" && text == "\"Wave\""));
+    let found = problems(folder.path(), "rig \"none.glb\"\npose \"p\"\n");
+    assert_eq!(found[0].0, "ballast::rig::unreadable");
+    assert_eq!(found[0].1, "\"none.glb\"");
+}
+
+#[test]
+fn a_scaling_animation_and_a_skinned_part_are_refused() {
+    let folder = tempfile::tempdir().unwrap();
+    let mut joints = vec![
+        Joint::new("Base", None, [0.0, 0.0, 0.0], Some([[0.0; 3], [0.02; 3]])),
+        Joint::new("Skin", None, [0.05, 0.0, 0.0], Some([[0.0; 3], [0.02; 3]])),
+    ];
+    joints[1].skinned = true;
+    let animations = [
+        Animation {
+            name: "Grow",
+            channels: vec![Channel {
+                joint: 0,
+                path: "scale",
+                interpolation: "STEP",
+                times: vec![0.0],
+                values: vec![2.0, 2.0, 2.0],
+            }],
+        },
+        Animation {
+            name: "Spin",
+            channels: vec![Channel {
+                joint: 0,
+                path: "rotation",
+                interpolation: "STEP",
+                times: vec![0.0],
+                values: turn([0.0, 1.0, 0.0], 90.0).to_vec(),
+            }],
+        },
+    ];
+    fs::write(folder.path().join("r.glb"), rig_glb(&joints, &animations)).unwrap();
+    let found = problems(
+        folder.path(),
+        "rig \"r.glb\"\npose \"grow\" animation=\"Grow\"\npose \"spin\" animation=\"Spin\"\n",
+    );
+    let codes: Vec<(&str, &str)> = found
+        .iter()
+        .map(|(code, text, _)| (code.as_str(), text.as_str()))
+        .collect();
+    assert_eq!(
+        codes,
+        [
+            ("ballast::rig::skinned", "\"r.glb\""),
+            ("ballast::rig::not_rigid", "\"Grow\""),
+        ]
+    );
+}
+
+#[test]
+fn a_part_named_as_a_component_is_a_duplicate_name() {
+    let folder = figure_folder();
+    fs::write(folder.path().join("a.obj"), "").unwrap();
+    let found = problems(
+        folder.path(),
+        "component \"Head\" mesh=\"a.obj\"\nrig \"figure.glb\"\npose \"p\"\n",
+    );
+    assert_eq!(found[0].0, "ballast::duplicate_name");
+}
+
+#[test]
+fn the_example_figure_is_the_rig_the_tests_build() {
+    // `examples/meshes/figure.glb` is written by this test with `BALLAST_BLESS` set.
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/meshes/figure.glb");
+    let built = rig_glb(&figure(), &figure_animations());
+    if std::env::var_os("BALLAST_BLESS").is_some() {
+        fs::write(&path, &built).unwrap();
+    }
+    assert!(
+        fs::read(&path).unwrap() == built,
+        "run with BALLAST_BLESS=1 to rewrite it"
+    );
+}
