@@ -290,6 +290,11 @@ fn optimize_from(
             })
             .collect();
         let starts = [seeds_for(&seeds, &candidates[chosen]), seeds.clone()];
+        let achieved: Vec<Vec<GoalRef>> = candidates
+            .iter()
+            .filter(|c| c.outcome.fabrication.is_empty())
+            .map(|c| goals_met(&c.outcome))
+            .collect();
         explain_conflicts(
             project,
             meshes,
@@ -297,6 +302,7 @@ fn optimize_from(
             &interior,
             &starts,
             &unmet,
+            &achieved,
             &workspace.cancel,
         )
         .iter()
@@ -479,6 +485,22 @@ fn named(
         });
     }
     (design, origins)
+}
+
+/// The goals `outcome` meets, pose by pose.
+fn goals_met(outcome: &Outcome) -> Vec<GoalRef> {
+    outcome
+        .poses
+        .iter()
+        .enumerate()
+        .flat_map(|(pose, p)| {
+            p.goals
+                .iter()
+                .enumerate()
+                .filter(|(_, g)| g.met)
+                .map(move |(goal, _)| GoalRef { pose, goal })
+        })
+        .collect()
 }
 
 /// The start for explaining conflicts: the chosen candidate's capsules where the heuristic left

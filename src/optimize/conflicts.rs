@@ -31,11 +31,20 @@ pub struct Conflict {
     pub shortfall: f64,
 }
 
+/// The most sets of goals [`explain`] optimizes; the sets past it are taken as met (so no
+/// conflict is named without a solve showing it).
+pub const MAX_EXPLANATION_SOLVES: usize = 24;
+
 /// Explains why the goals `unmet` (of `project`) were not met by optimizing for smaller sets of
 /// goals: first each goal of the project alone, then each unmet goal paired with every other goal
 /// that can be met alone. Each set of goals is optimized from every one of `starts` (e.g. the
 /// chosen design and the seeds), keeping the best. Returns the goals unreachable alone, then the
 /// pairs that conflict, in project order.
+///
+/// `achieved` holds, per printable design the search already judged, the goals it meets: a set
+/// of goals within one of them is met without a solve. At most [`MAX_EXPLANATION_SOLVES`] sets
+/// are optimized, in the order above.
+#[allow(clippy::too_many_arguments)]
 pub fn explain(
     project: &Project,
     meshes: &[TriMesh],
@@ -43,6 +52,7 @@ pub fn explain(
     interior: &Arc<GridInterior>,
     starts: &[Vec<StartCapsule>],
     unmet: &[GoalRef],
+    achieved: &[Vec<GoalRef>],
     cancel: &Cancel,
 ) -> Vec<Conflict> {
     let all: Vec<GoalRef> = project
@@ -51,7 +61,15 @@ pub fn explain(
         .enumerate()
         .flat_map(|(pose, p)| (0..p.goals.len()).map(move |goal| GoalRef { pose, goal }))
         .collect();
+    let solves = std::cell::Cell::new(0);
     let attempt = |goals: &[GoalRef]| -> (bool, f64) {
+        let known = achieved
+            .iter()
+            .any(|met| goals.iter().all(|goal| met.contains(goal)));
+        if known || solves.get() >= MAX_EXPLANATION_SOLVES {
+            return (true, f64::NEG_INFINITY);
+        }
+        solves.set(solves.get() + 1);
         let only = with_only(project, goals);
         let problem = Problem::new(&only, meshes, prints, interior.clone(), Method::Hybrid)
             .with_cancel(cancel.clone());
