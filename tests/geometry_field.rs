@@ -203,3 +203,38 @@ fn hammer_signs() {
     assert!(inside > 3, "only {inside} probes inside");
     assert!(grid.value(&(hi + (hi - lo))) > 0.0);
 }
+
+#[test]
+fn every_node_holds_the_tree_distance_bit_for_bit() {
+    // The distances are found block by block (the triangles near a block once): each node's
+    // magnitude must still be exactly the tree's distance, deep inside, near and far outside.
+    let hammer =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/meshes/hammer.obj");
+    let meshes = [
+        icosphere(2, 1.0, Point3::origin()),
+        box_mesh(2.0, 1.0, 0.5),
+        load_mesh(&hammer, &MeshSelector::Whole).expect("hammer loads"),
+    ];
+    for mesh in &meshes {
+        let (lo, hi) = mesh.bounding_box().expect("positions");
+        let cell = (hi - lo).max() / 23.0;
+        let grid = DistanceGrid::new(mesh, cell);
+        let tree = TriangleTree::new(mesh);
+        let [nx, ny, nz] = grid.dims();
+        for k in 0..nz {
+            for j in 0..ny {
+                for i in 0..nx {
+                    let p = grid.node([i, j, k]);
+                    let value = grid.node_value([i, j, k]).expect("in the grid");
+                    assert_eq!(
+                        value.abs().to_bits(),
+                        tree.distance_to_point(&p).to_bits(),
+                        "node {:?} of a mesh of {} triangles",
+                        [i, j, k],
+                        mesh.triangles.len()
+                    );
+                }
+            }
+        }
+    }
+}

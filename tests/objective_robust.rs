@@ -281,3 +281,35 @@ fn the_constraints_are_counted_by_the_layout_and_the_goals() {
     let moved: Vec<f64> = x.iter().map(|v| v * 0.5).collect();
     assert_eq!(objective.constraints(&moved).len(), expected);
 }
+
+#[test]
+fn an_immersion_without_capsules_gives_finite_results() {
+    // The design the heuristic's last round reaches: no capsule, the infill fixed, so the
+    // design vector is empty and the centre of mass can sit right on the centre of buoyancy.
+    for infill in [1.0, 0.15, 0.0] {
+        let mut project = box_project(Isometry3::identity(), vec![immerse(1.0, 1.0, Some(1.0))]);
+        project.infill.value = infill;
+        let empty = Design {
+            capsules: vec![],
+            infill,
+        };
+        let objective = objective(
+            &project,
+            &[tall_box()],
+            &empty,
+            Parameters::for_project(&project),
+        );
+        assert_finite(&objective, &[]);
+        assert!(objective.value(&[]).is_finite(), "infill {infill}");
+    }
+}
+
+#[test]
+fn the_smooth_max_of_an_infinite_value_is_that_value() {
+    assert_eq!(smooth_max(&[1.0, f64::INFINITY], 100.0), f64::INFINITY);
+    assert_eq!(
+        smooth_max(&[f64::NEG_INFINITY; 2], 100.0),
+        f64::NEG_INFINITY
+    );
+    assert_eq!(smooth_max(&[f64::NEG_INFINITY, 1.0], 100.0), 1.0);
+}

@@ -310,6 +310,14 @@ fn optimize_from(
             starts: &starts,
             written: &written,
         };
+        let achieved: Vec<Vec<GoalRef>> = candidates
+            .iter()
+            .enumerate()
+            .filter(|(i, c)| {
+                (requested.is_none() || *i == chosen) && c.outcome.fabrication.is_empty()
+            })
+            .map(|(_, c)| goals_met(&c.outcome))
+            .collect();
         explain_conflicts(
             project,
             meshes,
@@ -318,6 +326,7 @@ fn optimize_from(
             &interior,
             &space,
             &unmet,
+            &achieved,
             &workspace.cancel,
         )
         .iter()
@@ -501,6 +510,22 @@ fn named(
         });
     }
     (design, origins)
+}
+
+/// The goals `outcome` meets, pose by pose.
+fn goals_met(outcome: &Outcome) -> Vec<GoalRef> {
+    outcome
+        .poses
+        .iter()
+        .enumerate()
+        .flat_map(|(pose, p)| {
+            p.goals
+                .iter()
+                .enumerate()
+                .filter(|(_, g)| g.met)
+                .map(move |(goal, _)| GoalRef { pose, goal })
+        })
+        .collect()
 }
 
 /// The starts for explaining conflicts, all in the design space the build searched: with a

@@ -127,6 +127,49 @@ impl TriangleTree {
         )
     }
 
+    /// [`distance_to_point`](Self::distance_to_point) when the distance is known to be below
+    /// `bound` (which only prunes the search sooner): the same value, bit for bit, as long as
+    /// the bound holds; `bound` itself when no triangle is nearer than it.
+    pub(crate) fn distance_to_point_below(&self, p: &Point3<f64>, bound: f64) -> f64 {
+        self.nearest_below(
+            bound,
+            |bounds| bounds.distance_to_point(p),
+            |tri| point_triangle_distance(p, tri),
+        )
+    }
+
+    /// Appends to `out` the index (into [`triangles`](Self::triangles)) of every triangle whose
+    /// bounding box lies within `reach` of the box `lo`–`hi`: every triangle that can be nearer
+    /// than `reach` to some point of the box. In leaf order.
+    pub(crate) fn triangles_near_box(
+        &self,
+        lo: &Point3<f64>,
+        hi: &Point3<f64>,
+        reach: f64,
+        out: &mut Vec<usize>,
+    ) {
+        if self.nodes.is_empty() {
+            return;
+        }
+        let query = Aabb { lo: *lo, hi: *hi };
+        let mut stack = vec![0];
+        while let Some(index) = stack.pop() {
+            let node = &self.nodes[index];
+            if node.bounds.distance_to_box(&query) > reach {
+                continue;
+            }
+            match node.children {
+                Some([left, right]) => {
+                    stack.push(right);
+                    stack.push(left);
+                }
+                None => out.extend((node.first..node.first + node.count).filter(|&t| {
+                    Aabb::of_triangle(&self.triangles[t]).distance_to_box(&query) <= reach
+                })),
+            }
+        }
+    }
+
     /// Distance from the segment `a`–`b` to the surface: 0 when it crosses the surface (`+∞`
     /// without triangles).
     pub fn distance_to_segment(&self, a: &Point3<f64>, b: &Point3<f64>) -> f64 {
@@ -148,7 +191,17 @@ impl TriangleTree {
         lower_bound: impl Fn(&Aabb) -> f64,
         exact: impl Fn(&[Point3<f64>; 3]) -> f64,
     ) -> f64 {
-        let mut best = f64::INFINITY;
+        self.nearest_below(f64::INFINITY, lower_bound, exact)
+    }
+
+    /// [`nearest`](Self::nearest), starting from `bound` as the best so far.
+    fn nearest_below(
+        &self,
+        bound: f64,
+        lower_bound: impl Fn(&Aabb) -> f64,
+        exact: impl Fn(&[Point3<f64>; 3]) -> f64,
+    ) -> f64 {
+        let mut best = bound;
         if self.nodes.is_empty() {
             return best;
         }

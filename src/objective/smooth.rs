@@ -11,7 +11,7 @@ use super::scalar::{Scalar, V3};
 /// It bounds the true maximum from above and exceeds it by at most `ln(n) / s` for `n` values,
 /// so it tends to the maximum as `s` grows. Every value gets a positive weight in the gradient
 /// (the weights are a softmax and sum to 1). An empty list gives 0; a sharpness that is not
-/// positive and finite gives the plain maximum.
+/// positive and finite, or an infinite largest value, gives the plain maximum.
 pub fn smooth_max<D: Scalar>(values: &[D], sharpness: f64) -> D {
     let Some(largest) = values
         .iter()
@@ -19,7 +19,8 @@ pub fn smooth_max<D: Scalar>(values: &[D], sharpness: f64) -> D {
     else {
         return D::from(0.0);
     };
-    if !(sharpness > 0.0 && sharpness.is_finite()) {
+    // An infinite largest value is the maximum (shifting by it would give ∞ − ∞ = NaN).
+    if !(sharpness > 0.0 && sharpness.is_finite()) || largest.re().is_infinite() {
         return largest.clone();
     }
     let shift = largest.re();

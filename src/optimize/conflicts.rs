@@ -32,6 +32,10 @@ pub struct Conflict {
     pub shortfall: f64,
 }
 
+/// The most sets of goals [`explain`] optimizes; the sets past it are taken as met (so no
+/// conflict is named without a solve showing it).
+pub const MAX_EXPLANATION_SOLVES: usize = 24;
+
 /// The design space a build searches, which the explanation searches too.
 pub struct Space<'a> {
     /// The starts, each a design of the space (e.g. the capsule count asked for): the heuristic's
@@ -48,6 +52,10 @@ pub struct Space<'a> {
 /// exactly the space the build searched, such as the capsule count asked for), keeping the best,
 /// each design judged as the solution file would hold it. Returns the goals unreachable alone,
 /// then the pairs that conflict, in project order.
+///
+/// `achieved` holds, per printable design the search already judged, the goals it meets: a set
+/// of goals within one of them is met without a solve. At most [`MAX_EXPLANATION_SOLVES`] sets
+/// are optimized, in the order above.
 #[allow(clippy::too_many_arguments)]
 pub fn explain(
     project: &Project,
@@ -57,6 +65,7 @@ pub fn explain(
     interior: &Arc<GridInterior>,
     space: &Space,
     unmet: &[GoalRef],
+    achieved: &[Vec<GoalRef>],
     cancel: &Cancel,
 ) -> Vec<Conflict> {
     let all: Vec<GoalRef> = project
@@ -65,7 +74,15 @@ pub fn explain(
         .enumerate()
         .flat_map(|(pose, p)| (0..p.goals.len()).map(move |goal| GoalRef { pose, goal }))
         .collect();
+    let solves = std::cell::Cell::new(0);
     let attempt = |goals: &[GoalRef]| -> (bool, f64) {
+        let known = achieved
+            .iter()
+            .any(|met| goals.iter().all(|goal| met.contains(goal)));
+        if known || solves.get() >= MAX_EXPLANATION_SOLVES {
+            return (true, f64::NEG_INFINITY);
+        }
+        solves.set(solves.get() + 1);
         let only = with_only(project, goals);
         let problem = Problem::new(
             &only,

@@ -1,5 +1,6 @@
 //! A signed distance grid over one mesh and its smooth tricubic interpolant.
 
+mod blocks;
 mod fast_winding;
 mod parallel;
 mod sign;
@@ -11,7 +12,6 @@ use super::mesh::TriMesh;
 use super::tree::TriangleTree;
 use crate::cancel::Cancel;
 use fast_winding::WindingTree;
-use parallel::map_nodes;
 use tricubic::catmull_rom;
 
 /// Empty cells added around the mesh's bounding box on every side.
@@ -21,8 +21,9 @@ const MARGIN_CELLS: usize = 3;
 /// tricubic interpolant.
 ///
 /// Node `(i, j, k)` sits at `origin + cell · (i, j, k)`. Its value is the exact unsigned distance
-/// to the surface (from a [`TriangleTree`]) with the sign of the generalized winding number: nodes
-/// within a cell diagonal of the surface evaluate it (hierarchically, Barill et al. 2018, exact
+/// to the surface (from a [`TriangleTree`], block by block: the triangles near a block of nodes
+/// are found once) with the sign of the generalized winding number: nodes within half a cell of
+/// the surface evaluate it (hierarchically, Barill et al. 2018, exact
 /// for nearby triangles); every other node takes the sign of its connected region of such far
 /// nodes, and a region touching the grid boundary is outside. A small hole in the surface
 /// therefore does not flip the inside.
@@ -90,19 +91,12 @@ impl DistanceGrid {
             dims,
             values: Vec::new(),
         };
-        let count = dims.iter().product();
         let tree = TriangleTree::new(mesh);
-        let distances = map_nodes(count, |i| {
-            if cancel.is_cancelled() {
-                return f64::NAN;
-            }
-            tree.distance_to_point(&grid.node_at(i))
-        });
-        if cancel.is_cancelled() {
-            return None;
-        }
+        let distances = blocks::node_distances(&tree, origin, cell, dims, cancel)?;
         let winding = WindingTree::new(&tree);
-        let near = cell * 3f64.sqrt();
+        // Two neighbouring nodes both farther than half a cell from the surface are joined by an
+        // edge that cannot cross it.
+        let near = cell / 2.0;
         let inside = sign::inside_nodes(dims, |i| grid.node_at(i), &distances, near, &winding);
         grid.values = distances
             .iter()

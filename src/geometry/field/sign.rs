@@ -7,7 +7,8 @@ use super::parallel::map_nodes;
 ///
 /// A node within `near` of the surface (`distances` holds the unsigned distances) is inside when
 /// its winding number exceeds ½. The other nodes form 6-connected regions that cannot cross the
-/// surface (two neighbours both farther than a cell diagonal from it lie on one side); a region
+/// surface (with `near` at least half the spacing, the edge between two neighbours both farther
+/// than `near` from it would need a point of the surface within `near` of one of them); a region
 /// touching the grid boundary is outside, any other takes the sign of the winding number at its
 /// first node in node order.
 pub(super) fn inside_nodes(
