@@ -205,3 +205,32 @@ fn ballast_poses_lists_the_t_shapes_faces_and_its_lines_paste() {
         );
     }
 }
+
+#[test]
+fn a_pose_that_settles_is_drawn_where_it_rests() {
+    // Upright turned by 5° about x: the T settles back onto its base, turning about the edge it
+    // first touches. The frames the drawing takes are the settled ones, so the base's four
+    // corners lie on the ground the support was found on; in the written frame only the two of
+    // that edge do.
+    let compiled = t_shape_with("pose \"leaning\" {\n    rotate 5 0 0\n    stand\n}").unwrap();
+    let leaning = pose(&compiled, "leaning");
+    let resting = leaning.resting.as_ref().expect("it settles on a facet");
+    assert!((resting.correction - 5.0).abs() < 1e-6, "{resting:?}");
+    let mesh = &compiled.meshes[0];
+    let ground = leaning.support.ground_height;
+    let on_ground = |frame: &nalgebra::Isometry3<f64>| {
+        mesh.positions
+            .iter()
+            .filter(|p| ((frame * *p).z - ground).abs() < 1e-9)
+            .count()
+    };
+    assert_eq!(on_ground(&leaning.component_frames[0]), 4);
+    let written = compiled
+        .project
+        .poses
+        .iter()
+        .find(|p| p.name.value == "leaning")
+        .unwrap()
+        .component_frame(0);
+    assert_eq!(on_ground(&written), 2);
+}

@@ -339,8 +339,9 @@ fn the_t_shape_is_checked_on_every_side_and_agrees() {
 fn every_other_example_agrees_with_the_simulation() {
     // The T shape, the hammer, the fish and Spot's hang have tests of their own above; these are
     // the rest: the sheared cylinder on both ends, the articulated arm's stand and imbalance, and
-    // Spot's four stands (one on a narrow triangle of three feet) and its imbalance.
-    for name in ["sheared_cylinder", "articulated", "spot"] {
+    // Spot's four stands (one on a narrow triangle of three feet) and its imbalance, and the
+    // figure built from a rig's animations.
+    for name in ["sheared_cylinder", "articulated", "spot", "figure"] {
         let verification = example(name);
         for pose in &verification.poses {
             for goal in &pose.goals {

@@ -99,6 +99,7 @@ fn evaluate_placed(
         support,
         resting: None,
         goals,
+        component_frames: (0..bodies.len()).map(|i| pose.component_frame(i)).collect(),
     }
 }
 

@@ -48,7 +48,7 @@ pub use facets::{facet_rotation, resting_facets, RestingFacet};
 pub use mass::capsule_shell;
 pub use rest::{Resting, SNAP_WARNING};
 
-use nalgebra::{Matrix3, Rotation3};
+use nalgebra::{Isometry3, Matrix3, Rotation3};
 use serde::Serialize;
 
 use crate::geometry::{print_volumes, MassProperties, PrintVolumes, Region, Slicing, TriMesh};
@@ -193,6 +193,12 @@ pub struct PoseEvaluation {
     pub resting: Option<Resting>,
     /// One per goal of the pose, in the pose's order.
     pub goals: Vec<GoalEvaluation>,
+    /// Each component's frame (rest frame to world) as the pose was evaluated: the written
+    /// pose's, or the settled one's when the pose settled onto its hull ([`Self::resting`]), so
+    /// that a drawing of the pose shows the model where its centre of mass and support are. Not
+    /// in the report.
+    #[serde(skip)]
+    pub component_frames: Vec<Isometry3<f64>>,
 }
 
 /// Where the ball of one capsule rests in a pose.

@@ -45,9 +45,7 @@ impl Compilation {
                 let extras = pose_extras(evaluation, project.units.keyword());
                 ScenePose {
                     name: pose.name.value.clone(),
-                    component_transforms: (0..project.components.len())
-                        .map(|i| pose.component_frame(i))
-                        .collect(),
+                    component_transforms: evaluation.component_frames.clone(),
                     ball_centres: evaluation
                         .balls
                         .iter()

@@ -1,8 +1,8 @@
 // Loads ballast's binary glTF files with three.js's GLTFLoader, as a web viewer does, and checks
 // that they read right there: every pose a visible group in the default scene, the body
 // translucent so the capsules and balls show, every mark a mesh (no line primitives), the pose's
-// flat extras scalars, a standing pose's support polygon on the ground at height 0, and no two
-// poses overlapping.
+// flat extras scalars, a standing pose's support polygon and body on the ground at height 0, and
+// no two poses overlapping.
 //
 // Usage: node tests/viewer/check.mjs FILE.glb...  (three.js from `npm ci` in tests/viewer)
 // Prints one line per file and exits 1 when a check fails.
@@ -53,6 +53,7 @@ function check(gltf) {
 
     const seen = { component: 0, capsule: 0, steel: 0, gravity: 0, "support polygon": 0 };
     const ground = new Box3();
+    const body = new Box3();
     group.traverse((object) => {
       if (object.isLine || object.isLineSegments || object.isLineLoop || object.isPoints) {
         problems.push(`${object.userData.name} is drawn as lines or points`);
@@ -67,6 +68,7 @@ function check(gltf) {
         }
       }
       if (material.name === "support polygon") ground.expandByObject(object);
+      if (material.name === "component") body.expandByObject(object, true);
     });
     for (const kind of ["component", "gravity"]) {
       if (seen[kind] === 0) problems.push(`pose ${name} shows no ${kind} mesh`);
@@ -81,6 +83,12 @@ function check(gltf) {
       const size = ground.max.distanceTo(ground.min);
       if (Math.abs(middle) > 1e-3 * size) {
         problems.push(`pose ${name} has its support polygon at height ${middle} m, not 0`);
+      }
+      // The body stands on that ground: its lowest point at height 0, not through the floor
+      // (the pose drawn as it settles, where its support and centre of mass are).
+      const depth = body.max.distanceTo(body.min);
+      if (Math.abs(body.min.y) > 1e-3 * depth) {
+        problems.push(`pose ${name} has its body's lowest point at height ${body.min.y} m, not 0`);
       }
     }
     boxes.push([name, new Box3().setFromObject(group)]);
