@@ -96,37 +96,13 @@ fn goal_lines(out: &mut String, goal: &GoalCheck, capsules: &[&str]) {
     );
     match &goal.detail {
         Detail::Stand { runs, .. } => {
-            let tilts: Vec<String> = runs
-                .iter()
-                .map(|run| match run.topples_at {
-                    Some(value) => format!("{value:.1}"),
-                    None => "-".to_string(),
-                })
-                .collect();
-            if !tilts.is_empty() {
-                let _ = writeln!(
-                    out,
-                    "    toppled at (worst direction first, then every 30° around) {}",
-                    tilts.join(" ")
-                );
-            }
+            direction_line(out, "toppled at", runs.iter().map(|run| run.topples_at))
         }
-        Detail::Imbalance { slopes, .. } => {
-            let tilts: Vec<String> = slopes
-                .iter()
-                .map(|run| match run.stands_from {
-                    Some(value) => format!("{value:.1}"),
-                    None => "-".to_string(),
-                })
-                .collect();
-            if !tilts.is_empty() {
-                let _ = writeln!(
-                    out,
-                    "    stood from a slope of (worst direction first, then every 30° around) {}",
-                    tilts.join(" ")
-                );
-            }
-        }
+        Detail::Imbalance { slopes, .. } => direction_line(
+            out,
+            "stood from a slope of",
+            slopes.iter().map(|run| run.stands_from),
+        ),
         Detail::Suspend { states, .. } | Detail::Immerse { states, .. } => {
             for (index, state) in states.iter().enumerate() {
                 let _ = writeln!(
@@ -173,4 +149,22 @@ fn state_line(state: &FinalState, capsules: &[&str]) -> String {
         state.angle,
         state.releases.join(", ")
     )
+}
+
+/// One line of per-direction values, degrees (`-` where a direction gave none), after `what`;
+/// nothing when no direction was tried.
+fn direction_line(out: &mut String, what: &str, values: impl Iterator<Item = Option<f64>>) {
+    let values: Vec<String> = values
+        .map(|value| match value {
+            Some(value) => format!("{value:.1}"),
+            None => "-".to_string(),
+        })
+        .collect();
+    if !values.is_empty() {
+        let _ = writeln!(
+            out,
+            "    {what} (worst direction first, then every 30° around) {}",
+            values.join(" ")
+        );
+    }
 }
