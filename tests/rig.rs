@@ -9,7 +9,9 @@ use std::fs;
 use std::path::Path;
 
 use ballast::compile::{compile, Compilation, Report};
-use rig_support::{figure, figure_animations, rig_glb, turn, Animation, Channel, Joint};
+use rig_support::{
+    figure, figure_animations, rig_glb, scenes_glb, turn, Animation, Channel, Joint,
+};
 
 fn compiled(folder: &Path, source: &str) -> Result<Compilation, Vec<ballast::diagnostic::Problem>> {
     let path = folder.join("model.kdl");
@@ -139,6 +141,158 @@ fn a_rig_with_animated_poses_reports_as_the_project_written_by_hand() {
         "report",
     )
     .unwrap();
+}
+
+/// A copy of the figure's joints, each name followed by `suffix` (as Blender names copies), its
+/// parents numbered from `first`, and the joints `turns` names turned.
+fn figure_copy(suffix: &str, first: usize, turns: &[(usize, [f32; 4])]) -> Vec<Joint> {
+    let mut joints = figure();
+    for (index, joint) in joints.iter_mut().enumerate() {
+        joint.name = Box::leak(format!("{}{suffix}", joint.name).into_boxed_str());
+        joint.parent = joint.parent.map(|parent| parent + first);
+        if let Some((_, rotation)) = turns.iter().find(|(turned, _)| *turned == index) {
+            joint.rotation = *rotation;
+        }
+    }
+    joints
+}
+
+/// The figure (joints 0 to 11) with posed copies: `.001` waving (joints 12 to 23), `.002`
+/// reaching (24 to 35), and a right arm `Arm.R.003` alone (36); the scenes `Rest` (the figure,
+/// the default), `Wave`, `Reach`, `Twice` (both copies) and `Arm` (the lone arm).
+fn scenes_folder() -> tempfile::TempDir {
+    let mut joints = figure();
+    joints.extend(figure_copy(
+        ".001",
+        12,
+        &[(6, turn([0.0, 0.0, 1.0], -150.0))],
+    ));
+    let forward = turn([1.0, 0.0, 0.0], -90.0);
+    joints.extend(figure_copy(".002", 24, &[(4, forward), (6, forward)]));
+    joints.push(Joint::new(
+        "Arm.R.003",
+        None,
+        [0.0, 0.0, 0.0],
+        Some([[-0.01, -0.036, -0.005], [0.0, 0.0, 0.005]]),
+    ));
+    let scenes = [
+        ("Rest", vec![0]),
+        ("Wave", vec![12]),
+        ("Reach", vec![24]),
+        ("Twice", vec![12, 24]),
+        ("Arm", vec![36]),
+    ];
+    let folder = tempfile::tempdir().unwrap();
+    fs::write(
+        folder.path().join("figure.glb"),
+        scenes_glb(&joints, &[], &scenes),
+    )
+    .unwrap();
+    folder
+}
+
+#[test]
+fn a_rig_with_poses_from_scenes_reports_as_the_project_written_by_hand() {
+    let rigged_folder = scenes_folder();
+    let hand_folder = figure_folder();
+    let rig = r#"rig "figure.glb"
+pose "stand" scene="Rest" { stand margin=1 }
+pose "wave" scene="Wave" { stand margin=1; }
+pose "reach" scene="Reach" { stand margin=1; }
+pose "reach one" scene="Reach" {
+    component "Arm.L" { }
+    stand
+}
+"#;
+    let hand = r#"rig "figure.glb"
+pose "stand" { stand margin=1 }
+pose "wave" {
+    component "Arm.R" {
+        pivot -20 0 85
+        rotate 0 150 0
+    }
+    stand margin=1
+}
+pose "reach" {
+    component "Arm.L" {
+        pivot 20 0 85
+        rotate -90 0 0
+    }
+    component "Arm.R" {
+        pivot -20 0 85
+        rotate -90 0 0
+    }
+    stand margin=1
+}
+pose "reach one" {
+    component "Arm.R" {
+        pivot -20 0 85
+        rotate -90 0 0
+    }
+    stand
+}
+"#;
+    let rigged = compiled(rigged_folder.path(), &format!("{HEADER}{rig}")).unwrap();
+    let by_hand = compiled(hand_folder.path(), &format!("{HEADER}{hand}")).unwrap();
+    // The parts are the default scene's, not the copies'.
+    let names: Vec<&str> = rigged
+        .project
+        .components
+        .iter()
+        .map(|c| c.name.value.as_str())
+        .collect();
+    assert_eq!(names, ["Torso", "Head", "Arm.L", "Arm.R", "Leg.L", "Leg.R"]);
+    let com = |c: &Compilation, pose: usize| c.poses[pose].centre_of_mass;
+    assert!((com(&rigged, 0)[2] - com(&rigged, 1)[2]).abs() > 0.5);
+    assert!((com(&rigged, 0)[1] - com(&rigged, 2)[1]).abs() > 0.5);
+    agree(
+        &report(rigged_folder.path(), &rigged),
+        &report(hand_folder.path(), &by_hand),
+        "report",
+    )
+    .unwrap();
+}
+
+#[test]
+fn unknown_scenes_missing_parts_and_two_sources_are_diagnostics() {
+    let folder = scenes_folder();
+    let source = r#"rig "figure.glb" { nodes "Torso" "Arm.R"; }
+pose "a" scene="Wvae" { stand; }
+pose "b" scene="Twice" { stand; }
+pose "c" scene="Arm" { stand; }
+pose "d" scene="Wave" animation="Wave" { stand; }
+pose "e" scene="Nothing like it" { stand; }
+"#;
+    let found = problems(folder.path(), source);
+    let expect = [
+        (
+            "ballast::rig::unknown_scene",
+            "\"Wvae\"",
+            "did you mean `Wave`?",
+        ),
+        ("ballast::rig::ambiguous_node", "\"Twice\"", ""),
+        ("ballast::rig::ambiguous_node", "\"Twice\"", ""),
+        ("ballast::rig::not_in_scene", "\"Arm\"", "every part"),
+        ("ballast::rig::two_sources", "\"Wave\"", "keep one"),
+        (
+            "ballast::rig::unknown_scene",
+            "\"Nothing like it\"",
+            "the rig's scenes are `Rest`, `Wave`, `Reach`, `Twice` and `Arm`",
+        ),
+    ];
+    assert_eq!(found.len(), expect.len(), "{found:#?}");
+    for ((code, text, help), (want_code, want_text, want_help)) in found.iter().zip(expect) {
+        assert_eq!((code.as_str(), text.as_str()), (want_code, want_text));
+        assert!(help.starts_with(want_help), "{help}");
+    }
+    let without_rig = tempfile::tempdir().unwrap();
+    let found = problems(
+        without_rig.path(),
+        "component \"a\" mesh=\"a.obj\"\npose \"p\" scene=\"Wave\"\n",
+    );
+    assert!(found
+        .iter()
+        .any(|(code, text, _)| code == "ballast::rig::missing" && text == "\"Wave\""));
 }
 
 #[test]
@@ -300,6 +454,31 @@ fn a_scaling_animation_and_a_skinned_part_are_refused() {
             ("ballast::rig::skinned", "\"r.glb\""),
             ("ballast::rig::not_rigid", "\"Grow\""),
         ]
+    );
+    // The skinned node is refused by name too, as a rig's `nodes` entry and as a component's
+    // `node=`, and the message says why.
+    let found = problems(
+        folder.path(),
+        "rig \"r.glb\" { nodes \"Base\" \"Skin\"; }\npose \"p\"\n",
+    );
+    assert_eq!(found.len(), 1, "{found:#?}");
+    assert_eq!(
+        (found[0].0.as_str(), found[0].1.as_str()),
+        ("ballast::rig::skinned", "\"Skin\"")
+    );
+    let source = "component \"s\" mesh=\"r.glb\" node=\"Skin\"\npose \"p\"\n";
+    let refused = compiled(folder.path(), source).expect_err("a skinned node is refused");
+    assert_eq!(refused.len(), 1, "{refused:#?}");
+    assert_eq!(refused[0].code.to_string(), "ballast::mesh::skinned");
+    assert!(
+        refused[0].message.contains("node `Skin`"),
+        "{}",
+        refused[0].message
+    );
+    assert!(
+        refused[0].message.contains("skinned mesh"),
+        "{}",
+        refused[0].message
     );
 }
 

@@ -100,6 +100,18 @@ fn load_problem(component: &Component, error: &LoadError, policy: &ReadPolicy) -
             });
             problem
         }
+        LoadError::Skinned { node } => Problem::error(
+            "ballast::mesh::skinned",
+            format!(
+                "the mesh of component `{name}` is node `{node}` of `{shown}`, a skinned mesh, \
+                 which bends with its joints: skinned meshes are not read"
+            ),
+        )
+        .with_label(span, "in this file")
+        .with_help(
+            "a printed part is rigid: in the editor, separate the mesh into one object per part \
+             and parent each to its bone (Blender: Ctrl+P, Bone) instead of an armature modifier",
+        ),
         LoadError::OutsideFolder { path, .. } => Problem::error(
             "ballast::mesh::outside_project",
             format!(

@@ -86,6 +86,13 @@ pub enum LoadError {
         /// How many nodes (or meshes) carry it.
         count: usize,
     },
+    /// The selected glTF node (or a node under it) has a skinned mesh, which bends with its
+    /// joints and so is no rigid part.
+    #[error("node `{node}` is a skinned mesh")]
+    Skinned {
+        /// The skinned node's name (or `#index` when it has none).
+        node: String,
+    },
     /// A selected glTF primitive is not made of triangles.
     #[error("glTF primitive mode {mode} is not supported; only TRIANGLES is")]
     UnsupportedPrimitive {

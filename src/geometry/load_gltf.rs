@@ -216,10 +216,17 @@ fn select_named(
         .collect();
     match nodes.as_slice() {
         [node] => {
+            let under = match hierarchy.mesh[*node] {
+                Some(_) => vec![*node],
+                None => hierarchy.children[*node].clone(),
+            };
+            if let Some(skinned) = skinned_under(document, hierarchy, &under) {
+                return Err(LoadError::Skinned { node: skinned });
+            }
             return match hierarchy.mesh[*node] {
                 Some(mesh) => Ok(vec![(mesh, hierarchy.world[*node])]),
-                None => Ok(hierarchy.mesh_instances(&hierarchy.children[*node])),
-            }
+                None => Ok(hierarchy.mesh_instances(&under)),
+            };
         }
         [] => {}
         many => {
@@ -253,6 +260,24 @@ fn select_named(
             count: many.len(),
         }),
     }
+}
+
+/// The name (or `#index`) of the first mesh node with a skin among `from` and their
+/// descendants, depth first.
+fn skinned_under(document: &Document, hierarchy: &Hierarchy, from: &[usize]) -> Option<String> {
+    let mut stack: Vec<usize> = from.iter().rev().copied().collect();
+    let mut visited = vec![false; hierarchy.world.len()];
+    while let Some(index) = stack.pop() {
+        if std::mem::replace(&mut visited[index], true) {
+            continue;
+        }
+        let node = document.nodes().nth(index)?;
+        if node.mesh().is_some() && node.skin().is_some() {
+            return Some(node.name().map_or(format!("#{index}"), str::to_owned));
+        }
+        stack.extend(hierarchy.children[index].iter().rev());
+    }
+    None
 }
 
 /// A node's local transform in f64 (a decomposed transform is composed as T·R·S in f64).

@@ -5,8 +5,8 @@
 //!   buffer files a `.gltf` file reads, without loading them (`external_buffer_paths`).
 //!   [`load_mesh_with`] reads only what a [`ReadPolicy`] allows: regular files, inside a
 //!   folder, within [`MeshLimits`].
-//! - [`read_rig`]: a glTF file as a rig: its nodes' rest transforms and its animations, sampled
-//!   into node world transforms.
+//! - [`read_rig`]: a glTF file as a rig: its nodes' rest transforms, its scenes' mesh nodes and
+//!   its animations, sampled into node world transforms.
 //! - [`check_mesh`]: holes, non-manifold and misoriented edges, degenerate triangles, inversion,
 //!   crossing triangles and misnested shells (a winding number other than 0 or 1).
 //! - [`convex_hull`]: the exact convex hull of points, its coplanar triangles merged into
@@ -51,7 +51,7 @@ pub use load_files::{MeshLimits, ReadPolicy, DEFAULT_MAX_MESH_BYTES, DEFAULT_MAX
 pub use mass::{mass_properties, MassProperties};
 pub use mesh::TriMesh;
 pub use print::{print_volumes, PrintVolumes, Region, Slicing};
-pub use rig::{read_rig, Rig, RigAnimation, RigNode};
+pub use rig::{read_rig, Rig, RigAnimation, RigNode, RigScene};
 pub use shells::ShellFault;
 pub use skeleton::{Skeleton, SkeletonSegment};
 pub use tree::TriangleTree;

@@ -1,5 +1,5 @@
-//! A glTF or GLB file read as a rig: its nodes with their rest (world) transforms, and its
-//! animations, sampled into node world transforms at a time.
+//! A glTF or GLB file read as a rig: its nodes with their rest (world) transforms, the mesh nodes
+//! of its scenes, and its animations, sampled into node world transforms at a time.
 //!
 //! Rigid parts hang under joint nodes, the glTF way: each mesh node moves with its parents'
 //! transforms. An animation's channels replace the translation, rotation or scale of the nodes
@@ -28,6 +28,8 @@ pub struct Rig {
     /// The mesh nodes of the default scene (or of the first scene; or, without scenes, of every
     /// root), depth first: the parts of a rig that lists none.
     pub scene_meshes: Vec<usize>,
+    /// Every scene, in file order.
+    pub scenes: Vec<RigScene>,
     /// Every animation, in file order.
     pub animations: Vec<RigAnimation>,
     /// Each node's local transform as written.
@@ -48,6 +50,17 @@ pub struct RigNode {
     /// The node's world transform as written: the product of its parents' local transforms and
     /// its own, in the file's units and axes.
     pub rest: Matrix4<f64>,
+}
+
+/// One scene of a rig: a set of root nodes. A node's world transform is the same in every scene
+/// that holds it (glTF gives a node one parent at most), so a scene poses the rig's parts
+/// through other nodes of the same names.
+#[derive(Debug, Clone)]
+pub struct RigScene {
+    /// The scene's name, if it has one.
+    pub name: Option<String>,
+    /// The mesh nodes under its roots, depth first.
+    pub meshes: Vec<usize>,
 }
 
 /// One animation of a rig.
@@ -106,25 +119,20 @@ pub fn read_rig(path: &Path, policy: &ReadPolicy) -> Result<Rig, LoadError> {
     let (document, buffers) = open_document(&bytes, base, &mut reader)?;
     let limits = *reader.limits();
     let hierarchy = Hierarchy::new(&document)?;
-    let scene_roots: Vec<usize> = match document
+    let scene_meshes = match document
         .default_scene()
         .or_else(|| document.scenes().next())
     {
-        Some(scene) => scene.nodes().map(|node| node.index()).collect(),
-        None => hierarchy.roots.clone(),
+        Some(scene) => mesh_nodes(&hierarchy, scene.nodes().map(|node| node.index())),
+        None => mesh_nodes(&hierarchy, hierarchy.roots.iter().copied()),
     };
-    let mut seen = vec![false; hierarchy.world.len()];
-    let mut scene_meshes = Vec::new();
-    let mut stack: Vec<usize> = scene_roots.iter().rev().copied().collect();
-    while let Some(node) = stack.pop() {
-        if std::mem::replace(&mut seen[node], true) {
-            continue;
-        }
-        if hierarchy.mesh[node].is_some() {
-            scene_meshes.push(node);
-        }
-        stack.extend(hierarchy.children[node].iter().rev());
-    }
+    let scenes = document
+        .scenes()
+        .map(|scene| RigScene {
+            name: scene.name().map(str::to_owned),
+            meshes: mesh_nodes(&hierarchy, scene.nodes().map(|node| node.index())),
+        })
+        .collect();
     let mut nodes = Vec::new();
     let mut locals = Vec::new();
     for node in document.nodes() {
@@ -187,11 +195,30 @@ pub fn read_rig(path: &Path, policy: &ReadPolicy) -> Result<Rig, LoadError> {
     Ok(Rig {
         nodes,
         scene_meshes,
+        scenes,
         animations,
         locals,
         roots: hierarchy.roots,
         children: hierarchy.children,
     })
+}
+
+/// The mesh nodes under `roots` (the roots included), depth first, each once.
+fn mesh_nodes(hierarchy: &Hierarchy, roots: impl Iterator<Item = usize>) -> Vec<usize> {
+    let mut seen = vec![false; hierarchy.world.len()];
+    let mut meshes = Vec::new();
+    let mut stack: Vec<usize> = roots.collect();
+    stack.reverse();
+    while let Some(node) = stack.pop() {
+        if std::mem::replace(&mut seen[node], true) {
+            continue;
+        }
+        if hierarchy.mesh[node].is_some() {
+            meshes.push(node);
+        }
+        stack.extend(hierarchy.children[node].iter().rev());
+    }
+    meshes
 }
 
 impl Rig {

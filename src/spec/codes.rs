@@ -81,11 +81,18 @@ pub const RIG_UNNAMED_NODE: &str = "ballast::rig::unnamed_node";
 pub const RIG_SKINNED: &str = "ballast::rig::skinned";
 /// A pose's `animation=` that the rig does not have.
 pub const RIG_UNKNOWN_ANIMATION: &str = "ballast::rig::unknown_animation";
-/// A pose's `animation=` in a project without a `rig`.
+/// A pose's `scene=` that the rig does not have (or that several of its scenes share).
+pub const RIG_UNKNOWN_SCENE: &str = "ballast::rig::unknown_scene";
+/// A rig part that a pose's `scene=` does not hold.
+pub const RIG_NOT_IN_SCENE: &str = "ballast::rig::not_in_scene";
+/// A pose with both `animation=` and `scene=`.
+pub const RIG_TWO_SOURCES: &str = "ballast::rig::two_sources";
+/// A pose's `animation=` or `scene=` in a project without a `rig`.
 pub const RIG_MISSING: &str = "ballast::rig::missing";
 /// A pose's `time=` outside its animation's keys.
 pub const RIG_TIME_OUTSIDE: &str = "ballast::rig::time_outside";
 /// A pose from an animation with several keys and no `time=`.
 pub const RIG_TIME_NEEDED: &str = "ballast::rig::time_needed";
-/// An animation that moves a rig part other than rigidly (scale, shear, mirror, morph weights).
+/// An animation or scene that moves a rig part other than rigidly (scale, shear, mirror, morph
+/// weights).
 pub const RIG_NOT_RIGID: &str = "ballast::rig::not_rigid";

@@ -371,10 +371,12 @@ impl<'a> Resolver<'a> {
         self.rig = Some(source);
     }
 
-    /// The component transforms a pose's `animation=` gives, when it has one; reports
-    /// `animation=` without a rig and `time=` without `animation=`.
+    /// The component transforms a pose's `animation=` or `scene=` gives, when it has one;
+    /// reports either without a rig, both together, and `time=` without `animation=`.
     fn animated(&mut self, node: &Node) -> Vec<(usize, Isometry3<f64>)> {
-        let Some(animation) = node.text("animation") else {
+        let animation = node.text("animation");
+        let scene = node.text("scene");
+        if animation.is_none() {
             if let Some(time) = node.prop("time") {
                 self.problems.push(
                     Problem::error(
@@ -385,26 +387,54 @@ impl<'a> Resolver<'a> {
                     .with_help("add `animation=\"name\"`, or remove `time=`"),
                 );
             }
-            return Vec::new();
+        }
+        let named = match (&animation, &scene) {
+            (None, None) => return Vec::new(),
+            (Some(animation), Some(scene)) => {
+                self.problems.push(
+                    Problem::error(
+                        codes::RIG_TWO_SOURCES,
+                        "the pose takes its parts both from an animation and from a scene",
+                    )
+                    .with_label(animation.span, "an animation")
+                    .with_label(scene.span, "a scene")
+                    .with_help("keep one of `animation=` and `scene=`"),
+                );
+                return Vec::new();
+            }
+            (Some(named), None) | (None, Some(named)) => named,
         };
         let Some(source) = &self.rig else {
             if self.top("rig").is_none() {
+                let what = if scene.is_some() {
+                    "a scene"
+                } else {
+                    "an animation"
+                };
                 self.problems.push(
                     Problem::error(
                         codes::RIG_MISSING,
-                        "the pose takes its parts from an animation, but the project has no `rig`",
+                        format!(
+                            "the pose takes its parts from {what}, but the project has no `rig`"
+                        ),
                     )
-                    .with_label(animation.span, "an animation of no rig")
+                    .with_label(named.span, format!("{what} of no rig"))
                     .with_help(
-                        "add `rig \"figure.glb\"` to read the parts and animations of a glTF file",
+                        "add `rig \"figure.glb\"` to read the parts, animations and scenes of a \
+                         glTF file",
                     ),
                 );
             }
             return Vec::new();
         };
-        source
-            .animated(node, &animation, self.units, self.up, self.problems)
-            .unwrap_or_default()
+        match (&animation, &scene) {
+            (Some(animation), _) => {
+                source.animated(node, animation, self.units, self.up, self.problems)
+            }
+            (None, Some(scene)) => source.from_scene(scene, self.units, self.up, self.problems),
+            (None, None) => None,
+        }
+        .unwrap_or_default()
     }
 
     /// How a component's mesh coordinates become rest-frame coordinates: `mesh-units=`,

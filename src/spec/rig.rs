@@ -1,14 +1,17 @@
 //! The `rig` node: components from the mesh nodes of a glTF file, and the component transforms
-//! of a pose from one of its animations (`pose "wave" animation="Wave" time=1`).
+//! of a pose from one of its animations (`pose "wave" animation="Wave" time=1`) or scenes
+//! (`pose "wave" scene="Wave"`).
 //!
 //! Each part is its mesh node's mesh, in the node's rest world transform (as a component with
 //! `node=` reads it). In a pose from an animation, a part moves by its node's world transform at
 //! the pose's time times the inverse of its rest transform, turned and scaled from the file's
-//! frame into the rest frame; that must be a rigid motion, or the pose is refused.
+//! frame into the rest frame; that must be a rigid motion, or the pose is refused. In a pose from
+//! a scene, a part moves the same way to the world transform of the scene's mesh node that is its
+//! own node, or else is named as its node or as a copy of it (`Arm.L.001`).
 
 use std::path::{Path, PathBuf};
 
-use nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, UnitQuaternion};
+use nalgebra::{Isometry3, Matrix3, Matrix4, Rotation3, Translation3, UnitQuaternion};
 
 use super::codes;
 use super::model::{Axis, Component, MeshFrame, Spanned, Units};
@@ -206,6 +209,17 @@ fn scene_nodes(
     chosen
 }
 
+/// Whether `name` is the node `part` or a copy of it as Blender names copies: `part`, a dot and
+/// digits (`Arm.L.001`).
+fn is_copy_of(name: &str, part: &str) -> bool {
+    name == part
+        || name.strip_prefix(part).is_some_and(|rest| {
+            rest.strip_prefix('.').is_some_and(|digits| {
+                !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit())
+            })
+        })
+}
+
 fn mesh_names(rig: &Rig) -> String {
     let names: Vec<&str> = rig
         .nodes
@@ -324,64 +338,210 @@ impl RigSource {
         };
         let posed = rig.posed(index, time);
         let morphed: Vec<usize> = clip.morphed_nodes().collect();
-        let turn = self.frame.rotation(up);
-        let factor = self.frame.factor(units);
         let mut transforms = Vec::new();
         let mut rigid = true;
         for &(node, component) in &self.parts {
             let name = rig.nodes[node].name.as_deref().unwrap_or("");
-            let motion = rig.nodes[node]
-                .rest
-                .try_inverse()
-                .map(|rest_inverse| posed[node] * rest_inverse);
-            let linear: Option<Matrix3<f64>> =
-                motion.map(|m| m.fixed_view::<3, 3>(0, 0).into_owned());
-            let is_rigid = linear.is_some_and(|l| {
-                (l.transpose() * l - Matrix3::identity()).amax() < RIGID_TOLERANCE
-                    && l.determinant() > 0.0
-            });
-            if !is_rigid || morphed.contains(&node) {
-                let what = if morphed.contains(&node) {
-                    "changes the morph target weights of"
-                } else {
-                    "scales, shears or mirrors"
-                };
-                problems.push(
-                    Problem::error(
-                        codes::RIG_NOT_RIGID,
-                        format!(
-                            "animation `{}` at {time} s {what} part `{name}`: a printed part \
-                             only moves rigidly",
-                            animation.value
+            let motion = self.motion(node, &posed[node], units, up);
+            match motion {
+                Some(motion) if !morphed.contains(&node) => transforms.push((component, motion)),
+                _ => {
+                    let what = if morphed.contains(&node) {
+                        "changes the morph target weights of"
+                    } else {
+                        "scales, shears or mirrors"
+                    };
+                    problems.push(
+                        Problem::error(
+                            codes::RIG_NOT_RIGID,
+                            format!(
+                                "animation `{}` at {time} s {what} part `{name}`: a printed \
+                                 part only moves rigidly",
+                                animation.value
+                            ),
+                        )
+                        .with_label(animation.span, "this animation")
+                        .with_label(self.path.span, "in this rig")
+                        .with_help(
+                            "key only the rotation and location of the part's bones, and keep \
+                             their scale at 1",
                         ),
-                    )
-                    .with_label(animation.span, "this animation")
-                    .with_label(self.path.span, "in this rig")
-                    .with_help(
-                        "key only the rotation and location of the part's bones, and keep their \
-                         scale at 1",
-                    ),
-                );
-                rigid = false;
-                continue;
+                    );
+                    rigid = false;
+                }
             }
-            let (Some(motion), Some(linear)) = (motion, linear) else {
-                continue;
-            };
-            let turned = turn.matrix() * linear * turn.matrix().transpose();
-            let rotation = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_eps(
-                &turned,
-                1e-12,
-                100,
-                Rotation3::identity(),
-            ));
-            let shift = turn * motion.fixed_view::<3, 1>(0, 3).into_owned() * factor;
-            transforms.push((
-                component,
-                Isometry3::from_parts(Translation3::from(shift), rotation),
-            ));
         }
         rigid.then_some(transforms)
+    }
+
+    /// The component transforms (component index, rest frame to model frame) of the pose
+    /// whose `scene=` is `scene`: each part moves to where the scene's node of the same name
+    /// (or the part's own node, when the scene holds it) stands. `None` after reporting an
+    /// unknown scene, a part the scene lacks, or one it moves other than rigidly.
+    pub(super) fn from_scene(
+        &self,
+        scene: &Spanned<String>,
+        units: Units,
+        up: Axis,
+        problems: &mut Vec<Problem>,
+    ) -> Option<Vec<(usize, Isometry3<f64>)>> {
+        let rig = &self.rig;
+        let found: Vec<usize> = (0..rig.scenes.len())
+            .filter(|&index| rig.scenes[index].name.as_deref() == Some(scene.value.as_str()))
+            .collect();
+        let meshes = match found.as_slice() {
+            [index] => &rig.scenes[*index].meshes,
+            [] => {
+                problems.push(self.unknown_scene(scene));
+                return None;
+            }
+            many => {
+                problems.push(
+                    Problem::error(
+                        codes::RIG_UNKNOWN_SCENE,
+                        format!(
+                            "{} scenes of the rig are called `{}`",
+                            many.len(),
+                            scene.value
+                        ),
+                    )
+                    .with_label(scene.span, "more than one scene")
+                    .with_label(self.path.span, "in this rig")
+                    .with_help("give each scene its own name in the editor"),
+                );
+                return None;
+            }
+        };
+        let mut transforms = Vec::new();
+        let mut complete = true;
+        for &(node, component) in &self.parts {
+            let name = rig.nodes[node].name.as_deref().unwrap_or("");
+            let twins: Vec<usize> = if meshes.contains(&node) {
+                vec![node]
+            } else {
+                meshes
+                    .iter()
+                    .copied()
+                    .filter(|&other| {
+                        rig.nodes[other]
+                            .name
+                            .as_deref()
+                            .is_some_and(|other| is_copy_of(other, name))
+                    })
+                    .collect()
+            };
+            let problem = match twins.as_slice() {
+                [twin] => match self.motion(node, &rig.nodes[*twin].rest, units, up) {
+                    Some(motion) => {
+                        transforms.push((component, motion));
+                        continue;
+                    }
+                    None => Problem::error(
+                        codes::RIG_NOT_RIGID,
+                        format!(
+                            "scene `{}` scales, shears or mirrors part `{name}`: a printed part \
+                             only moves rigidly",
+                            scene.value
+                        ),
+                    )
+                    .with_help("pose the part's bones by rotation and location only, scale 1"),
+                },
+                [] => Problem::error(
+                    codes::RIG_NOT_IN_SCENE,
+                    format!(
+                        "scene `{}` has no mesh node `{name}` (nor a copy such as `{name}.001`)",
+                        scene.value
+                    ),
+                )
+                .with_help(format!(
+                    "every part of the rig must be in the pose's scene; the rig's parts come \
+                     from its default scene{}",
+                    if !meshes.is_empty() {
+                        ""
+                    } else {
+                        ", and this scene has no mesh nodes"
+                    }
+                )),
+                many => Problem::error(
+                    codes::RIG_AMBIGUOUS_NODE,
+                    format!(
+                        "scene `{}` has {} mesh nodes for part `{name}`: {}",
+                        scene.value,
+                        many.len(),
+                        listing(
+                            &many
+                                .iter()
+                                .filter_map(|&n| rig.nodes[n].name.as_deref())
+                                .collect::<Vec<_>>(),
+                            |name| format!("`{name}`"),
+                            "and"
+                        )
+                    ),
+                )
+                .with_help("keep one copy of each part in a scene"),
+            };
+            problems.push(
+                problem
+                    .with_label(scene.span, "this scene")
+                    .with_label(self.path.span, "in this rig"),
+            );
+            complete = false;
+        }
+        complete.then_some(transforms)
+    }
+
+    /// How part `node` moves when its mesh stands at world transform `posed` (in the file's
+    /// frame) instead of at its rest transform, as a rest-frame to model-frame isometry; `None`
+    /// when that motion is not rigid.
+    fn motion(
+        &self,
+        node: usize,
+        posed: &Matrix4<f64>,
+        units: Units,
+        up: Axis,
+    ) -> Option<Isometry3<f64>> {
+        let turn = self.frame.rotation(up);
+        let factor = self.frame.factor(units);
+        let motion = posed * self.rig.nodes[node].rest.try_inverse()?;
+        let linear: Matrix3<f64> = motion.fixed_view::<3, 3>(0, 0).into_owned();
+        let is_rigid = (linear.transpose() * linear - Matrix3::identity()).amax() < RIGID_TOLERANCE
+            && linear.determinant() > 0.0;
+        if !is_rigid {
+            return None;
+        }
+        let turned = turn.matrix() * linear * turn.matrix().transpose();
+        let rotation = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_eps(
+            &turned,
+            1e-12,
+            100,
+            Rotation3::identity(),
+        ));
+        let shift = turn * motion.fixed_view::<3, 1>(0, 3).into_owned() * factor;
+        Some(Isometry3::from_parts(Translation3::from(shift), rotation))
+    }
+
+    fn unknown_scene(&self, scene: &Spanned<String>) -> Problem {
+        let known: Vec<&str> = self
+            .rig
+            .scenes
+            .iter()
+            .filter_map(|s| s.name.as_deref())
+            .collect();
+        let help = match vocabulary::suggest(&scene.value, known.iter().copied()) {
+            Some(close) => format!("did you mean `{close}`?"),
+            None if known.is_empty() => "the rig has no named scenes".to_owned(),
+            None => format!(
+                "the rig's scenes are {}",
+                listing(&known, |name| format!("`{name}`"), "and")
+            ),
+        };
+        Problem::error(
+            codes::RIG_UNKNOWN_SCENE,
+            format!("the rig has no scene called `{}`", scene.value),
+        )
+        .with_label(scene.span, "not a scene of the rig")
+        .with_label(self.path.span, "this rig")
+        .with_help(help)
     }
 
     fn unknown_animation(&self, animation: &Spanned<String>) -> Problem {

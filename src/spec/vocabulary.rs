@@ -310,6 +310,7 @@ pub const DOCUMENT: &[NodeSpec] = &[
         props: &[
             prop("animation", ValueKind::String),
             prop("time", ValueKind::NonNegative),
+            prop("scene", ValueKind::String),
         ],
         children: POSE_CHILDREN,
         repeatable: true,

@@ -95,6 +95,16 @@ fn box_mesh([min, max]: [[f32; 3]; 2]) -> (Vec<[f32; 3]>, Vec<[u16; 3]>) {
 
 /// The GLB file of `joints` and `animations`: one scene of the root joints.
 pub fn rig_glb(joints: &[Joint], animations: &[Animation]) -> Vec<u8> {
+    scenes_glb(joints, animations, &[])
+}
+
+/// The GLB file of `joints` and `animations` with the named `scenes`, each its root joints, the
+/// first the default; without scenes, one unnamed scene of the root joints.
+pub fn scenes_glb(
+    joints: &[Joint],
+    animations: &[Animation],
+    scenes: &[(&str, Vec<usize>)],
+) -> Vec<u8> {
     let mut bin: Vec<u8> = Vec::new();
     let mut views = Vec::new();
     let mut accessors = Vec::new();
@@ -203,10 +213,18 @@ pub fn rig_glb(joints: &[Joint], animations: &[Animation]) -> Vec<u8> {
     let roots: Vec<usize> = (0..joints.len())
         .filter(|&joint| joints[joint].parent.is_none())
         .collect();
+    let scenes: Vec<serde_json::Value> = if scenes.is_empty() {
+        vec![serde_json::json!({"nodes": roots})]
+    } else {
+        scenes
+            .iter()
+            .map(|(name, roots)| serde_json::json!({"name": name, "nodes": roots}))
+            .collect()
+    };
     let mut json = serde_json::json!({
         "asset": {"version": "2.0"},
         "scene": 0,
-        "scenes": [{"nodes": roots}],
+        "scenes": scenes,
         "nodes": nodes,
         "meshes": meshes,
         "buffers": [{"byteLength": bin.len()}],
