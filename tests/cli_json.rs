@@ -10,18 +10,8 @@ use std::process::{Command, Stdio};
 use std::sync::mpsc;
 use std::time::Duration;
 
-use cli_support::{ballast, scratch_folder, stderr, stdout};
+use cli_support::{ballast, scratch_folder, stderr, stdout, ARM};
 use serde_json::Value;
-
-const ARM: &str = r#"
-component "base" mesh="meshes/hinged_arm.obj" object="base"
-component "arm" mesh="meshes/hinged_arm.obj" object="arm"
-pose "out" { stand }
-pose "round" {
-    component "arm" { pivot -22 0 20; rotate 0 0 180 }
-    imbalance
-}
-"#;
 
 /// A project in a fresh folder, with the example mesh next to it.
 fn scratch_project(text: &str) -> (tempfile::TempDir, PathBuf) {
