@@ -6,7 +6,7 @@ use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use cli_support::{ballast, examples, scratch_folder, stderr, stdout};
+use cli_support::{ballast, examples, scratch_folder, stderr, stdout, ARM};
 
 /// A project in a fresh folder, with a copy of the example meshes next to it.
 fn scratch_project(text: &str) -> (tempfile::TempDir, PathBuf) {
@@ -14,16 +14,6 @@ fn scratch_project(text: &str) -> (tempfile::TempDir, PathBuf) {
     fs::write(&project, text).unwrap();
     (folder, project)
 }
-
-const ARM: &str = r#"
-component "base" mesh="meshes/hinged_arm.obj" object="base"
-component "arm" mesh="meshes/hinged_arm.obj" object="arm"
-pose "out" { stand }
-pose "round" {
-    component "arm" { pivot -22 0 20; rotate 0 0 180 }
-    imbalance
-}
-"#;
 
 #[test]
 fn build_writes_both_outputs_and_exits_zero_when_every_goal_is_met() {
