@@ -10,12 +10,11 @@ mod print_support;
 use std::path::{Path, PathBuf};
 
 use ballast::compile::{
-    bed_parts, calibration_path, calibration_text, compile, print_settings, Compilation,
-    CALIBRATION_STALE, CALIBRATION_UNKNOWN, CALIBRATION_UNREADABLE,
+    calibration_path, calibration_text, compile, Compilation, CALIBRATION_STALE,
+    CALIBRATION_UNKNOWN, CALIBRATION_UNREADABLE,
 };
-use ballast::emit::print_files::write_prusa_3mf;
 use ballast::sliced::{measured_corrections, verify_gcode, SlicedOptions};
-use print_support::{slice_with, slicer_available};
+use print_support::{sliced_compilation, slicer_available};
 
 /// The T example copied into `dir` (project, solution, mesh), its project path.
 fn t_shape_in(dir: &Path) -> PathBuf {
@@ -32,20 +31,6 @@ fn t_shape_in(dir: &Path) -> PathBuf {
 fn compiled(path: &Path) -> Compilation {
     compile(&std::fs::read_to_string(path).unwrap(), path)
         .unwrap_or_else(|problems| panic!("does not compile: {problems:#?}"))
-}
-
-/// The G-code of `compilation`'s PrusaSlicer project, sliced in `dir`.
-fn sliced(compilation: &Compilation, dir: &Path) -> String {
-    let parts = bed_parts(
-        &compilation.project,
-        &compilation.meshes,
-        &compilation.design,
-        &compilation.print_plan,
-    );
-    let settings = print_settings(&compilation.project, &compilation.design);
-    let project = dir.join("sliced.3mf");
-    std::fs::write(&project, write_prusa_3mf(&parts, &settings).unwrap()).unwrap();
-    slice_with(&project, &["--dont-arrange"])
 }
 
 /// Writes the calibration file of the project at `path` from `gcode`.
@@ -77,7 +62,7 @@ fn a_calibrated_project_has_the_sliced_mass_of_its_design() {
     let dir = tempfile::tempdir().unwrap();
     let path = t_shape_in(dir.path());
     let before = compiled(&path);
-    let gcode = sliced(&before, dir.path());
+    let gcode = sliced_compilation(&before, dir.path(), "sliced");
     let options = SlicedOptions::default();
     let unchecked = verify_gcode(&before, &before.print_plan, &gcode, &options).unwrap();
     // The T's plastic printed on its side is more than the model's (docs/physics.md): the
@@ -241,7 +226,7 @@ fn verify_calibrate_writes_the_file_beside_the_project() {
     }
     let dir = tempfile::tempdir().unwrap();
     let path = t_shape_in(dir.path());
-    let gcode = sliced(&compiled(&path), dir.path());
+    let gcode = sliced_compilation(&compiled(&path), dir.path(), "sliced");
     let gcode_path = dir.path().join("sliced.gcode");
     std::fs::write(&gcode_path, gcode).unwrap();
     let output = std::process::Command::new(env!("CARGO_BIN_EXE_ballast"))
