@@ -13,6 +13,17 @@ pub struct Design {
     pub infill: f64,
 }
 
+impl Design {
+    /// The capsules held by component `component`, each with its index in `capsules`, in order.
+    pub fn capsules_of(&self, component: usize) -> Vec<(usize, &PlacedCapsule)> {
+        self.capsules
+            .iter()
+            .enumerate()
+            .filter(|(_, capsule)| capsule.component == component)
+            .collect()
+    }
+}
+
 /// One capsule-shaped void and the ball inside it, in the rest frame of its component.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlacedCapsule {

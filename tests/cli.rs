@@ -6,7 +6,7 @@ use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use cli_support::{ballast, examples, scratch_folder, stderr, stdout};
+use cli_support::{ballast, examples, scratch_folder, stderr, stdout, ARM};
 
 /// A project in a fresh folder, with a copy of the example meshes next to it.
 fn scratch_project(text: &str) -> (tempfile::TempDir, PathBuf) {
@@ -14,16 +14,6 @@ fn scratch_project(text: &str) -> (tempfile::TempDir, PathBuf) {
     fs::write(&project, text).unwrap();
     (folder, project)
 }
-
-const ARM: &str = r#"
-component "base" mesh="meshes/hinged_arm.obj" object="base"
-component "arm" mesh="meshes/hinged_arm.obj" object="arm"
-pose "out" { stand }
-pose "round" {
-    component "arm" { pivot -22 0 20; rotate 0 0 180 }
-    imbalance
-}
-"#;
 
 #[test]
 fn build_writes_both_outputs_and_exits_zero_when_every_goal_is_met() {
@@ -756,4 +746,69 @@ fn a_time_limit_leaves_a_complete_marked_output_set() {
         "time-limit",
         "the time limit (`--time-limit`)",
     );
+}
+
+#[test]
+fn a_time_limit_too_short_for_the_precomputation_is_a_diagnostic_and_writes_nothing() {
+    let (folder, project) = scratch_project(T_SEEDED);
+    let good = build_stopped(&project, &[], None);
+    assert!(
+        matches!(good.status.code(), Some(0 | 1)),
+        "stderr: {}",
+        stderr(&good)
+    );
+    let outputs = [
+        "build/model.glb",
+        "build/model.report.json",
+        "model.solution.kdl",
+    ];
+    let before: Vec<Vec<u8>> = outputs
+        .iter()
+        .map(|name| fs::read(folder.path().join(name)).unwrap())
+        .collect();
+    // No distance grid is sampled in a millisecond (and none is cached: `BALLAST_CACHE_DIR=off`).
+    let stopped = build_stopped(&project, &["--time-limit", "0.001"], None);
+    assert_eq!(
+        stopped.status.code(),
+        Some(124),
+        "stderr: {}",
+        stderr(&stopped)
+    );
+    let errors = stderr(&stopped);
+    assert!(
+        errors.contains("ballast::build::stopped_without_design"),
+        "{errors}"
+    );
+    assert!(
+        errors.contains("interrupted: the time limit ran out during the precomputation"),
+        "{errors}"
+    );
+    assert!(
+        errors.contains("before any design could be found"),
+        "{errors}"
+    );
+    assert!(errors.contains("nothing was written"), "{errors}");
+    assert!(!errors.contains("panicked"), "{errors}");
+    assert!(stdout(&stopped).is_empty(), "{}", stdout(&stopped));
+    // JSON diagnostics: standard output holds the same diagnostic, as one JSON object.
+    let json = build_stopped(
+        &project,
+        &["--time-limit", "0.001", "--message-format", "json"],
+        None,
+    );
+    assert_eq!(json.status.code(), Some(124), "stderr: {}", stderr(&json));
+    let lines: Vec<serde_json::Value> = stdout(&json)
+        .lines()
+        .map(|line| serde_json::from_str(line).expect("every line is JSON"))
+        .collect();
+    assert_eq!(lines.len(), 1, "{lines:?}");
+    assert_eq!(lines[0]["code"], "ballast::build::stopped_without_design");
+    assert_eq!(lines[0]["severity"], "error");
+    for (name, bytes) in outputs.iter().zip(&before) {
+        assert_eq!(
+            &fs::read(folder.path().join(name)).unwrap(),
+            bytes,
+            "{name} changed"
+        );
+    }
 }

@@ -1,55 +1,21 @@
 //! `--message-format json` and `check --json` on an invalid project: diagnostics as JSON objects
 //! on standard output, with spans that point at the right text.
 
+mod cli_support;
+
 use std::fs;
 use std::io::{BufRead, BufReader};
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::path::PathBuf;
+use std::process::{Command, Stdio};
 use std::sync::mpsc;
 use std::time::Duration;
 
+use cli_support::{ballast, scratch_folder, stderr, stdout, ARM};
 use serde_json::Value;
-
-/// Runs the binary without the disk cache, so no test writes into the user's cache folder.
-fn ballast(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_ballast"))
-        .args(args)
-        .env("NO_COLOR", "1")
-        .env("BALLAST_CACHE_DIR", "off")
-        .output()
-        .expect("the ballast binary runs")
-}
-
-fn stdout(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stdout).into_owned()
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
-
-const ARM: &str = r#"
-component "base" mesh="meshes/hinged_arm.obj" object="base"
-component "arm" mesh="meshes/hinged_arm.obj" object="arm"
-pose "out" { stand }
-pose "round" {
-    component "arm" { pivot -22 0 20; rotate 0 0 180 }
-    imbalance
-}
-"#;
 
 /// A project in a fresh folder, with the example mesh next to it.
 fn scratch_project(text: &str) -> (tempfile::TempDir, PathBuf) {
-    let folder = tempfile::tempdir().unwrap();
-    let meshes = folder.path().join("meshes");
-    fs::create_dir(&meshes).unwrap();
-    let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/meshes");
-    fs::copy(
-        examples.join("hinged_arm.obj"),
-        meshes.join("hinged_arm.obj"),
-    )
-    .unwrap();
-    let project = folder.path().join("model.kdl");
+    let (folder, project) = scratch_folder("", &["hinged_arm.obj"]);
     fs::write(&project, text).unwrap();
     (folder, project)
 }

@@ -8,26 +8,9 @@
 
 mod print_support;
 
-use std::path::Path;
-
-use ballast::compile::{bed_parts, compile, print_settings, Compilation};
-use ballast::emit::print_files::write_prusa_3mf;
+use ballast::compile::compile;
 use ballast::sliced::{verify_gcode, SlicedOptions};
-use print_support::{examples, slice_with, slicer_available};
-
-/// The G-code of the PrusaSlicer project of `compilation`, sliced in `folder`.
-fn sliced(compilation: &Compilation, folder: &Path, name: &str) -> String {
-    let parts = bed_parts(
-        &compilation.project,
-        &compilation.meshes,
-        &compilation.design,
-        &compilation.print_plan,
-    );
-    let settings = print_settings(&compilation.project, &compilation.design);
-    let project = folder.join(format!("{name}.3mf"));
-    std::fs::write(&project, write_prusa_3mf(&parts, &settings).unwrap()).unwrap();
-    slice_with(&project, &["--dont-arrange"])
-}
+use print_support::{examples, sliced_compilation, slicer_available};
 
 /// Examples whose goals the sliced mass does not meet yet. Their designs hang, float or stand
 /// within a hair of their goal's limit (the hammer's centre of mass a few millimetres from the
@@ -60,7 +43,7 @@ fn every_example_sliced_from_its_3mf_is_as_planned() {
         let source = std::fs::read_to_string(path).unwrap();
         let compilation = compile(&source, path)
             .unwrap_or_else(|problems| panic!("{name} does not compile: {problems:?}"));
-        let gcode = sliced(&compilation, folder.path(), &name);
+        let gcode = sliced_compilation(&compilation, folder.path(), &name);
         let check = verify_gcode(
             &compilation,
             &compilation.print_plan,

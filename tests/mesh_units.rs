@@ -2,11 +2,14 @@
 //! glTF specification's metres and +Y up for glTF files. Masses are checked against the closed
 //! form of a box (density × width × depth × height), which shares nothing with the mesh code.
 
+mod glb_support;
+
 use std::fs;
 use std::path::Path;
 use std::process::Command;
 
 use ballast::compile::{compile, Compilation};
+use glb_support::glb;
 
 /// The corners of the box `[0, size.x] × [0, size.y] × [0, size.z]`, vertex `i` taking x from bit
 /// 0, y from bit 1 and z from bit 2 of `i`, and its 12 triangles counter-clockwise seen from
@@ -87,25 +90,7 @@ fn blender_box_glb(size: [f64; 3]) -> Vec<u8> {
             {"bufferView": 1, "componentType": 5123, "count": 36, "type": "SCALAR"}
         ]
     });
-    let mut json = serde_json::to_vec(&json).unwrap();
-    while json.len() % 4 != 0 {
-        json.push(b' ');
-    }
-    while bin.len() % 4 != 0 {
-        bin.push(0);
-    }
-    let total = 12 + 8 + json.len() + 8 + bin.len();
-    let mut glb = Vec::new();
-    glb.extend_from_slice(b"glTF");
-    glb.extend_from_slice(&2u32.to_le_bytes());
-    glb.extend_from_slice(&(total as u32).to_le_bytes());
-    glb.extend_from_slice(&(json.len() as u32).to_le_bytes());
-    glb.extend_from_slice(b"JSON");
-    glb.extend_from_slice(&json);
-    glb.extend_from_slice(&(bin.len() as u32).to_le_bytes());
-    glb.extend_from_slice(b"BIN\0");
-    glb.extend_from_slice(&bin);
-    glb
+    glb(&json, bin)
 }
 
 /// A project in millimetres, +z up, of one component `component` (the text of its node), solid

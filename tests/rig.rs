@@ -3,6 +3,7 @@
 //! each pose's part moved by a `component` block about its joint); its mistakes are diagnostics
 //! with spans.
 
+mod glb_support;
 mod rig_support;
 
 use std::fs;

@@ -9,8 +9,7 @@ mod print_support;
 
 use std::path::Path;
 
-use ballast::compile::{bed_parts, compile, print_settings, Compilation};
-use ballast::emit::print_files::write_prusa_3mf;
+use ballast::compile::{compile, Compilation};
 use ballast::fabrication::{ComponentPlan, OrientationChoice, Pause, PrintPlan};
 use ballast::geometry::TriMesh;
 use ballast::sliced::{verify_gcode, SlicedCheck, SlicedOptions};
@@ -288,17 +287,8 @@ fn the_t_shape_sliced_as_planned_is_as_planned() {
     let path = root.join("examples/t_shape.kdl");
     let source = std::fs::read_to_string(&path).unwrap();
     let compilation = compile(&source, &path).expect("the example compiles");
-    let parts = bed_parts(
-        &compilation.project,
-        &compilation.meshes,
-        &compilation.design,
-        &compilation.print_plan,
-    );
-    let settings = print_settings(&compilation.project, &compilation.design);
     let dir = tempfile::tempdir().unwrap();
-    let file = dir.path().join("t_shape.3mf");
-    std::fs::write(&file, write_prusa_3mf(&parts, &settings).unwrap()).unwrap();
-    let gcode = slice_with(&file, &["--dont-arrange"]);
+    let gcode = sliced_compilation(&compilation, dir.path(), "t_shape");
     let check = check(&compilation, &compilation.print_plan, &gcode);
     for void in &check.voids {
         println!(

@@ -11,6 +11,7 @@ use ballast::compile::{
     compile_with, Compilation, CompileOptions, Failure, OptimizeOptions, Stage, WarmStart,
     Workspace,
 };
+use ballast::optimize::Round;
 
 fn t_shape() -> (PathBuf, String) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/t_shape.kdl");
@@ -64,13 +65,32 @@ fn a_goal_edit_reuses_the_precomputation_and_starts_from_the_last_design() {
         matches!(&cold[..2], [Stage::Grid { component, nodes }, Stage::Skeleton { .. }] if component == "T" && *nodes > 0),
         "{cold:?}"
     );
-    let rounds: Vec<usize> = cold
+    let solves: Vec<Round> = cold
         .iter()
         .filter_map(|stage| match stage {
-            Stage::Round { capsules } => Some(*capsules),
+            Stage::Round(at) => Some(*at),
             _ => None,
         })
         .collect();
+    // Each solve says its round and place: rounds counted from 1, solves from 1 within each.
+    for (i, at) in solves.iter().enumerate() {
+        assert!(
+            at.round <= at.most_rounds && at.solve <= at.solves,
+            "{at:?}"
+        );
+        let next_round = i == 0 || solves[i - 1].round + 1 == at.round;
+        let next_solve = i > 0 && solves[i - 1].round == at.round && solves[i - 1].solve < at.solve;
+        assert!(
+            (at.solve == 1 && next_round && (i > 0 || at.round == 1)) || next_solve,
+            "{solves:?}"
+        );
+    }
+    let rounds: Vec<usize> = solves
+        .iter()
+        .filter(|at| at.solve == 1)
+        .map(|at| at.capsules)
+        .collect();
+    assert_eq!(rounds.len(), solves.last().unwrap().round);
     assert!(
         rounds.len() >= 2 && rounds.windows(2).all(|w| w[0] > w[1]),
         "{rounds:?}"
@@ -91,11 +111,9 @@ fn a_goal_edit_reuses_the_precomputation_and_starts_from_the_last_design() {
             .all(|stage| matches!(stage, Stage::Round { .. })),
         "{again:?}"
     );
-    assert_eq!(
-        again.first(),
-        Some(&Stage::Round {
-            capsules: first.design.capsules.len()
-        })
+    assert!(
+        matches!(again.first(), Some(Stage::Round(at)) if at.round == 1 && at.solve == 1 && at.capsules == first.design.capsules.len()),
+        "{again:?}"
     );
     let optimization = second.optimization.as_ref().unwrap();
     assert!(optimization.warm_started && optimization.meets_goals);
@@ -161,4 +179,84 @@ fn a_mesh_is_sliced_once_per_print_settings() {
     assert_eq!(workspace.prints.sliced(), 1);
     assert!(other.prints[0].solid.volume > first.prints[0].solid.volume);
     assert!(other.poses[0].mass > first.poses[0].mass);
+}
+
+/// A T asked, in one orientation, both to stand and to topple: no design meets both.
+const CONFLICTING: &str = r#"
+infill 0.2
+optimize capsules=1
+component "T" mesh="meshes/t_shape.obj" {
+    print { down 1 0 0 }
+}
+pose "on its right side" {
+    rotate 0 36.8699 0
+    stand margin=2
+}
+pose "again on its right side" {
+    rotate 0 36.8699 0
+    imbalance margin=2
+}
+"#;
+
+#[test]
+fn an_explanation_cut_short_keeps_the_design_and_says_so() {
+    let folder = tempfile::tempdir().unwrap();
+    std::fs::create_dir(folder.path().join("meshes")).unwrap();
+    let (t_path, _) = t_shape();
+    std::fs::copy(
+        t_path.with_file_name("meshes/t_shape.obj"),
+        folder.path().join("meshes/t_shape.obj"),
+    )
+    .unwrap();
+    let path = folder.path().join("model.kdl");
+    std::fs::write(&path, CONFLICTING).unwrap();
+
+    // Run to its end, the explanation names the pair and was not cut short.
+    let (mut workspace, stages) = recording();
+    let full = build(CONFLICTING, &path, &options(None), &mut workspace);
+    let optimization = full.optimization.as_ref().unwrap();
+    assert!(!optimization.meets_goals && optimization.interrupted.is_none());
+    assert!(!optimization.conflicts_cut_short);
+    assert!(!optimization.conflicts.is_empty());
+    let solves: Vec<usize> = taken(&stages)
+        .iter()
+        .filter_map(|stage| match stage {
+            Stage::Conflicts { solve } => Some(*solve),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(solves, (1..=solves.len()).collect::<Vec<_>>());
+    let last = *solves.last().unwrap();
+
+    // Out of time as the last solve of the explanation starts: the same design, written and
+    // marked as interrupted, the explanation marked as cut short, and what it had shown kept.
+    let cancel = ballast::cancel::Cancel::new();
+    let stop = cancel.clone();
+    let mut workspace = Workspace {
+        cancel,
+        progress: Some(Box::new(move |stage| {
+            if stage == (Stage::Conflicts { solve: last }) {
+                stop.interrupt(ballast::cancel::Interruption::TimeLimit);
+            }
+        })),
+        ..Workspace::new()
+    };
+    let cut = build(CONFLICTING, &path, &options(None), &mut workspace);
+    let optimization = cut.optimization.as_ref().unwrap();
+    assert_eq!(
+        optimization.interrupted,
+        Some(ballast::cancel::Interruption::TimeLimit)
+    );
+    assert!(optimization.conflicts_cut_short);
+    assert!(optimization.conflicts.len() < full.optimization.as_ref().unwrap().conflicts.len());
+    assert_eq!(cut.design, full.design);
+    ballast::compile::write_outputs(&cut, &path, None).unwrap();
+    let report: serde_json::Value = serde_json::from_slice(
+        &std::fs::read(folder.path().join("build/model.report.json")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(report["optimization"]["conflicts_cut_short"], true);
+    assert_eq!(report["optimization"]["interrupted"], "time-limit");
+    let solution = std::fs::read_to_string(folder.path().join("model.solution.kdl")).unwrap();
+    assert!(solution.starts_with("// INTERRUPTED:"), "{solution}");
 }

@@ -4,7 +4,8 @@
 use nalgebra::{Point3, Vector3};
 
 use super::{BallPlacement, ComponentBody};
-use crate::design::Design;
+use crate::design::{Design, PlacedCapsule};
+use crate::geometry::Region;
 use crate::spec::model::{MassModel, Pose, Print, Project};
 
 /// The mass-related quantities of a posed model.
@@ -66,9 +67,8 @@ pub(crate) fn mass_totals(
         if !bodies[capsule.component].voids_in_print {
             let middle = pose.component_frame(capsule.component)
                 * nalgebra::center(&capsule.from, &capsule.to);
-            let dilated = capsule_volume(capsule.axis_length(), capsule.radius + shell);
             mass.add(
-                density * ((1.0 - design.infill) * dilated - capsule.volume()),
+                density * capsule_material(capsule, shell, design.infill),
                 &middle,
             );
         }
@@ -85,6 +85,44 @@ pub(crate) fn mass_totals(
         centre_of_mass: mass.centre().unwrap_or(fallback),
         buoyancy_centre: volume.centre().unwrap_or(fallback),
     }
+}
+
+/// The material of component `index` as the mass model prints it, before its balls go in:
+/// its volume at the material's full density (cubic project units) and its centroid, rest frame.
+/// The same sum as [`mass_totals`] makes for one component: the solid part, the sparse part at
+/// `design.infill`, and for each of its capsules the sparse material of the dilated capsule
+/// taken out and its shell put back solid (nothing for a measured body, whose voids are in it).
+pub fn component_material(
+    project: &Project,
+    body: &ComponentBody,
+    design: &Design,
+    index: usize,
+) -> Region {
+    let shell = capsule_shell(&project.print);
+    let mut material = Weighted::default();
+    material.add(body.print.solid.volume, &body.print.solid.centroid);
+    material.add(
+        design.infill * body.print.sparse.volume,
+        &body.print.sparse.centroid,
+    );
+    if !body.voids_in_print {
+        for capsule in design.capsules.iter().filter(|c| c.component == index) {
+            let middle = nalgebra::center(&capsule.from, &capsule.to);
+            material.add(capsule_material(capsule, shell, design.infill), &middle);
+        }
+    }
+    Region {
+        volume: material.total,
+        centroid: material.centre().unwrap_or(body.mass.centroid),
+    }
+}
+
+/// The material a capsule changes in its component, full-density volume: the sparse fill of the
+/// capsule dilated by `shell` taken out at `infill`, the dilated capsule put back solid, the
+/// void taken out.
+fn capsule_material(capsule: &PlacedCapsule, shell: f64, infill: f64) -> f64 {
+    let dilated = capsule_volume(capsule.axis_length(), capsule.radius + shell);
+    (1.0 - infill) * dilated - capsule.volume()
 }
 
 /// Thickness of the solid shell a slicer prints around a capsule, project units; 0 under the

@@ -45,7 +45,7 @@ pub(crate) mod tilt;
 pub use equilibria::{CUT_FLIPS, MAX_ENUMERATED_BALLS};
 pub use evaluate::evaluate_pose;
 pub use facets::{facet_rotation, resting_facets, RestingFacet};
-pub use mass::capsule_shell;
+pub use mass::{capsule_shell, component_material};
 pub use rest::{Resting, SNAP_WARNING};
 
 use nalgebra::{Isometry3, Matrix3, Rotation3};

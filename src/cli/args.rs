@@ -74,6 +74,11 @@ pub enum Command {
         /// The command the G-code pauses with (with `--gcode`).
         #[arg(long, value_name = "GCODE", default_value = "M601")]
         pause_gcode: String,
+        /// With `--gcode`: also write the project's calibration file
+        /// (`<project>.calibration.json`), the mass the file deposits less the mass model's per
+        /// component, which every later build adds to the mass model.
+        #[arg(long, requires = "gcode")]
+        calibrate: bool,
         /// Read the solution file from this folder (where `build --out-dir` wrote it) instead of
         /// the path the project names.
         #[arg(long, value_name = "DIR")]

@@ -17,7 +17,8 @@ use super::{
     NotCompiled, EXIT_INVALID, EXIT_SIGINT, EXIT_SIGTERM, EXIT_TIME_LIMIT,
 };
 use crate::cancel::{Cancel, Interruption};
-use crate::compile::{write_outputs, CompileOptions, Workspace};
+use crate::compile::{write_outputs, CompileOptions, Stage, Workspace};
+use crate::diagnostic::Problem;
 use crate::optimize::PrecomputeCache;
 
 /// Builds the project at `path` as `options` say, with grids and skeletons from `cache`, the
@@ -50,10 +51,18 @@ pub fn run(
                 .cancel
                 .interruption()
                 .unwrap_or(Interruption::Interrupt);
-            eprintln!(
-                "{}: the optimizer had not finished a capsule count yet, so there is no design to write; nothing was written",
-                describe(why)
-            );
+            let problem = no_design(why, workspace.stage());
+            let name = path.display().to_string();
+            match format {
+                MessageFormat::Human => eprint!(
+                    "{}",
+                    super::diagnostics::render_for_terminal(&[problem], &name, "")
+                ),
+                MessageFormat::Json => print!(
+                    "{}",
+                    super::diagnostics::render_json_lines(&[problem], &name, "")
+                ),
+            }
             return exit_status(why);
         }
     };
@@ -104,6 +113,31 @@ pub fn run(
         }
         _ => goals_status(&compilation),
     }
+}
+
+/// The code of a build stopped before the optimizer had any design.
+pub const STOPPED_WITHOUT_DESIGN: &str = "ballast::build::stopped_without_design";
+
+/// The diagnostic of a build stopped by `why` during `stage` (the last long stage it started)
+/// before the optimizer had finished a capsule count: there is no design, nothing is written.
+fn no_design(why: Interruption, stage: Option<Stage>) -> Problem {
+    let during = match &stage {
+        Some(Stage::Grid { .. } | Stage::Skeleton { .. }) | None => "the precomputation",
+        Some(_) => "the first capsule count",
+    };
+    let stood = stage.map_or(String::new(), |stage| format!(" (it was {stage})"));
+    let help = match why {
+        Interruption::TimeLimit => "give a longer `--time-limit`: the first design needs the distance grids, the skeletons and the heuristic's first round",
+        Interruption::Interrupt | Interruption::Terminate => "let the build run until the optimizer has finished a capsule count",
+    };
+    Problem::error(
+        STOPPED_WITHOUT_DESIGN,
+        format!(
+            "{} during {during}{stood}, before any design could be found: there is no design to write, and nothing was written (the previous outputs are left as they were)",
+            describe(why)
+        ),
+    )
+    .with_help(help)
 }
 
 /// Ctrl-C and SIGTERM interrupt `cancel`; a second one exits at once with its status. A warning

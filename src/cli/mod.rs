@@ -84,6 +84,7 @@ pub fn run() -> i32 {
             gcode,
             filament_diameter,
             pause_gcode,
+            calibrate,
         } => {
             let options = CompileOptions {
                 out_dir,
@@ -96,7 +97,7 @@ pub fn run() -> i32 {
                         filament_diameter,
                         pause_gcode,
                     };
-                    sliced::run(&project, &gcode, json, &options, &sliced)
+                    sliced::run(&project, &gcode, json, calibrate, &options, &sliced)
                 }
             }
         }

@@ -62,6 +62,18 @@ pub fn optimization(
             ranking.meeting_goals,
         );
     }
+    if optimization.conflicts_cut_short {
+        let _ = writeln!(
+            out,
+            "  the explanation of the goals not met was cut short: {} found before it stopped{}",
+            optimization.conflicts.len(),
+            if optimization.conflicts.is_empty() {
+                ""
+            } else {
+                ", listed below"
+            }
+        );
+    }
     if !optimization.conflicts.is_empty() {
         let _ = writeln!(out, "  no design met every goal:");
         for conflict in &optimization.conflicts {
@@ -102,7 +114,7 @@ pub fn optimization(
         } else {
             format!(", exhaustive {:.2} s", timings.exhaustive)
         },
-        if optimization.conflicts.is_empty() {
+        if optimization.conflicts.is_empty() && !optimization.conflicts_cut_short {
             String::new()
         } else {
             format!(", conflicts {:.2} s", timings.conflicts)
@@ -175,6 +187,7 @@ mod tests {
             starts: Starts::default(),
             exhaustive: Vec::new(),
             conflicts: Vec::new(),
+            conflicts_cut_short: false,
             timings: Timings::default(),
             interrupted: None,
             origins: Vec::new(),

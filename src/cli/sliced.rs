@@ -7,18 +7,20 @@ use std::sync::Arc;
 
 use super::diagnostics::render_for_terminal;
 use super::{compile_file, file_name, MessageFormat, EXIT_INVALID, EXIT_MET, EXIT_UNMET};
-use crate::compile::{CompileOptions, Workspace};
+use crate::compile::{calibration_path, calibration_text, Compilation, CompileOptions, Workspace};
 use crate::diagnostic::{Problem, SourceFile};
+use crate::emit::write_atomic;
 use crate::gcode::GcodeError;
-use crate::sliced::{verify_gcode, SlicedCheck, SlicedError, SlicedOptions};
+use crate::sliced::{measured_corrections, verify_gcode, SlicedCheck, SlicedError, SlicedOptions};
 use crate::spec::codes;
 
 /// Checks the G-code at `gcode` against the project at `path`; prints the table, or the check
-/// as JSON when `json`.
+/// as JSON when `json`; when `calibrate`, also writes the project's calibration file from it.
 pub fn run(
     path: &Path,
     gcode: &Path,
     json: bool,
+    calibrate: bool,
     options: &CompileOptions,
     sliced: &SlicedOptions,
 ) -> i32 {
@@ -57,11 +59,61 @@ pub fn run(
     } else {
         print!("{}", table(&check, &file_name(path), &file_name(gcode)));
     }
+    if calibrate {
+        if let Err(message) = write_calibration(path, gcode, &compilation, &check) {
+            eprintln!("error: {message}");
+            return EXIT_INVALID;
+        }
+    }
     if check.passes() {
         EXIT_MET
     } else {
         EXIT_UNMET
     }
+}
+
+/// Writes the calibration file of the project at `path` from `check`, atomically, and says so
+/// on standard error with each component's correction in grams; refuses when a part was not
+/// found as planned, since its deposit would not be its own.
+fn write_calibration(
+    path: &Path,
+    gcode: &Path,
+    compilation: &Compilation,
+    check: &SlicedCheck,
+) -> Result<(), String> {
+    if let Some(mismatch) = check.components.iter().find_map(|c| c.mismatch.as_ref()) {
+        return Err(format!("no calibration written: {mismatch}"));
+    }
+    let corrections = measured_corrections(compilation, check);
+    let text = calibration_text(
+        &compilation.project,
+        &compilation.meshes,
+        &compilation.orientations,
+        &corrections,
+        &file_name(gcode),
+    );
+    let target = calibration_path(path);
+    write_atomic(&target, text.as_bytes())
+        .map_err(|error| format!("cannot write {}: {error}", target.display()))?;
+    let grams = compilation.project.material.density * compilation.project.units.cubic_in_cm3();
+    let changes: Vec<String> = corrections
+        .iter()
+        .enumerate()
+        .map(|(index, correction)| {
+            format!(
+                "`{}` {:+.2} g",
+                compilation.project.component_name(index),
+                correction.volume * grams
+            )
+        })
+        .collect();
+    eprintln!(
+        "wrote {}: the mass model corrected by {} ({}); build again to design for it",
+        target.display(),
+        changes.join(", "),
+        file_name(gcode)
+    );
+    Ok(())
 }
 
 /// The diagnostic for a G-code line that does not read, pointed at the word.

@@ -28,12 +28,7 @@ pub fn plan_insertions_into(
     let describe = |diameter: f64| ball_words(diameter, project.units);
     for (component, mesh) in meshes.iter().enumerate() {
         let frame = print.frame(component, mesh);
-        let capsules: Vec<_> = design
-            .capsules
-            .iter()
-            .enumerate()
-            .filter(|(_, capsule)| capsule.component == component)
-            .collect();
+        let capsules = design.capsules_of(component);
         let (capsules, pauses) = plan_insertions(&capsules, &frame, &print.grid, &describe);
         if let Some(component) = plan.components.get_mut(component) {
             component.capsules = capsules;

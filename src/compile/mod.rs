@@ -13,6 +13,7 @@
 //! let watch mode skip work for unchanged meshes, the flag that cancels a build in flight, and
 //! where progress goes.
 
+mod calibration;
 mod design;
 mod down;
 mod insertion;
@@ -36,6 +37,10 @@ use limits::optimizer_limits;
 
 use std::path::{Path, PathBuf};
 
+pub use calibration::{
+    calibration_path, calibration_text, CALIBRATION_REFUSED, CALIBRATION_STALE,
+    CALIBRATION_UNKNOWN, CALIBRATION_UNREADABLE,
+};
 pub use design::hand_placed_design;
 pub use insertion::{direction_words, plan_insertions_into, BRIDGE_LIMIT_MM};
 pub use mesh_cache::MeshCache;
@@ -69,7 +74,9 @@ use crate::balance::{
 use crate::design::Design;
 use crate::diagnostic::Problem;
 use crate::fabrication::{Orientation, PrintPlan};
-use crate::geometry::{MassProperties, MeshLimits, PrintVolumes, ReadPolicy, TriMesh};
+use crate::geometry::{
+    MassProperties, MeshLimits, PrintCorrection, PrintVolumes, ReadPolicy, TriMesh,
+};
 use crate::spec::model::Project;
 use crate::spec::parse_project_with;
 
@@ -127,9 +134,11 @@ pub struct Compilation {
     pub meshes: Vec<TriMesh>,
     /// Each component's volume, centroid and second moment, in project order.
     pub mass: Vec<MassProperties>,
-    /// Per component, where it is printed solid and where sparse (the project's mass model), in
-    /// its print orientation.
+    /// Per component, where it is printed solid and where sparse (the project's mass model, plus
+    /// the calibration file's correction), in its print orientation.
     pub prints: Vec<PrintVolumes>,
+    /// Per component, the calibration file's correction added to `prints` (zero without one).
+    pub corrections: Vec<PrintCorrection>,
     /// Per component, how it is printed: declared or chosen, and why.
     pub orientations: Vec<Orientation>,
     /// How the design is printed: every component on the bed.
@@ -208,6 +217,19 @@ pub fn compile_with(
         problems.extend(orientation_problems);
         orientations
     });
+    let corrections = match (&meshes, &orientations) {
+        (Some(meshes), Some(orientations)) => {
+            let (corrections, calibration_problems) = calibration::read_calibration(
+                &project,
+                &calibration_path(project_path),
+                meshes,
+                orientations,
+            );
+            problems.extend(calibration_problems);
+            corrections
+        }
+        _ => Vec::new(),
+    };
     if let (Some(meshes), Some(orientations)) = (
         meshes
             .as_ref()
@@ -219,6 +241,7 @@ pub fn compile_with(
             .zip(orientations)
             .map(|(mesh, o)| workspace.prints.volumes(&project, mesh, o.to_print))
             .collect();
+        let (prints, _) = calibration::corrected_prints(&project, &prints, &corrections);
         let bodies: Vec<ComponentBody> = meshes
             .iter()
             .zip(&prints)
@@ -249,6 +272,8 @@ pub fn compile_with(
         .zip(&orientations)
         .map(|(mesh, o)| workspace.prints.volumes(&project, mesh, o.to_print))
         .collect();
+    let (prints, refused) = calibration::corrected_prints(&project, &prints, &corrections);
+    problems.extend(refused);
     let print = print_setup(&project, &orientations);
     let (design, source, optimization) = match (&project.optimize, &options.optimize) {
         (None, _) => (written, DesignSource::Written, None),
@@ -314,6 +339,7 @@ pub fn compile_with(
         meshes,
         mass,
         prints,
+        corrections,
         orientations,
         print_plan,
         design,

@@ -43,6 +43,9 @@ pub struct Optimization {
     /// When the chosen design misses some goal: the goals that cannot be met even alone, and the
     /// pairs that cannot be met together.
     pub conflicts: Vec<ConflictReport>,
+    /// Whether the explanation of the goals missed was interrupted before it had tried every
+    /// goal and pair: `conflicts` then holds only those it had shown.
+    pub conflicts_cut_short: bool,
     /// Wall-clock seconds per stage. Not deterministic, so never written to a file.
     #[serde(skip)]
     pub timings: Timings,

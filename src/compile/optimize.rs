@@ -246,8 +246,8 @@ fn optimize_from(
     )
     .with_cancel(workspace.cancel.clone());
     let requested = options.capsules.or(settings.capsules);
-    let mut candidates = run_heuristic(&problem, &seeds, requested, &|capsules| {
-        workspace.report(Stage::Round { capsules })
+    let mut candidates = run_heuristic(&problem, &seeds, requested, &|round| {
+        workspace.report(Stage::Round(round))
     });
     // Interrupted (not cancelled), the rounds finished so far still hold designs worth keeping.
     let interrupted = || workspace.cancel.interruption();
@@ -288,10 +288,9 @@ fn optimize_from(
     let (design, origins) = named(project, outcome.design.clone(), &candidates[chosen].starts);
 
     let clock = Instant::now();
-    let mut conflicts = if outcome.meets_goals || problem.is_cancelled() {
-        Vec::new()
+    let explanation = if outcome.meets_goals || problem.is_cancelled() {
+        None
     } else {
-        workspace.report(Stage::Conflicts);
         let unmet: Vec<GoalRef> = outcome
             .poses
             .iter()
@@ -318,7 +317,7 @@ fn optimize_from(
             })
             .map(|(_, c)| goals_met(&c.outcome))
             .collect();
-        explain_conflicts(
+        Some(explain_conflicts(
             project,
             meshes,
             prints,
@@ -328,18 +327,21 @@ fn optimize_from(
             &unmet,
             &achieved,
             &workspace.cancel,
-        )
-        .iter()
-        .map(|c| conflict_report(project, c))
-        .collect()
+            &|solve| workspace.report(Stage::Conflicts { solve }),
+        ))
     };
     let interrupted = interrupted();
+    // Cancelled, nothing is kept; interrupted, the conflicts shown before are kept.
     if problem.is_cancelled() {
-        // Cancelled, nothing is kept; interrupted, an explanation cut short may name goals that
-        // can be met.
         interrupted?;
-        conflicts.clear();
     }
+    let conflicts_cut_short = explanation.as_ref().is_some_and(|e| e.cut_short);
+    let conflicts = explanation
+        .map(|e| e.conflicts)
+        .unwrap_or_default()
+        .iter()
+        .map(|c| conflict_report(project, c))
+        .collect();
     let conflicts_seconds = clock.elapsed().as_secs_f64();
     let optimization = Optimization {
         requested,
@@ -357,6 +359,7 @@ fn optimize_from(
         origins,
         exhaustive,
         conflicts,
+        conflicts_cut_short,
         timings: Timings {
             precompute,
             heuristic,

@@ -87,12 +87,7 @@ pub fn insertion_rank(
     to_print: &Rotation3<f64>,
     grid: &LayerGrid,
 ) -> Option<InsertionRank> {
-    let capsules: Vec<_> = design
-        .capsules
-        .iter()
-        .enumerate()
-        .filter(|(_, capsule)| capsule.component == component)
-        .collect();
+    let capsules = design.capsules_of(component);
     if capsules.is_empty() {
         return None;
     }

@@ -13,6 +13,7 @@ use miette::SourceSpan;
 
 use super::output_path;
 use crate::diagnostic::Problem;
+use crate::emit::output_set::same_file;
 use crate::emit::print_files::file_name;
 use crate::geometry::{external_buffer_paths, ReadPolicy};
 use crate::spec::model::Project;
@@ -96,23 +97,6 @@ fn spanned_inputs(
         }
     }
     inputs
-}
-
-/// Whether `a` and `b` are one existing file (a link or another spelling of one path included).
-pub fn same_file(a: &Path, b: &Path) -> bool {
-    let (Ok(first), Ok(second)) = (std::fs::metadata(a), std::fs::metadata(b)) else {
-        return false;
-    };
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::MetadataExt;
-        (first.dev(), first.ino()) == (second.dev(), second.ino())
-    }
-    #[cfg(not(unix))]
-    {
-        let _ = (first, second);
-        matches!((a.canonicalize(), b.canonicalize()), (Ok(a), Ok(b)) if a == b)
-    }
 }
 
 /// The problems of the output paths of `project`, read from `project_path` with text `source`,

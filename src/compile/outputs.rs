@@ -7,11 +7,12 @@
 use std::io;
 use std::path::{Path, PathBuf};
 
-use super::output_paths::{input_files, same_file};
+use super::output_paths::input_files;
 use super::{
     bed_parts, interrupted_solution_text, output_path, print_settings, solution_text, Compilation,
     DesignSource, Report,
 };
+use crate::emit::output_set::same_file;
 use crate::emit::print_files::{file_name, write_prusa_3mf, write_sheet, write_stl};
 use crate::emit::{finish_interrupted, replace_set, write_glb};
 use crate::geometry::{MeshLimits, ReadPolicy};

@@ -1,11 +1,13 @@
 //! What one process keeps from build to build, and how it steers the build in flight: the
 //! precompute and print caches, the cancel flag, and where progress goes.
 
+use std::sync::{Mutex, PoisonError};
+
 use super::mesh_cache::MeshCache;
 use super::print_cache::PrintCache;
 use crate::cancel::Cancel;
 use crate::diagnostic::Problem;
-use crate::optimize::PrecomputeCache;
+use crate::optimize::{PrecomputeCache, Round, MAX_EXPLANATION_SOLVES};
 
 /// The state builds share in one process. `build` and `check` use a fresh one; watch mode keeps
 /// one for the whole session, so an unchanged mesh is never parsed, checked or sampled twice.
@@ -21,6 +23,9 @@ pub struct Workspace {
     pub cancel: Cancel,
     /// Told as each long stage starts; silent when `None`.
     pub progress: Option<Box<dyn Fn(Stage) + Send>>,
+    /// The long stage the build in flight started last, told or not (read it with
+    /// [`stage`](Self::stage)).
+    pub last_stage: Mutex<Option<Stage>>,
 }
 
 impl Workspace {
@@ -31,6 +36,10 @@ impl Workspace {
 
     /// Marks the start of a build for every cache (see [`prune`](Self::prune)).
     pub fn start_build(&mut self) {
+        *self
+            .last_stage
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner) = None;
         self.meshes.start_build();
         self.cache.start_build();
         self.prints.start_build();
@@ -46,9 +55,22 @@ impl Workspace {
 
     /// Tells the progress sink that `stage` starts.
     pub(crate) fn report(&self, stage: Stage) {
+        *self
+            .last_stage
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner) = Some(stage.clone());
         if let Some(progress) = &self.progress {
             progress(stage);
         }
+    }
+
+    /// The long stage the build in flight (or the last one) started last, if any: where a
+    /// build that was stopped stood.
+    pub fn stage(&self) -> Option<Stage> {
+        self.last_stage
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .clone()
     }
 }
 
@@ -67,18 +89,18 @@ pub enum Stage {
         /// The component.
         component: String,
     },
-    /// One round of the capsule-count heuristic.
-    Round {
-        /// Capsules optimized in this round.
-        capsules: usize,
-    },
+    /// A local solve of a round of the capsule-count heuristic.
+    Round(Round),
     /// Random starts to rank the heuristic's result (`--exhaustive`).
     Exhaustive {
         /// Random starts per capsule count.
         starts: usize,
     },
-    /// Explaining the goals the chosen design misses.
-    Conflicts,
+    /// A solve of the explanation of the goals the chosen design misses.
+    Conflicts {
+        /// The solve, from 1.
+        solve: usize,
+    },
 }
 
 impl std::fmt::Display for Stage {
@@ -91,15 +113,26 @@ impl std::fmt::Display for Stage {
                 )
             }
             Stage::Skeleton { component } => write!(f, "thinning the skeleton of `{component}`"),
-            Stage::Round { capsules: 1 } => write!(f, "optimizing 1 capsule"),
-            Stage::Round { capsules } => write!(f, "optimizing {capsules} capsules"),
+            Stage::Round(at) => write!(
+                f,
+                "round {} of at most {}: {} capsule{}, solve {}/{}",
+                at.round,
+                at.most_rounds,
+                at.capsules,
+                if at.capsules == 1 { "" } else { "s" },
+                at.solve,
+                at.solves
+            ),
             Stage::Exhaustive { starts } => {
                 write!(
                     f,
                     "ranking against {starts} random starts per capsule count"
                 )
             }
-            Stage::Conflicts => write!(f, "explaining the goals not met"),
+            Stage::Conflicts { solve } => write!(
+                f,
+                "explaining the goals not met: solve {solve} of at most {MAX_EXPLANATION_SOLVES}"
+            ),
         }
     }
 }

@@ -326,8 +326,9 @@ fn still_written(path: &Path, blake3: Option<&str>) -> bool {
     fs::read(path).is_ok_and(|bytes| blake3::hash(&bytes).to_hex().as_str() == expected)
 }
 
-/// Whether `a` and `b` are one existing file (the same device and inode on Unix).
-fn same_file(a: &Path, b: &Path) -> bool {
+/// Whether `a` and `b` are one existing file (a link or another spelling of one path included:
+/// the same device and inode on Unix).
+pub fn same_file(a: &Path, b: &Path) -> bool {
     let (Ok(first), Ok(second)) = (fs::metadata(a), fs::metadata(b)) else {
         return false;
     };

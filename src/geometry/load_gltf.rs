@@ -289,12 +289,8 @@ pub(super) fn local_matrix(transform: Transform) -> Result<Matrix4<f64>, LoadErr
             rotation: q,
             scale: s,
         } => {
-            let q = Quaternion::new(q[3], q[0], q[1], q[2]).cast::<f64>();
-            if q.norm().is_nan() || q.norm() == 0.0 {
-                return Err(err("a node has a zero rotation quaternion"));
-            }
+            let r = node_rotation(q)?;
             let t = Translation3::new(t[0], t[1], t[2]).cast::<f64>();
-            let r = UnitQuaternion::from_quaternion(q);
             let s = Matrix4::new_nonuniform_scaling(&nalgebra::Vector3::new(
                 f64::from(s[0]),
                 f64::from(s[1]),
@@ -303,6 +299,16 @@ pub(super) fn local_matrix(transform: Transform) -> Result<Matrix4<f64>, LoadErr
             Ok(t.to_homogeneous() * r.to_homogeneous() * s)
         }
     }
+}
+
+/// A node's `rotation` (glTF order x, y, z, w) as a unit quaternion in f64; a zero or NaN
+/// quaternion is refused.
+pub(super) fn node_rotation(q: [f32; 4]) -> Result<UnitQuaternion<f64>, LoadError> {
+    let q = Quaternion::new(q[3], q[0], q[1], q[2]).cast::<f64>();
+    if q.norm().is_nan() || q.norm() == 0.0 {
+        return Err(err("a node has a zero rotation quaternion"));
+    }
+    Ok(UnitQuaternion::from_quaternion(q))
 }
 
 fn mode_name(mode: Mode) -> &'static str {

@@ -31,6 +31,7 @@ mod mass;
 mod mesh;
 pub(crate) mod polygon;
 mod print;
+mod print_correction;
 mod rig;
 mod shells;
 mod skeleton;
@@ -51,6 +52,7 @@ pub use load_files::{MeshLimits, ReadPolicy, DEFAULT_MAX_MESH_BYTES, DEFAULT_MAX
 pub use mass::{mass_properties, MassProperties};
 pub use mesh::TriMesh;
 pub use print::{print_volumes, PrintVolumes, Region, Slicing};
+pub use print_correction::PrintCorrection;
 pub use rig::{read_rig, Rig, RigAnimation, RigNode, RigScene};
 pub use shells::ShellFault;
 pub use skeleton::{Skeleton, SkeletonSegment};

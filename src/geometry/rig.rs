@@ -18,7 +18,7 @@ use nalgebra::{Matrix4, Quaternion, Translation3, UnitQuaternion, Vector3};
 
 use super::load::{check_vertices, LoadError};
 use super::load_files::{FileReader, MeshLimits, ReadPolicy};
-use super::load_gltf::{elements, err, local_matrix, open_document, Hierarchy};
+use super::load_gltf::{elements, err, local_matrix, node_rotation, open_document, Hierarchy};
 
 /// A glTF file read as a rig.
 #[derive(Debug, Clone)]
@@ -273,17 +273,11 @@ fn local(transform: Transform) -> Result<Local, LoadError> {
             translation: t,
             rotation: q,
             scale: s,
-        } => {
-            let q = Quaternion::new(q[3], q[0], q[1], q[2]).cast::<f64>();
-            if q.norm().is_nan() || q.norm() == 0.0 {
-                return Err(err("a node has a zero rotation quaternion"));
-            }
-            Ok(Local::Decomposed {
-                translation: Vector3::new(t[0], t[1], t[2]).cast(),
-                rotation: UnitQuaternion::from_quaternion(q),
-                scale: Vector3::new(s[0], s[1], s[2]).cast(),
-            })
-        }
+        } => Ok(Local::Decomposed {
+            translation: Vector3::new(t[0], t[1], t[2]).cast(),
+            rotation: node_rotation(q)?,
+            scale: Vector3::new(s[0], s[1], s[2]).cast(),
+        }),
     }
 }
 

@@ -122,10 +122,7 @@ impl PrecomputeCache {
         if let Some(skeleton) = &entry.skeleton {
             return Some(skeleton.clone());
         }
-        if cancel.is_cancelled() {
-            return None;
-        }
-        let skeleton = Arc::new(Skeleton::from_grid(mesh, &entry.grid));
+        let skeleton = Arc::new(Skeleton::from_grid_unless(mesh, &entry.grid, cancel)?);
         entry.skeleton = Some(skeleton.clone());
         let grid = entry.grid.clone();
         self.built.skeletons += 1;

@@ -36,6 +36,16 @@ pub struct Conflict {
 /// conflict is named without a solve showing it).
 pub const MAX_EXPLANATION_SOLVES: usize = 24;
 
+/// What [`explain`] found: the conflicts, and whether it was cut short.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Explanation {
+    /// The goals unreachable alone, then the pairs that conflict, in project order; when cut
+    /// short, those found before (each shown by a solve that finished).
+    pub conflicts: Vec<Conflict>,
+    /// Whether the cancel flag stopped the explanation before it had looked at every set.
+    pub cut_short: bool,
+}
+
 /// The design space a build searches, which the explanation searches too.
 pub struct Space<'a> {
     /// The starts, each a design of the space (e.g. the capsule count asked for): the heuristic's
@@ -55,7 +65,11 @@ pub struct Space<'a> {
 ///
 /// `achieved` holds, per printable design the search already judged, the goals it meets: a set
 /// of goals within one of them is met without a solve. At most [`MAX_EXPLANATION_SOLVES`] sets
-/// are optimized, in the order above.
+/// are optimized, in the order above. `solving` hears the number (from 1) of each solve as it
+/// starts.
+///
+/// Soon after `cancel` is set it stops, keeping the conflicts that solves finished before it
+/// showed, and says it was cut short.
 #[allow(clippy::too_many_arguments)]
 pub fn explain(
     project: &Project,
@@ -67,7 +81,8 @@ pub fn explain(
     unmet: &[GoalRef],
     achieved: &[Vec<GoalRef>],
     cancel: &Cancel,
-) -> Vec<Conflict> {
+    solving: &dyn Fn(usize),
+) -> Explanation {
     let all: Vec<GoalRef> = project
         .poses
         .iter()
@@ -75,14 +90,19 @@ pub fn explain(
         .flat_map(|(pose, p)| (0..p.goals.len()).map(move |goal| GoalRef { pose, goal }))
         .collect();
     let solves = std::cell::Cell::new(0);
-    let attempt = |goals: &[GoalRef]| -> (bool, f64) {
+    // `None` once cancelled: a solve cut short shows nothing.
+    let attempt = |goals: &[GoalRef]| -> Option<(bool, f64)> {
         let known = achieved
             .iter()
             .any(|met| goals.iter().all(|goal| met.contains(goal)));
+        if cancel.is_cancelled() {
+            return None;
+        }
         if known || solves.get() >= MAX_EXPLANATION_SOLVES {
-            return (true, f64::NEG_INFINITY);
+            return Some((true, f64::NEG_INFINITY));
         }
         solves.set(solves.get() + 1);
+        solving(solves.get());
         let only = with_only(project, goals);
         let problem = Problem::new(
             &only,
@@ -93,7 +113,7 @@ pub fn explain(
             Method::Hybrid,
         )
         .with_cancel(cancel.clone());
-        space
+        let best = space
             .starts
             .iter()
             .map(|start| {
@@ -101,15 +121,18 @@ pub fn explain(
                 (written.meets_goals, written.value.to_degrees())
             })
             .max_by(|a, b| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1)))
-            .unwrap_or((false, f64::INFINITY))
+            .unwrap_or((false, f64::INFINITY));
+        (!cancel.is_cancelled()).then_some(best)
     };
-    let alone: Vec<(GoalRef, bool, f64)> = all
-        .iter()
-        .map(|&goal| {
-            let (met, value) = attempt(&[goal]);
-            (goal, met, value)
-        })
-        .collect();
+    let mut alone: Vec<(GoalRef, bool, f64)> = Vec::with_capacity(all.len());
+    let mut cut_short = false;
+    for &goal in &all {
+        let Some((met, value)) = attempt(&[goal]) else {
+            cut_short = true;
+            break;
+        };
+        alone.push((goal, met, value));
+    }
     let mut conflicts: Vec<Conflict> = alone
         .iter()
         .filter(|(goal, met, _)| !met && unmet.contains(goal))
@@ -118,7 +141,9 @@ pub fn explain(
             shortfall,
         })
         .collect();
-    for &(goal, met, _) in &alone {
+    // Pairs are only tried once every goal was tried alone.
+    let pairs = if cut_short { &[][..] } else { &alone[..] };
+    'pairs: for &(goal, met, _) in pairs {
         if !met || !unmet.contains(&goal) {
             continue;
         }
@@ -132,7 +157,10 @@ pub fn explain(
             } else {
                 [goal, other]
             };
-            let (met, shortfall) = attempt(&pair);
+            let Some((met, shortfall)) = attempt(&pair) else {
+                cut_short = true;
+                break 'pairs;
+            };
             if !met {
                 conflicts.push(Conflict {
                     goals: pair.to_vec(),
@@ -141,7 +169,10 @@ pub fn explain(
             }
         }
     }
-    conflicts
+    Explanation {
+        conflicts,
+        cut_short,
+    }
 }
 
 /// `project` with every goal but `goals` removed.

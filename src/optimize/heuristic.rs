@@ -22,6 +22,23 @@ pub struct Candidate {
     pub seconds: f64,
 }
 
+/// Where the heuristic stands, as it starts a local solve.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Round {
+    /// The round, from 1.
+    pub round: usize,
+    /// The most rounds there can be (each round removes at least one capsule); it may fall as
+    /// rounds remove more.
+    pub most_rounds: usize,
+    /// Capsules optimized in this round, pinned ones included.
+    pub capsules: usize,
+    /// The solve starting, from 1.
+    pub solve: usize,
+    /// The solves this round runs: from the seeds, from the previous round's result, and with one
+    /// movable capsule left from each seed alone.
+    pub solves: usize,
+}
+
 /// Runs the heuristic from `seeds` (pinned capsules are kept in every round and never removed).
 ///
 /// Each round optimizes the current capsules from their seeds (the paper's reset) and, after the
@@ -33,7 +50,7 @@ pub struct Candidate {
 /// `stop_at = Some(n)` it stops after the round with `n` capsules instead (seeds are split first
 /// if there are fewer than `n`).
 ///
-/// `starting` hears each round's capsule count as the round starts.
+/// `starting` hears where the search stands as each local solve starts.
 ///
 /// Returns one candidate per round, most capsules first; when the problem is cancelled, the
 /// rounds finished before.
@@ -41,7 +58,7 @@ pub fn run(
     problem: &Problem,
     seeds: &[StartCapsule],
     stop_at: Option<usize>,
-    starting: &dyn Fn(usize),
+    starting: &dyn Fn(Round),
 ) -> Vec<Candidate> {
     let mut current = seeds.to_vec();
     if let Some(n) = stop_at {
@@ -50,25 +67,43 @@ pub fn run(
     let mut candidates = Vec::new();
     // The survivors of the previous round where that round's optimization left them.
     let mut warm: Option<Vec<StartCapsule>> = None;
+    let alone_seeds = seeds.iter().filter(|s| !s.pinned).count();
+    let mut round = 0;
     loop {
-        starting(current.len());
+        round += 1;
+        let pinned = current.iter().filter(|c| c.pinned).count();
+        let floor = stop_at.unwrap_or(0).max(pinned);
+        let one_left = current.len() - pinned == 1;
+        let (capsules, most_rounds) = (current.len(), round + current.len().saturating_sub(floor));
+        let solves = 1 + usize::from(warm.is_some()) + if one_left { alone_seeds } else { 0 };
+        let at = |solve: usize| Round {
+            round,
+            most_rounds,
+            capsules,
+            solve,
+            solves,
+        };
+        starting(at(1));
         let clock = Instant::now();
         let mut outcome = problem.optimize(&current);
         if let Some(warm) = &warm {
+            starting(at(2));
             let resumed = problem.optimize(warm);
             if better(&resumed, &outcome) {
                 outcome = resumed;
             }
         }
         // Down to one movable capsule, every seed can be tried on its own at little cost.
-        if current.iter().filter(|c| !c.pinned).count() == 1 {
-            for alone in seeds.iter().filter(|s| !s.pinned) {
+        if one_left {
+            let first = solves - alone_seeds;
+            for (index, alone) in seeds.iter().filter(|s| !s.pinned).enumerate() {
                 let mut start: Vec<StartCapsule> =
                     current.iter().filter(|c| c.pinned).cloned().collect();
                 start.push(alone.clone());
                 if start == current {
                     continue;
                 }
+                starting(at(first + index + 1));
                 let tried = problem.optimize(&start);
                 if better(&tried, &outcome) {
                     outcome = tried;

@@ -18,11 +18,14 @@ mod test_meshes;
 
 pub use bounds::design_bounds;
 pub use cache::{Built, GridKey, PrecomputeCache};
-pub use conflicts::{explain as explain_conflicts, Conflict, GoalRef, Space as ConflictSpace};
+pub use conflicts::{
+    explain as explain_conflicts, Conflict, Explanation, GoalRef, Space as ConflictSpace,
+    MAX_EXPLANATION_SOLVES,
+};
 pub use disk_cache::DiskCache;
 pub use exhaustive::{rank, Ranking};
 pub use grids::{content_hash, default_cell};
-pub use heuristic::{choose, run as run_heuristic, Candidate};
+pub use heuristic::{choose, run as run_heuristic, Candidate, Round};
 pub use problem::{Origin, Outcome, Problem, StartCapsule};
 pub use repair::{repair_seeds, Rules, SeedRepair};
 pub use seeds::{skeleton_seeds, SeedSite};

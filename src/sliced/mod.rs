@@ -23,11 +23,13 @@ pub use pauses::{FoundPause, PauseCheck, PlannedPause};
 pub use placement::SlicedComponent;
 pub use voids::VoidCheck;
 
-use crate::balance::{evaluate_pose, ComponentBody, GoalOutcome, PoseEvaluation};
+use crate::balance::{
+    component_material, evaluate_pose, ComponentBody, GoalOutcome, PoseEvaluation,
+};
 use crate::compile::Compilation;
 use crate::fabrication::PrintPlan;
 use crate::gcode::{read_program, GcodeError, ReadOptions};
-use crate::geometry::Region;
+use crate::geometry::{PrintCorrection, Region};
 
 /// How to read the sliced file.
 #[derive(Debug, Clone, PartialEq)]
@@ -236,4 +238,37 @@ fn goal_value(outcome: &GoalOutcome) -> (&'static str, &'static str, f64) {
         GoalOutcome::Suspend { angle, .. } => ("suspend", "angle (°)", *angle),
         GoalOutcome::Immerse { angle, .. } => ("immerse", "angle (°)", *angle),
     }
+}
+
+/// Per component, the correction that makes the mass model's material what `check` measured in
+/// the sliced file: the compilation's own correction (from its calibration file) plus the
+/// difference that remains, so that a build with the result has each component's mass and
+/// centroid as sliced, for this design. What the calibration file holds (see
+/// [`calibration_text`](crate::compile::calibration_text)).
+pub fn measured_corrections(
+    compilation: &Compilation,
+    check: &SlicedCheck,
+) -> Vec<PrintCorrection> {
+    compilation
+        .meshes
+        .iter()
+        .zip(&compilation.prints)
+        .zip(&check.components)
+        .enumerate()
+        .map(|(index, ((mesh, print), sliced))| {
+            let body = ComponentBody::with_print(mesh, *print);
+            let modelled =
+                component_material(&compilation.project, &body, &compilation.design, index);
+            let measured = Region {
+                volume: sliced.volume,
+                centroid: sliced.centroid.into(),
+            };
+            compilation
+                .corrections
+                .get(index)
+                .copied()
+                .unwrap_or_default()
+                .plus_difference(&measured, &modelled)
+        })
+        .collect()
 }

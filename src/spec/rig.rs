@@ -11,6 +11,7 @@
 
 use std::path::{Path, PathBuf};
 
+use miette::SourceSpan;
 use nalgebra::{Isometry3, Matrix3, Matrix4, Rotation3, Translation3, UnitQuaternion};
 
 use super::codes;
@@ -19,7 +20,7 @@ use super::tree::{Node, Scalar};
 use super::value::listing;
 use super::vocabulary;
 use crate::diagnostic::Problem;
-use crate::geometry::{read_rig, LoadError, MeshSelector, ReadPolicy, Rig};
+use crate::geometry::{read_rig, LoadError, MeshSelector, ReadPolicy, Rig, RigAnimation};
 
 /// How far a part's motion may be from rigid (in its linear part, per entry) and still count as
 /// rigid: glTF stores transforms in 32-bit floats.
@@ -270,6 +271,67 @@ fn unreadable(written: &Spanned<String>, error: &LoadError) -> Problem {
         .with_help(help)
 }
 
+/// The time pose `pose` samples animation `clip` (called `animation`) at: its `time=`, inside
+/// the animation's keys; without one, the single key's time (or 0 for an animation without keys);
+/// `None` after reporting a time outside the keys, or a missing one where there are several keys.
+fn pose_time(
+    pose: &Node,
+    animation: &Spanned<String>,
+    clip: &RigAnimation,
+    problems: &mut Vec<Problem>,
+) -> Option<f64> {
+    match pose.prop("time").zip(pose.number("time")) {
+        Some((value, time)) => {
+            let slack = 1e-6 * (1.0 + clip.end.abs());
+            let has_keys = clip.most_keys > 0;
+            if has_keys && (time < clip.start - slack || time > clip.end + slack) {
+                problems.push(time_problem(
+                    codes::RIG_TIME_OUTSIDE,
+                    format!(
+                        "time {time} s is outside animation `{}`, which runs from {} s to {} s",
+                        animation.value, clip.start, clip.end
+                    ),
+                    (value.span, "outside the animation"),
+                    format!("give a time from {} to {} (seconds)", clip.start, clip.end),
+                ));
+                return None;
+            }
+            Some(time)
+        }
+        None if clip.most_keys > 1 => {
+            problems.push(time_problem(
+                codes::RIG_TIME_NEEDED,
+                format!(
+                    "animation `{}` has keys from {} s to {} s: the pose must say when",
+                    animation.value, clip.start, clip.end
+                ),
+                (animation.span, "more than one key"),
+                format!(
+                    "add `time=` in seconds, e.g. `time={}`, or give the animation a single \
+                     (STEP) key",
+                    clip.end
+                ),
+            ));
+            None
+        }
+        None if clip.most_keys == 1 => Some(clip.start),
+        None => Some(0.0),
+    }
+}
+
+/// A problem with a pose's time against its animation's keys: `code`, `message`, one label
+/// (span and text) and `help`.
+fn time_problem(
+    code: &'static str,
+    message: String,
+    (span, label): (SourceSpan, &str),
+    help: String,
+) -> Problem {
+    Problem::error(code, message)
+        .with_label(span, label)
+        .with_help(help)
+}
+
 impl RigSource {
     /// The component transforms (component index, rest frame to model frame) of the pose
     /// `pose`, whose `animation=` is `animation`; `None` after reporting an unknown animation, a
@@ -292,50 +354,7 @@ impl RigSource {
             return None;
         };
         let clip = &rig.animations[index];
-        let time = match pose.prop("time").zip(pose.number("time")) {
-            Some((value, time)) => {
-                let slack = 1e-6 * (1.0 + clip.end.abs());
-                let has_keys = clip.most_keys > 0;
-                if has_keys && (time < clip.start - slack || time > clip.end + slack) {
-                    problems.push(
-                        Problem::error(
-                            codes::RIG_TIME_OUTSIDE,
-                            format!(
-                                "time {time} s is outside animation `{}`, which runs from {} s to {} s",
-                                animation.value, clip.start, clip.end
-                            ),
-                        )
-                        .with_label(value.span, "outside the animation")
-                        .with_help(format!(
-                            "give a time from {} to {} (seconds)",
-                            clip.start, clip.end
-                        )),
-                    );
-                    return None;
-                }
-                time
-            }
-            None if clip.most_keys > 1 => {
-                problems.push(
-                    Problem::error(
-                        codes::RIG_TIME_NEEDED,
-                        format!(
-                            "animation `{}` has keys from {} s to {} s: the pose must say when",
-                            animation.value, clip.start, clip.end
-                        ),
-                    )
-                    .with_label(animation.span, "more than one key")
-                    .with_help(format!(
-                        "add `time=` in seconds, e.g. `time={}`, or give the animation a single \
-                         (STEP) key",
-                        clip.end
-                    )),
-                );
-                return None;
-            }
-            None if clip.most_keys == 1 => clip.start,
-            None => 0.0,
-        };
+        let time = pose_time(pose, animation, clip, problems)?;
         let posed = rig.posed(index, time);
         let morphed: Vec<usize> = clip.morphed_nodes().collect();
         let mut transforms = Vec::new();

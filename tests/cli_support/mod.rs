@@ -32,6 +32,19 @@ pub fn stderr(output: &Output) -> String {
     String::from_utf8_lossy(&output.stderr).into_owned()
 }
 
+/// A project of the example mesh `hinged_arm.obj` in `meshes/`: its base and arm as two
+/// components, a pose `out` that must stand and a pose `round`, the arm turned round, that asks
+/// for `imbalance`.
+pub const ARM: &str = r#"
+component "base" mesh="meshes/hinged_arm.obj" object="base"
+component "arm" mesh="meshes/hinged_arm.obj" object="arm"
+pose "out" { stand }
+pose "round" {
+    component "arm" { pivot -22 0 20; rotate 0 0 180 }
+    imbalance
+}
+"#;
+
 /// The bundled examples' folder.
 pub fn examples() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")

@@ -6,6 +6,8 @@ use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use ballast::compile::{bed_parts, print_settings, Compilation};
+use ballast::emit::print_files::write_prusa_3mf;
 use ballast::geometry::TriMesh;
 use nalgebra::{Point3, UnitQuaternion, Vector3};
 
@@ -265,6 +267,21 @@ pub fn slice_with(input: &Path, args: &[&str]) -> String {
         String::from_utf8_lossy(&status.stderr)
     );
     std::fs::read_to_string(&output).expect("read G-code")
+}
+
+/// The G-code of the PrusaSlicer project `ballast build` writes for `compilation`, written as
+/// `<name>.3mf` in `folder` and sliced there without rearranging the bed.
+pub fn sliced_compilation(compilation: &Compilation, folder: &Path, name: &str) -> String {
+    let parts = bed_parts(
+        &compilation.project,
+        &compilation.meshes,
+        &compilation.design,
+        &compilation.print_plan,
+    );
+    let settings = print_settings(&compilation.project, &compilation.design);
+    let project = folder.join(format!("{name}.3mf"));
+    std::fs::write(&project, write_prusa_3mf(&parts, &settings).unwrap()).unwrap();
+    slice_with(&project, &["--dont-arrange"])
 }
 
 /// The example projects, in name order.

@@ -1,6 +1,8 @@
 //! Rigs written as GLB files for the tests: boxes hung under joint nodes, and animations of the
 //! joints, in glTF's own terms (metres, +Y up).
 
+use crate::glb_support::glb;
+
 /// One node: a joint, or a joint with a box mesh in its local frame.
 pub struct Joint {
     /// The node's name.
@@ -237,22 +239,7 @@ pub fn scenes_glb(
     if joints.iter().any(|joint| joint.skinned) {
         json["skins"] = serde_json::json!([{"joints": [0]}]);
     }
-    let mut json = serde_json::to_vec(&json).unwrap();
-    while json.len() % 4 != 0 {
-        json.push(b' ');
-    }
-    let total = 12 + 8 + json.len() + 8 + bin.len();
-    let mut glb = Vec::new();
-    glb.extend_from_slice(b"glTF");
-    glb.extend_from_slice(&2u32.to_le_bytes());
-    glb.extend_from_slice(&(total as u32).to_le_bytes());
-    glb.extend_from_slice(&(json.len() as u32).to_le_bytes());
-    glb.extend_from_slice(b"JSON");
-    glb.extend_from_slice(&json);
-    glb.extend_from_slice(&(bin.len() as u32).to_le_bytes());
-    glb.extend_from_slice(b"BIN\0");
-    glb.extend_from_slice(&bin);
-    glb
+    glb(&json, bin)
 }
 
 /// The figure of `examples/figure.kdl`, in metres, +Y up: a torso on two legs, a head and two

@@ -41,6 +41,7 @@ use nalgebra::{Matrix3, Point3, SymmetricEigen, Vector3};
 use super::field::DistanceGrid;
 use super::mass::mass_properties;
 use super::mesh::TriMesh;
+use crate::cancel::Cancel;
 use graph::{Field, Graph, Pruning};
 
 /// Cells across the longest side of the bounding box in [`Skeleton::new`]'s probe for the
@@ -141,6 +142,16 @@ impl Skeleton {
     /// The skeleton of `mesh` with the nodes of `grid` (built from the same mesh) as voxels:
     /// its cell sets the resolution, and the time grows with the number of inside nodes.
     pub fn from_grid(mesh: &TriMesh, grid: &DistanceGrid) -> Skeleton {
+        Skeleton::from_grid_unless(mesh, grid, &Cancel::new())
+            .expect("a flag nobody else holds is never set")
+    }
+
+    /// [`from_grid`](Self::from_grid), giving up (`None`) soon after `cancel` is set.
+    pub fn from_grid_unless(
+        mesh: &TriMesh,
+        grid: &DistanceGrid,
+        cancel: &Cancel,
+    ) -> Option<Skeleton> {
         let dims = grid.dims();
         let [nx, ny, nz] = dims;
         // Nodes on the surface, up to rounding, are not inside.
@@ -156,7 +167,15 @@ impl Skeleton {
                 }
             }
         }
-        thinning::thin(dims, &mut occupied, &depths, DEPTH_STEP * grid.cell());
+        if !thinning::thin(
+            dims,
+            &mut occupied,
+            &depths,
+            DEPTH_STEP * grid.cell(),
+            cancel,
+        ) {
+            return None;
+        }
         let field = GridField { grid, dims };
         let mut graph = Graph::new(dims, &occupied, &field);
         graph.prune(&Pruning {
@@ -181,10 +200,10 @@ impl Skeleton {
             }
         }
         if segments.is_empty() {
-            return Skeleton {
+            return Some(Skeleton {
                 segments: principal_axis(mesh, grid).into_iter().collect(),
                 fallback: true,
-            };
+            });
         }
         segments.sort_by(|a, b| {
             b.length()
@@ -192,10 +211,10 @@ impl Skeleton {
                 .then_with(|| order_points(&a.from, &b.from))
                 .then_with(|| order_points(&a.to, &b.to))
         });
-        Skeleton {
+        Some(Skeleton {
             segments,
             fallback: false,
-        }
+        })
     }
 }
 

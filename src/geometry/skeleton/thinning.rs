@@ -6,6 +6,8 @@
 //! eight subfields (by the parity of their indices) if they still are. Passes repeat until nothing changes. Objects are
 //! 26-connected, the background 6-connected.
 
+use crate::cancel::Cancel;
+
 /// Neighbourhood position `(dx + 1) + 3 (dy + 1) + 9 (dz + 1)` of the voxel itself.
 const CENTRE: usize = 13;
 
@@ -109,12 +111,20 @@ fn components(set: u32, adjacent: &[u32; 27], seeds: u32) -> u32 {
 /// threshold the directional passes run until nothing changes. Curves therefore form where the
 /// solid is deepest, and a bump on the surface cannot start a spur. Pass equal depths for plain
 /// directional thinning.
-pub(super) fn thin(dims: [usize; 3], occupied: &mut [bool], depth: &[f64], step: f64) {
+///
+/// Gives up, returning `false` with `occupied` half thinned, soon after `cancel` is set.
+pub(super) fn thin(
+    dims: [usize; 3],
+    occupied: &mut [bool],
+    depth: &[f64],
+    step: f64,
+    cancel: &Cancel,
+) -> bool {
     let [nx, ny, nz] = dims;
     let sizes_agree = occupied.len() == nx * ny * nz && depth.len() == occupied.len();
     if nx < 3 || ny < 3 || nz < 3 || !sizes_agree || step.is_nan() || step <= 0.0 {
         occupied.iter_mut().for_each(|o| *o = false);
-        return;
+        return true;
     }
     let mut live: Vec<usize> = Vec::new();
     for (index, o) in occupied.iter_mut().enumerate() {
@@ -181,12 +191,15 @@ pub(super) fn thin(dims: [usize; 3], occupied: &mut [bool], depth: &[f64], step:
     let mut order = live.clone();
     order.sort_by(|&a, &b| depth[a].total_cmp(&depth[b]).then(a.cmp(&b)));
     let Some(&first) = order.first() else {
-        return;
+        return true;
     };
     let mut threshold = depth[first];
     let mut eligible = 0;
     live.clear();
     while eligible < order.len() {
+        if cancel.is_cancelled() {
+            return false;
+        }
         while eligible < order.len() && depth[order[eligible]] <= threshold {
             live.push(order[eligible]);
             eligible += 1;
@@ -195,6 +208,7 @@ pub(super) fn thin(dims: [usize; 3], occupied: &mut [bool], depth: &[f64], step:
         passes(&mut live, occupied);
         threshold += step;
     }
+    true
 }
 
 #[cfg(test)]
@@ -243,7 +257,7 @@ mod tests {
                 }
             }
         }
-        thin(dims, &mut occupied, &depth, 1.0);
+        assert!(thin(dims, &mut occupied, &depth, 1.0, &Cancel::new()));
         let left: Vec<usize> = (0..occupied.len()).filter(|&v| occupied[v]).collect();
         assert!(left.len() >= 8, "{}", left.len());
         // Every voxel left has at most two neighbours along the bar away from its ends.
@@ -267,7 +281,7 @@ mod tests {
                 }
             }
         }
-        thin(dims, &mut occupied, &depth, 1.0);
+        assert!(thin(dims, &mut occupied, &depth, 1.0, &Cancel::new()));
         let left: Vec<[usize; 3]> = (0..occupied.len())
             .filter(|&v| occupied[v])
             .map(|v| [v % 20, (v / 20) % 20, v / 400])

@@ -1,0 +1,229 @@
+//! The calibration file, `<project>.calibration.json` beside the project: per component, what
+//! a real slicer deposited beyond the mass model ([`PrintCorrection`]), measured by
+//! `ballast verify --gcode FILE --calibrate` on a sliced print of the design. Every build reads
+//! it and adds each component's correction to its print volumes, so the optimizer designs for
+//! the mass the slicer deposits. A correction holds only for the mesh, print orientation and
+//! print settings it was measured with: each entry carries their fingerprint, and an entry whose
+//! fingerprint no longer matches is left out with a warning.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use miette::SourceSpan;
+use serde::{Deserialize, Serialize};
+
+use crate::diagnostic::{Problem, SourceFile};
+use crate::fabrication::Orientation;
+use crate::geometry::{PrintCorrection, PrintVolumes, TriMesh};
+use crate::optimize::content_hash;
+use crate::spec::model::Project;
+use crate::spec::read_source;
+
+/// The calibration file cannot be read or is not one.
+pub const CALIBRATION_UNREADABLE: &str = "ballast::calibration::unreadable";
+/// An entry was measured on another mesh, print orientation or print settings.
+pub const CALIBRATION_STALE: &str = "ballast::calibration::stale";
+/// An entry names no component of the project.
+pub const CALIBRATION_UNKNOWN: &str = "ballast::calibration::unknown_component";
+/// An entry would take away more material than the component's solid part holds.
+pub const CALIBRATION_REFUSED: &str = "ballast::calibration::refused";
+
+/// The version of the file's layout this build reads and writes.
+const VERSION: u32 = 1;
+
+/// The file as written.
+#[derive(Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CalibrationFile {
+    /// [`VERSION`].
+    calibration: u32,
+    /// The G-code file it was measured from, for the reader.
+    measured_from: String,
+    /// One entry per component, in project order.
+    components: Vec<Entry>,
+}
+
+/// One component's correction.
+#[derive(Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Entry {
+    /// The component's name.
+    name: String,
+    /// [`fingerprint`] of what it was measured on.
+    print: String,
+    /// Material to add: volume (cubic project units) and first moment (rest frame).
+    correction: PrintCorrection,
+}
+
+/// Where the calibration file of the project at `project_path` is: beside it, named after it.
+pub fn calibration_path(project_path: &Path) -> PathBuf {
+    let stem = project_path
+        .file_stem()
+        .map_or_else(|| "project".into(), |s| s.to_string_lossy().into_owned());
+    project_path.with_file_name(format!("{stem}.calibration.json"))
+}
+
+/// What a correction depends on for `mesh` printed as `orientation` under `project`'s print
+/// settings: a BLAKE3 digest (16 hex digits) of the mesh content, the settings and the rotation.
+pub fn fingerprint(project: &Project, mesh: &TriMesh, orientation: &Orientation) -> String {
+    let mut hasher = blake3::Hasher::new();
+    hasher.update(&content_hash(mesh).to_le_bytes());
+    hasher.update(format!("{:?}", project.print).as_bytes());
+    hasher.update(format!("{:?}", orientation.to_print).as_bytes());
+    hasher.finalize().to_hex()[..16].to_string()
+}
+
+/// The corrections of the calibration file at `path` for `project`'s components (zero where
+/// it has none or its entry is stale), and the problems found: an unreadable file is an error,
+/// a stale or unknown entry a warning. No file: no correction, no problem.
+pub fn read_calibration(
+    project: &Project,
+    path: &Path,
+    meshes: &[TriMesh],
+    orientations: &[Orientation],
+) -> (Vec<PrintCorrection>, Vec<Problem>) {
+    let mut corrections = vec![PrintCorrection::default(); meshes.len()];
+    let text = match read_source(path, "calibration file") {
+        Ok(Some(text)) => text,
+        Ok(None) => return (corrections, Vec::new()),
+        Err(problem) => {
+            let mut problem = *problem;
+            problem.code = CALIBRATION_UNREADABLE;
+            return (corrections, vec![problem]);
+        }
+    };
+    let file = SourceFile {
+        name: path.display().to_string(),
+        text: Arc::from(text.as_str()),
+    };
+    let parsed: CalibrationFile = match serde_json::from_str(&text) {
+        Ok(parsed) => parsed,
+        Err(error) => {
+            let problem = Problem::error(
+                CALIBRATION_UNREADABLE,
+                format!("the calibration file {} does not read: {error}", file.name),
+            )
+            .with_label(span_at(&text, error.line(), error.column()), "here")
+            .with_help(
+                "write it again with `ballast verify --gcode FILE --calibrate`, or delete it",
+            )
+            .in_file(file);
+            return (corrections, vec![problem]);
+        }
+    };
+    if parsed.calibration != VERSION {
+        let problem = Problem::error(
+            CALIBRATION_UNREADABLE,
+            format!(
+                "the calibration file {} is of version {}; this ballast reads version {VERSION}",
+                file.name, parsed.calibration
+            ),
+        )
+        .in_file(file);
+        return (corrections, vec![problem]);
+    }
+    let mut problems = Vec::new();
+    for entry in &parsed.components {
+        let Some(index) = (0..meshes.len()).find(|&i| project.component_name(i) == entry.name)
+        else {
+            problems.push(
+                Problem::warning(
+                    CALIBRATION_UNKNOWN,
+                    format!(
+                        "the calibration file corrects component `{}`, which the project does not have; its entry is left out",
+                        entry.name
+                    ),
+                )
+                .in_file(file.clone()),
+            );
+            continue;
+        };
+        if entry.print != fingerprint(project, &meshes[index], &orientations[index]) {
+            problems.push(
+                Problem::warning(
+                    CALIBRATION_STALE,
+                    format!(
+                        "component `{}`'s mass correction was measured on another mesh, print orientation or print settings; it is left out, and the mass is the model's",
+                        entry.name
+                    ),
+                )
+                .with_help("slice the new print files and run `ballast verify --gcode FILE --calibrate` again")
+                .in_file(file.clone()),
+            );
+            continue;
+        }
+        corrections[index] = entry.correction;
+    }
+    (corrections, problems)
+}
+
+/// `prints` with `corrections` applied, and a warning for each correction refused (one that
+/// would leave a component's solid part without material: then its print is the model's).
+pub fn corrected_prints(
+    project: &Project,
+    prints: &[PrintVolumes],
+    corrections: &[PrintCorrection],
+) -> (Vec<PrintVolumes>, Vec<Problem>) {
+    let mut problems = Vec::new();
+    let corrected = prints
+        .iter()
+        .zip(corrections)
+        .enumerate()
+        .map(|(index, (print, correction))| {
+            if *correction == PrintCorrection::default() {
+                return *print;
+            }
+            correction.apply(print).unwrap_or_else(|| {
+                problems.push(Problem::warning(
+                    CALIBRATION_REFUSED,
+                    format!(
+                        "component `{}`'s mass correction takes away more than its solid material; it is left out",
+                        project.component_name(index)
+                    ),
+                ));
+                *print
+            })
+        })
+        .collect();
+    (corrected, problems)
+}
+
+/// The calibration file's text for `corrections` (one per component, in project order),
+/// measured from the G-code file named `measured_from`. The same corrections give the same
+/// bytes.
+pub fn calibration_text(
+    project: &Project,
+    meshes: &[TriMesh],
+    orientations: &[Orientation],
+    corrections: &[PrintCorrection],
+    measured_from: &str,
+) -> String {
+    let file = CalibrationFile {
+        calibration: VERSION,
+        measured_from: measured_from.to_string(),
+        components: corrections
+            .iter()
+            .enumerate()
+            .map(|(index, correction)| Entry {
+                name: project.component_name(index).to_string(),
+                print: fingerprint(project, &meshes[index], &orientations[index]),
+                correction: *correction,
+            })
+            .collect(),
+    };
+    let mut text = serde_json::to_string_pretty(&file).expect("plain numbers and strings encode");
+    text.push('\n');
+    text
+}
+
+/// The byte span of 1-based `line` and `column` in `text` (one character, or the end).
+fn span_at(text: &str, line: usize, column: usize) -> SourceSpan {
+    let start: usize = text
+        .split_inclusive('\n')
+        .take(line.saturating_sub(1))
+        .map(str::len)
+        .sum();
+    let offset = (start + column.saturating_sub(1)).min(text.len());
+    let length = usize::from(offset < text.len());
+    SourceSpan::new(offset.into(), length)
+}

@@ -1,0 +1,177 @@
+//! The components: one per `component` node (its mesh, the frame its coordinates are read in,
+//! its print orientation) and the parts of the `rig`, with their names checked unique.
+
+use std::path::{Path, PathBuf};
+
+use super::{name_among, Resolver};
+use crate::diagnostic::Problem;
+use crate::geometry::{MeshSelector, ReadPolicy};
+use crate::spec::codes;
+use crate::spec::model::{
+    Axis, Component, FrameSource, MeshFrame, PrintOrientation, Spanned, Units,
+};
+use crate::spec::rig;
+use crate::spec::transform::rotation;
+use crate::spec::tree::Node;
+
+impl Resolver<'_> {
+    /// The components, in file order: one per `component` node, and the parts of the `rig`
+    /// where it is written (read through `policy`).
+    pub(super) fn components(&mut self, policy: &ReadPolicy) {
+        let nodes = self.nodes;
+        for node in nodes
+            .iter()
+            .filter(|node| matches!(node.name, "component" | "rig"))
+        {
+            if node.name == "rig" {
+                self.rig_components(node, policy);
+                continue;
+            }
+            let name = name_among(&self.components, "component", node, self.problems, |c| {
+                &c.name
+            });
+            let mesh = node.text("mesh").map_or_else(
+                || Spanned::new(PathBuf::new(), node.name_span),
+                |mesh| Spanned::new(self.folder.join(&mesh.value), mesh.span),
+            );
+            let selector = match (node.text("object"), node.text("node")) {
+                (Some(object), Some(gltf_node)) => {
+                    self.problems.push(
+                        Problem::error(
+                            codes::CONFLICTING_PROPERTIES,
+                            "a component takes `object=` or `node=`, not both",
+                        )
+                        .with_label(gltf_node.span, "`node=` names a glTF node")
+                        .with_label(object.span, "`object=` names an OBJ object")
+                        .with_help("keep the one that matches the mesh file's format"),
+                    );
+                    MeshSelector::Whole
+                }
+                (Some(object), None) => MeshSelector::ObjObject(object.value),
+                (None, Some(gltf_node)) => MeshSelector::GltfNode(gltf_node.value),
+                (None, None) => MeshSelector::Whole,
+            };
+            let print = node
+                .child("print")
+                .and_then(|block| self.print_orientation(block));
+            let frame = self.mesh_frame(node, &mesh.value);
+            self.components.push(Component {
+                name,
+                mesh,
+                selector,
+                frame,
+                print,
+                span: node.span,
+            });
+        }
+    }
+
+    /// The parts of the rig `node` names, appended to the components; reports a part named as
+    /// an earlier component.
+    fn rig_components(&mut self, node: &Node, policy: &ReadPolicy) {
+        let Some(path) = node.text_arg() else {
+            return;
+        };
+        let frame = self.mesh_frame(node, Path::new(&path.value));
+        let first = self.components.len();
+        let Some((source, parts)) =
+            rig::read(node, self.folder, frame, policy, first, self.problems)
+        else {
+            return;
+        };
+        for part in parts {
+            if let Some(earlier) = self
+                .components
+                .iter()
+                .find(|component| component.name.value == part.name.value)
+            {
+                self.problems.push(
+                    Problem::error(
+                        codes::DUPLICATE_NAME,
+                        format!("two components are called `{}`", part.name.value),
+                    )
+                    .with_label(part.name.span, "a part of the rig")
+                    .with_label(earlier.name.span, "first named here")
+                    .with_help("rename the component, or list the rig's other nodes with `nodes`"),
+                );
+            }
+            self.components.push(part);
+        }
+        self.rig = Some(source);
+    }
+
+    /// How a component's mesh coordinates become rest-frame coordinates: `mesh-units=`,
+    /// `mesh-up=` and `scale=` as written; unwritten, the glTF specification's metres and +Y up
+    /// for a `.gltf` or `.glb` file, the project's units and up axis for any other.
+    fn mesh_frame(&self, node: &Node, mesh: &Path) -> MeshFrame {
+        let is_gltf = mesh
+            .extension()
+            .and_then(|extension| extension.to_str())
+            .is_some_and(|extension| {
+                extension.eq_ignore_ascii_case("gltf") || extension.eq_ignore_ascii_case("glb")
+            });
+        let mut frame = if is_gltf {
+            MeshFrame::gltf()
+        } else {
+            MeshFrame::project(self.units, self.up)
+        };
+        if let Some(units) = node
+            .text("mesh-units")
+            .and_then(|units| Units::from_keyword(&units.value))
+        {
+            frame.units = units;
+            frame.units_from = FrameSource::Written;
+        }
+        if let Some(up) = node
+            .text("mesh-up")
+            .and_then(|up| Axis::from_keyword(&up.value))
+        {
+            frame.up = up;
+            frame.up_from = FrameSource::Written;
+        }
+        frame.scale = node.number("scale").unwrap_or(1.0);
+        frame
+    }
+
+    /// The orientation a component's `print` block declares, if any; reports a zero `down` and a
+    /// `down` beside a `rotate`.
+    fn print_orientation(&mut self, block: &Node) -> Option<PrintOrientation> {
+        match (block.child("down"), block.child("rotate")) {
+            (None, None) => None,
+            (Some(down), Some(rotate)) => {
+                self.problems.push(
+                    Problem::error(
+                        codes::PRINT_DOWN_WITH_ROTATE,
+                        "a `print` block takes `down` or `rotate`, not both",
+                    )
+                    .with_label(down.span, "`down` names the facet on the bed")
+                    .with_label(rotate.span, "`rotate` turns the component onto the bed")
+                    .with_help("keep one of them"),
+                );
+                None
+            }
+            (Some(down), None) => {
+                let direction = down.vector()?;
+                if direction.norm() == 0.0 {
+                    self.problems.push(
+                        Problem::error(
+                            codes::ZERO_PRINT_DOWN,
+                            "`down` is the zero vector: it points nowhere",
+                        )
+                        .with_label(down.span, "this direction")
+                        .with_help("give the rest-frame direction that points to the print bed, e.g. `down 0 0 -1`"),
+                    );
+                    return None;
+                }
+                Some(PrintOrientation::Down(Spanned::new(direction, down.span)))
+            }
+            (None, Some(rotate)) => {
+                let degrees = rotate.vector()?;
+                Some(PrintOrientation::Rotate(Spanned::new(
+                    rotation(degrees),
+                    rotate.span,
+                )))
+            }
+        }
+    }
+}
