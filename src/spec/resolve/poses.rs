@@ -1,5 +1,5 @@
-//! The poses: each one's component transforms (written steps, or a rig animation or scene), its `down`
-//! direction and its goals.
+//! The poses: each one's component transforms (written steps, or a rig animation or scene),
+//! its `down` direction and its goals.
 
 use miette::SourceSpan;
 use nalgebra::{Isometry3, Point3, Vector3};
