@@ -397,7 +397,7 @@ impl RigSource {
     /// whose `scene=` is `scene`: each part moves to where the scene's node of the same name
     /// (or the part's own node, when the scene holds it) stands. `None` after reporting an
     /// unknown scene, a part the scene lacks, or one it moves other than rigidly.
-    pub(super) fn from_scene(
+    pub(super) fn scene_pose(
         &self,
         scene: &Spanned<String>,
         units: Units,

@@ -72,7 +72,7 @@ impl Resolver<'_> {
             (Some(animation), _) => {
                 source.animated(node, animation, self.units, self.up, self.problems)
             }
-            (None, Some(scene)) => source.from_scene(scene, self.units, self.up, self.problems),
+            (None, Some(scene)) => source.scene_pose(scene, self.units, self.up, self.problems),
             (None, None) => None,
         }
         .unwrap_or_default()
