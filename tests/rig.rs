@@ -507,3 +507,88 @@ fn the_example_figure_is_the_rig_the_tests_build() {
         "run with BALLAST_BLESS=1 to rewrite it"
     );
 }
+
+#[test]
+fn a_rig_part_takes_a_print_block_as_a_component_does() {
+    use ballast::fabrication::OrientationChoice;
+    let rigged_folder = figure_folder();
+    let hand_folder = figure_folder();
+    let rig = r#"rig "figure.glb" {
+    part "Torso" {
+        print { down 1 0 0; }
+    }
+}
+pose "stand" { stand margin=1; }
+"#;
+    let hand = r#"component "Torso" mesh="figure.glb" node="Torso" {
+    print { down 1 0 0; }
+}
+component "Head" mesh="figure.glb" node="Head"
+component "Arm.L" mesh="figure.glb" node="Arm.L"
+component "Arm.R" mesh="figure.glb" node="Arm.R"
+component "Leg.L" mesh="figure.glb" node="Leg.L"
+component "Leg.R" mesh="figure.glb" node="Leg.R"
+pose "stand" { stand margin=1; }
+"#;
+    let rigged = compiled(rigged_folder.path(), &format!("{HEADER}{rig}")).unwrap();
+    let by_hand = compiled(hand_folder.path(), &format!("{HEADER}{hand}")).unwrap();
+    let torso = &rigged.orientations[0];
+    assert_eq!(torso.choice, OrientationChoice::Declared);
+    assert!(
+        (torso.down - nalgebra::Vector3::x()).norm() < 1e-12,
+        "{}",
+        torso.down
+    );
+    let hand_torso = &by_hand.orientations[0];
+    assert!((torso.to_print.matrix() - hand_torso.to_print.matrix()).norm() < 1e-9);
+    // The parts without a block are chosen, as they are without any.
+    assert!(matches!(
+        rigged.orientations[1].choice,
+        OrientationChoice::Chosen { .. }
+    ));
+    agree(
+        &report(rigged_folder.path(), &rigged),
+        &report(hand_folder.path(), &by_hand),
+        "report",
+    )
+    .unwrap();
+}
+
+#[test]
+fn a_part_block_for_no_part_or_twice_is_a_diagnostic() {
+    let folder = figure_folder();
+    let source = r#"rig "figure.glb" {
+    nodes "Torso" "Head"
+    part "Haed" { print { down 0 0 -1; } }
+    part "Arm.L" { print { down 0 0 -1; } }
+    part "Torso" { print { down 0 0 -1; } }
+    part "Torso" { print { down 1 0 0; } }
+}
+pose "a" { stand; }
+"#;
+    let found = problems(folder.path(), source);
+    let codes: Vec<(&str, &str, &str)> = found
+        .iter()
+        .map(|(code, text, help)| (code.as_str(), text.as_str(), help.as_str()))
+        .collect();
+    assert_eq!(
+        codes,
+        [
+            (
+                "ballast::rig::unknown_part",
+                "\"Haed\"",
+                "did you mean `Head`?"
+            ),
+            (
+                "ballast::rig::unknown_part",
+                "\"Arm.L\"",
+                "the rig's parts are `Torso`, `Head`"
+            ),
+            (
+                "ballast::duplicate_name",
+                "\"Torso\"",
+                "put the part's settings in one `part` block"
+            ),
+        ]
+    );
+}

@@ -96,3 +96,5 @@ pub const RIG_TIME_NEEDED: &str = "ballast::rig::time_needed";
 /// An animation or scene that moves a rig part other than rigidly (scale, shear, mirror, morph
 /// weights).
 pub const RIG_NOT_RIGID: &str = "ballast::rig::not_rigid";
+/// A rig's `part` block names no part of the rig.
+pub const RIG_UNKNOWN_PART: &str = "ballast::rig::unknown_part";

@@ -221,6 +221,16 @@ const POSE_CHILDREN: &[NodeSpec] = &[
     )),
 ];
 
+/// A component's (or rig part's) `print` block: how it lies on the print bed.
+const PRINT_ORIENTATION: NodeSpec = NodeSpec {
+    name: "print",
+    args: NO_ARGS,
+    props: &[],
+    children: &[leaf("down", DIRECTION, &[]), leaf("rotate", ANGLES, &[])],
+    repeatable: false,
+    required: false,
+};
+
 /// The top-level nodes of a project file.
 pub const DOCUMENT: &[NodeSpec] = &[
     leaf("units", args(ValueKind::Enum(UNITS), 1, 1), &[]),
@@ -281,14 +291,7 @@ pub const DOCUMENT: &[NodeSpec] = &[
             prop("mesh-up", ValueKind::Enum(AXES)),
             prop("scale", ValueKind::Positive),
         ],
-        children: &[NodeSpec {
-            name: "print",
-            args: NO_ARGS,
-            props: &[],
-            children: &[leaf("down", DIRECTION, &[]), leaf("rotate", ANGLES, &[])],
-            repeatable: false,
-            required: false,
-        }],
+        children: &[PRINT_ORIENTATION],
         repeatable: true,
         required: true,
     },
@@ -300,7 +303,17 @@ pub const DOCUMENT: &[NodeSpec] = &[
             prop("mesh-up", ValueKind::Enum(AXES)),
             prop("scale", ValueKind::Positive),
         ],
-        children: &[leaf("nodes", args(ValueKind::String, 1, usize::MAX), &[])],
+        children: &[
+            leaf("nodes", args(ValueKind::String, 1, usize::MAX), &[]),
+            NodeSpec {
+                name: "part",
+                args: NAME_ARG,
+                props: &[],
+                children: &[PRINT_ORIENTATION],
+                repeatable: true,
+                required: false,
+            },
+        ],
         repeatable: false,
         required: false,
     },

@@ -13,6 +13,7 @@ use crate::spec::model::{
 use crate::spec::rig;
 use crate::spec::transform::rotation;
 use crate::spec::tree::Node;
+use crate::spec::vocabulary;
 
 impl Resolver<'_> {
     /// The components, in file order: one per `component` node, and the parts of the `rig`
@@ -97,7 +98,60 @@ impl Resolver<'_> {
             }
             self.components.push(part);
         }
+        self.rig_part_prints(node, first);
         self.rig = Some(source);
+    }
+
+    /// The print orientations a rig's `part` blocks give its parts, the components from index
+    /// `first` on; reports a part the rig does not have and a part given two blocks.
+    fn rig_part_prints(&mut self, node: &Node, first: usize) {
+        let mut given: Vec<Spanned<String>> = Vec::new();
+        for block in node.children_named("part") {
+            let Some(name) = block.text_arg() else {
+                continue;
+            };
+            if let Some(earlier) = given.iter().find(|earlier| earlier.value == name.value) {
+                self.problems.push(
+                    Problem::error(
+                        codes::DUPLICATE_NAME,
+                        format!("the rig has two `part` blocks for `{}`", name.value),
+                    )
+                    .with_label(name.span, "given again here")
+                    .with_label(earlier.span, "first given here")
+                    .with_help("put the part's settings in one `part` block"),
+                );
+                continue;
+            }
+            let parts = &self.components[first..];
+            let Some(offset) = parts.iter().position(|part| part.name.value == name.value) else {
+                let known = parts.iter().map(|part| part.name.value.as_str());
+                let help = match vocabulary::suggest(&name.value, known) {
+                    Some(close) => format!("did you mean `{close}`?"),
+                    None => format!(
+                        "the rig's parts are {}",
+                        parts
+                            .iter()
+                            .map(|part| format!("`{}`", part.name.value))
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                };
+                self.problems.push(
+                    Problem::error(
+                        codes::RIG_UNKNOWN_PART,
+                        format!("the rig has no part called `{}`", name.value),
+                    )
+                    .with_label(name.span, "not a part of the rig")
+                    .with_help(help),
+                );
+                continue;
+            };
+            let print = block
+                .child("print")
+                .and_then(|print| self.print_orientation(print));
+            self.components[first + offset].print = print;
+            given.push(name);
+        }
     }
 
     /// How a component's mesh coordinates become rest-frame coordinates: `mesh-units=`,
