@@ -230,21 +230,25 @@ pub fn compile_with(
         }
         _ => Vec::new(),
     };
+    // The print volumes, computed once: here for the `down` poses, which rest on the print-true
+    // body, or else below, once the project is known to be valid.
+    let mut corrected: Option<(Vec<PrintVolumes>, Vec<Problem>)> = None;
     if let (Some(meshes), Some(orientations)) = (
         meshes
             .as_ref()
             .filter(|_| project.poses.iter().any(|pose| pose.down.is_some())),
         &orientations,
     ) {
-        let prints: Vec<PrintVolumes> = meshes
-            .iter()
-            .zip(orientations)
-            .map(|(mesh, o)| workspace.prints.volumes(&project, mesh, o.to_print))
-            .collect();
-        let (prints, _) = calibration::corrected_prints(&project, &prints, &corrections);
+        let (prints, _) = corrected.insert(corrected_volumes(
+            &project,
+            meshes,
+            orientations,
+            &corrections,
+            workspace,
+        ));
         let bodies: Vec<ComponentBody> = meshes
             .iter()
-            .zip(&prints)
+            .zip(prints.iter())
             .map(|(mesh, print)| ComponentBody::with_print(mesh, *print))
             .collect();
         problems.extend(down::place_down_poses(&mut project, &bodies));
@@ -267,12 +271,9 @@ pub fn compile_with(
         }
         _ => return Err(Failure::Invalid(problems)),
     };
-    let prints: Vec<PrintVolumes> = meshes
-        .iter()
-        .zip(&orientations)
-        .map(|(mesh, o)| workspace.prints.volumes(&project, mesh, o.to_print))
-        .collect();
-    let (prints, refused) = calibration::corrected_prints(&project, &prints, &corrections);
+    let (prints, refused) = corrected.unwrap_or_else(|| {
+        corrected_volumes(&project, &meshes, &orientations, &corrections, workspace)
+    });
     problems.extend(refused);
     let print = print_setup(&project, &orientations);
     let (design, source, optimization) = match (&project.optimize, &options.optimize) {
@@ -349,6 +350,23 @@ pub fn compile_with(
         optimization,
         solid_goals_lost,
     })
+}
+
+/// Each component's print volumes in its print orientation (from `workspace`'s cache), with the
+/// calibration's corrections added, and the problems of corrections refused.
+fn corrected_volumes(
+    project: &Project,
+    meshes: &[TriMesh],
+    orientations: &[Orientation],
+    corrections: &[PrintCorrection],
+    workspace: &mut Workspace,
+) -> (Vec<PrintVolumes>, Vec<Problem>) {
+    let prints: Vec<PrintVolumes> = meshes
+        .iter()
+        .zip(orientations)
+        .map(|(mesh, o)| workspace.prints.volumes(project, mesh, o.to_print))
+        .collect();
+    calibration::corrected_prints(project, &prints, corrections)
 }
 
 /// The goals the model without capsules, at `design`'s infill, meets in `poses` and `design`
