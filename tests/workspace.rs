@@ -200,16 +200,7 @@ pose "again on its right side" {
 
 #[test]
 fn an_explanation_cut_short_keeps_the_design_and_says_so() {
-    let folder = tempfile::tempdir().unwrap();
-    std::fs::create_dir(folder.path().join("meshes")).unwrap();
-    let (t_path, _) = t_shape();
-    std::fs::copy(
-        t_path.with_file_name("meshes/t_shape.obj"),
-        folder.path().join("meshes/t_shape.obj"),
-    )
-    .unwrap();
-    let path = folder.path().join("model.kdl");
-    std::fs::write(&path, CONFLICTING).unwrap();
+    let (folder, path) = t_project(CONFLICTING);
 
     // Run to its end, the explanation names the pair and was not cut short.
     let (mut workspace, stages) = recording();
@@ -259,4 +250,88 @@ fn an_explanation_cut_short_keeps_the_design_and_says_so() {
     assert_eq!(report["optimization"]["interrupted"], "time-limit");
     let solution = std::fs::read_to_string(folder.path().join("model.solution.kdl")).unwrap();
     assert!(solution.starts_with("// INTERRUPTED:"), "{solution}");
+}
+
+/// The T laid on both sides, each asked for more margin than one capsule gives it, and upright,
+/// which any design meets.
+const TWO_UNREACHABLE: &str = r#"
+infill 0.2
+optimize
+component "T" mesh="meshes/t_shape.obj" {
+    print { down 1 0 0 }
+}
+pose "upright" {
+    stand margin=2
+}
+pose "on its right side" {
+    rotate 0 36.8699 0
+    stand margin=15
+}
+pose "on its left side" {
+    rotate 0 -36.8699 0
+    stand margin=15
+}
+"#;
+
+/// A folder with the T's mesh under `meshes/` and `source` as `model.kdl`; the project's path.
+fn t_project(source: &str) -> (tempfile::TempDir, PathBuf) {
+    let folder = tempfile::tempdir().unwrap();
+    std::fs::create_dir(folder.path().join("meshes")).unwrap();
+    let (t_path, _) = t_shape();
+    std::fs::copy(
+        t_path.with_file_name("meshes/t_shape.obj"),
+        folder.path().join("meshes/t_shape.obj"),
+    )
+    .unwrap();
+    let path = folder.path().join("model.kdl");
+    std::fs::write(&path, source).unwrap();
+    (folder, path)
+}
+
+#[test]
+fn with_one_capsule_asked_the_explanation_names_each_goal_one_capsule_cannot_meet() {
+    let one_capsule = CompileOptions {
+        optimize: Some(OptimizeOptions {
+            capsules: Some(1),
+            ..OptimizeOptions::default()
+        }),
+        ..CompileOptions::default()
+    };
+    let (_folder, path) = t_project(TWO_UNREACHABLE);
+    let built = build(TWO_UNREACHABLE, &path, &one_capsule, &mut Workspace::new());
+    let optimization = built.optimization.as_ref().unwrap();
+    assert_eq!(optimization.chosen, 1);
+    assert!(!optimization.meets_goals);
+    assert!(!optimization.conflicts_cut_short);
+    let alone: Vec<&str> = optimization
+        .conflicts
+        .iter()
+        .filter(|conflict| conflict.goals.len() == 1)
+        .map(|conflict| conflict.goals[0].pose.as_str())
+        .collect();
+    assert_eq!(
+        alone,
+        ["on its right side", "on its left side"],
+        "{:#?}",
+        optimization.conflicts
+    );
+    for conflict in &optimization.conflicts {
+        assert!(conflict.shortfall.is_finite() && conflict.shortfall > 0.0);
+    }
+    // Each, asked alone of one capsule, is missed too: the explanation searched the space the
+    // build was asked to search.
+    for (pose, turn) in [
+        ("on its right side", 36.8699),
+        ("on its left side", -36.8699),
+    ] {
+        let source = format!(
+            "infill 0.2\noptimize capsules=1\ncomponent \"T\" mesh=\"meshes/t_shape.obj\" {{\n    \
+             print {{ down 1 0 0 }}\n}}\npose \"{pose}\" {{\n    rotate 0 {turn} 0\n    \
+             stand margin=15\n}}\n"
+        );
+        let (_folder, path) = t_project(&source);
+        let single = build(&source, &path, &options(None), &mut Workspace::new());
+        let optimization = single.optimization.as_ref().unwrap();
+        assert!(!optimization.meets_goals, "{pose} met by one capsule alone");
+    }
 }
