@@ -242,6 +242,12 @@ def frame(camera, floor, corners, scene):
     camera.location = centre + (Vector(fit) - centre) * MARGIN
     camera.data.clip_start = size * 0.01
     camera.data.clip_end = size * 100
+    # EEVEE's sun shadows spread their maps over this distance from the camera: keep it near the
+    # pose, or a small model's shadow falls between the texels.
+    for light in bpy.data.lights:
+        if light.type == "SUN":
+            light.shadow_cascade_max_distance = (camera.location - centre).length + size * 4
+            light.shadow_buffer_bias = 0.2
     # The floor spreads well beyond the view, under the pose.
     floor.location = (centre.x, centre.y, 0.0)
     floor.scale = (size * 40,) * 3
