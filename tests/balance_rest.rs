@@ -249,3 +249,96 @@ fn settling_leaves_a_pose_on_a_facet_alone() {
     assert!(resting.correction < 1e-9);
     assert_point("centre", result.centre_of_mass, [21.0, 32.0, 53.0], 1e-9);
 }
+
+/// A prism 20 deep along y whose cross-section (x, z) is `outline`, a convex polygon, outward.
+fn prism(outline: &[[f64; 2]]) -> TriMesh {
+    let n = outline.len() as u32;
+    let mut positions = Vec::new();
+    for y in [-10.0, 10.0] {
+        positions.extend(outline.iter().map(|&[x, z]| Point3::new(x, y, z)));
+    }
+    let mut triangles = Vec::new();
+    for k in 1..n - 1 {
+        triangles.push([0, k + 1, k]);
+        triangles.push([n, n + k, n + k + 1]);
+    }
+    for k in 0..n {
+        let next = (k + 1) % n;
+        triangles.push([k, next, n + next]);
+        triangles.push([k, n + next, n + k]);
+    }
+    let mut mesh = TriMesh {
+        positions,
+        triangles,
+    };
+    if mass_properties(&mesh).volume < 0.0 {
+        for triangle in &mut mesh.triangles {
+            triangle.swap(1, 2);
+        }
+    }
+    mesh
+}
+
+/// The centroid of a polygon (shoelace formula).
+fn polygon_centroid(outline: &[[f64; 2]]) -> [f64; 2] {
+    let (mut area, mut cx, mut cz) = (0.0, 0.0, 0.0);
+    for k in 0..outline.len() {
+        let [x0, z0] = outline[k];
+        let [x1, z1] = outline[(k + 1) % outline.len()];
+        let cross = x0 * z1 - x1 * z0;
+        area += cross / 2.0;
+        cx += (x0 + x1) * cross;
+        cz += (z0 + z1) * cross;
+    }
+    [cx / (6.0 * area), cz / (6.0 * area)]
+}
+
+#[test]
+fn an_imbalance_pose_that_rocks_onto_a_facet_two_degrees_over_does_not_topple() {
+    // A block with a shallow V for a bottom: two facets rising `rise` each from a ridge at
+    // x = 0, 20 long to the left and 30 to the right. Set down on the left one, its centre of
+    // mass (x ≈ 5) lies beyond the ridge.
+    let block = |rise_degrees: f64| {
+        let rise = rise_degrees.to_radians().tan();
+        let outline = [
+            [0.0, 0.0],
+            [30.0, 30.0 * rise],
+            [30.0, 40.0],
+            [-20.0, 40.0],
+            [-20.0, 20.0 * rise],
+        ];
+        let result = evaluate(
+            &project(&["block"]),
+            &[prism(&outline)],
+            &design(vec![]),
+            &pose(
+                rotation(Vector3::y(), -rise_degrees),
+                vec![Isometry3::identity()],
+                vec![imbalance(1.0)],
+            ),
+        );
+        (outline, result)
+    };
+
+    // With a 2° V it tips, but only 2°, onto the right facet, where it stands: on level ground.
+    let (_, result) = block(1.0);
+    let a = 1.0f64.to_radians();
+    let resting = result.resting.as_ref().expect("rests on a facet");
+    assert_point("down", resting.down, [-a.sin(), 0.0, -a.cos()], 1e-9);
+    assert_close("tilt margin", result.support.tilt_margin, 0.0, 0.0);
+    assert!(!result.goals[0].met, "it only rocks: it does not topple");
+
+    // With a 4° V the right facet is past the 3° that rocking may turn: it topples, and its
+    // margin is the one on the left facet, by hand: minus the tilt that brings the centre over
+    // the ridge, `atan(d / h)`, `d` the foot's distance beyond the ridge and `h` the height.
+    let (outline, result) = block(2.0);
+    let a = 2.0f64.to_radians();
+    let [cx, cz] = polygon_centroid(&outline);
+    let centre = Vector3::new(cx, 0.0, cz);
+    let beyond = centre.dot(&Vector3::new(a.cos(), 0.0, -a.sin()));
+    let height = centre.dot(&Vector3::new(a.sin(), 0.0, a.cos()));
+    let by_hand = -(beyond / height).atan().to_degrees();
+    assert_close("tilt margin", result.support.tilt_margin, by_hand, 1e-6);
+    assert!(by_hand < -10.0);
+    assert!(result.goals[0].met, "4° over, it topples");
+}

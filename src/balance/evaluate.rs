@@ -1,10 +1,10 @@
 //! One pose evaluated: the per-stage results wired together.
 
-use nalgebra::Point3;
+use nalgebra::{Point3, Vector3};
 
 use super::support::GroundPlane;
 use super::tilt::{RollingBall, TiltedModel};
-use super::{ball, equilibria, goals, mass, rest, support, BallMove, BallPlacement};
+use super::{ball, equilibria, goals, mass, rest, rocking, support, BallMove, BallPlacement};
 use super::{mass::MassTotals, ComponentBody, PoseEvaluation, Support};
 use crate::design::Design;
 use crate::spec::model::{Pose, Project};
@@ -16,7 +16,9 @@ use crate::spec::model::{Pose, Project};
 /// A pose with a `stand` or `imbalance` goal is first settled onto its hull
 /// ([`rest`](super::rest)) with the design's centre of mass in the written pose, and everything is
 /// evaluated in the settled pose; [`PoseEvaluation::resting`] says which facet and how far the
-/// written rotation was from it.
+/// written rotation was from it. An `imbalance` pose must topple: its tilt margin is that of a
+/// model that may rock onto a neighbouring facet within
+/// [`ROCKING_DEGREES`](super::ROCKING_DEGREES) and stand there (docs/physics.md, "Rocking is not toppling").
 ///
 /// `bodies` is indexed like [`Project::components`]. Component `i` is placed in world by
 /// `pose.transform * pose.component_transforms[i]`, or by `pose.transform` alone when the pose has
@@ -29,22 +31,26 @@ pub fn evaluate_pose(
     design: &Design,
     pose: &Pose,
 ) -> PoseEvaluation {
-    let written = evaluate_placed(project, bodies, design, pose);
+    let written = evaluate_placed(project, bodies, design, pose, false);
     let settled = rest::settle_pose(project, bodies, pose, &written.centre_of_mass.into());
+    let rocks = rest::rule(pose) == Some(rest::Rule::FirstFacet);
     let mut evaluation = match settled.resting {
-        Some(_) => evaluate_placed(project, bodies, design, &settled.pose),
+        Some(_) => evaluate_placed(project, bodies, design, &settled.pose, rocks),
         None => written,
     };
     evaluation.resting = settled.resting;
     evaluation
 }
 
-/// What `design` does in `pose` exactly as placed, without settling on the hull.
+/// What `design` does in `pose` exactly as placed, without settling on the hull; when `rocks`
+/// (an `imbalance` pose on its facet), with the tilt margin of a model that may rock
+/// (docs/physics.md, "Rocking is not toppling").
 fn evaluate_placed(
     project: &Project,
     bodies: &[ComponentBody],
     design: &Design,
     pose: &Pose,
+    rocks: bool,
 ) -> PoseEvaluation {
     let up = project.up.unit_vector();
     let cubic = project.units.cubic_in_cm3();
@@ -74,6 +80,26 @@ fn evaluate_placed(
         &balls,
         &totals,
     );
+    if rocks && support.tilt_margin < 0.0 {
+        let first = support.tilt_direction.map(Vector3::from);
+        let rocked = first.and_then(|first| {
+            rocking::gentlest_rocking_slope(
+                project,
+                bodies,
+                design,
+                pose,
+                -support.tilt_margin,
+                &first,
+            )
+        });
+        if let Some((slope, direction)) = rocked {
+            // It stands, rocked onto another facet, on a gentler slope than on its own (0: on
+            // level ground).
+            support.tilt_margin = -slope;
+            support.tilt_direction = Some(direction.into());
+            support.ball_moves.clear();
+        }
+    }
     let coincidence = 1e-9 * extent(&vertices);
     let model = equilibria::Model::new(bodies, design, pose, project, &balls, &totals, coincidence);
     let measured = goals::Measured {

@@ -39,6 +39,7 @@ pub(crate) mod facets;
 mod goals;
 mod mass;
 pub(crate) mod rest;
+mod rocking;
 pub(crate) mod support;
 pub(crate) mod tilt;
 
@@ -46,7 +47,7 @@ pub use equilibria::{CUT_FLIPS, MAX_ENUMERATED_BALLS};
 pub use evaluate::evaluate_pose;
 pub use facets::{facet_rotation, resting_facets, RestingFacet};
 pub use mass::{capsule_shell, component_material};
-pub use rest::{Resting, SNAP_WARNING};
+pub use rest::{Resting, ROCKING_DEGREES, SNAP_WARNING};
 
 use nalgebra::{Isometry3, Matrix3, Rotation3};
 use serde::Serialize;

@@ -63,7 +63,15 @@ pub(crate) enum Rule {
     Stable,
     /// To the first facet down (an `imbalance` pose).
     FirstFacet,
+    /// From a facet already down, on to one the centre's foot is inside, giving up once the
+    /// model has turned more than [`ROCKING_DEGREES`]: whether an `imbalance` pose on a slope
+    /// only rocks.
+    Rocking,
 }
+
+/// How far a model may rock, degrees, and not count as toppled: an `imbalance` pose that comes to
+/// rest on a hull facet within this turn of where it was set down has not toppled.
+pub const ROCKING_DEGREES: f64 = 3.0;
 
 /// The rule of `pose`: from its first `stand` or `imbalance` goal; `None` when it has neither.
 pub(crate) fn rule(pose: &Pose) -> Option<Rule> {
@@ -99,7 +107,8 @@ pub(crate) fn settle_pose(
     let Some(hull) = convex_hull(&vertices) else {
         return unsettled();
     };
-    let Some(facet) = roll(&hull, &vertices, project.up, centre, rule) else {
+    let gravity = -project.up.unit_vector();
+    let Some(facet) = roll(&hull, &vertices, project.up, centre, &gravity, rule) else {
         return unsettled();
     };
     let facet = &hull.facets[facet];
@@ -152,14 +161,17 @@ pub(crate) fn solid_centre(bodies: &[ComponentBody], pose: &Pose) -> Point3<f64>
 }
 
 /// Rolls the hull of `points` (world) with centre of mass `centre` on the ground below it, as
-/// `rule` says; the index of the facet it comes to rest on. `None` when the centre is balanced
-/// exactly over an edge or a vertex (no way to roll) or no facet is reached within a step per
-/// facet.
+/// `rule` says, with gravity along the unit vector `gravity` (straight down, `−up`, on level
+/// ground; tilted when the ground stands for a slope); the index of the facet it comes to rest
+/// on. `None` when the centre is balanced exactly over an edge or a vertex (no way to roll), no
+/// facet is reached within a step per facet, or, for [`Rule::Rocking`], the model turns more
+/// than [`ROCKING_DEGREES`].
 pub(crate) fn roll(
     hull: &ConvexHull,
     points: &[Point3<f64>],
     up: Axis,
     centre: &Point3<f64>,
+    gravity: &Vector3<f64>,
     rule: Rule,
 ) -> Option<usize> {
     let plane = GroundPlane::new(up);
@@ -180,10 +192,21 @@ pub(crate) fn roll(
             .into_iter()
             .map(Vector2::from)
             .collect();
-        let foot = plane.project(&(moved * centre));
+        // Where the line through the centre along gravity meets the ground.
+        let lifted = moved * centre;
+        let fall = (plane.height(&lifted) - ground) / -gravity.dot(&plane.up);
+        let foot = plane.project(&(lifted + gravity * fall));
         let lines = support_lines(&polygon);
         let inside = lines.iter().all(|(_, _, line)| line.distance(&foot) <= 0.0);
-        if polygon.len() >= 3 && (step == 0 || rule == Rule::FirstFacet || inside) {
+        let done = match rule {
+            Rule::Stable => step == 0 || inside,
+            Rule::FirstFacet => true,
+            Rule::Rocking => inside,
+        };
+        if rule == Rule::Rocking && moved.rotation.angle() > ROCKING_DEGREES.to_radians() {
+            return None;
+        }
+        if polygon.len() >= 3 && done {
             return facing_down(hull, &moved, &plane);
         }
         let pivot = nearest_on_boundary(&polygon, &foot)?;
