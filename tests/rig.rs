@@ -592,3 +592,163 @@ pose "a" { stand; }
         ]
     );
 }
+
+/// The JSON and binary chunks of a GLB file.
+fn glb_chunks(bytes: &[u8]) -> (serde_json::Value, Vec<u8>) {
+    let word = |at: usize| u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap()) as usize;
+    let json_length = word(12);
+    let json = serde_json::from_slice(&bytes[20..20 + json_length]).unwrap();
+    let bin_at = 20 + json_length;
+    let bin = bytes[bin_at + 8..bin_at + 8 + word(bin_at)].to_vec();
+    (json, bin)
+}
+
+/// The floats of accessor `index` (tightly packed 32-bit floats).
+fn floats(json: &serde_json::Value, bin: &[u8], index: usize) -> Vec<f32> {
+    let accessor = &json["accessors"][index];
+    assert_eq!(accessor["componentType"], 5126);
+    let view = &json["bufferViews"][accessor["bufferView"].as_u64().unwrap() as usize];
+    let start = view["byteOffset"].as_u64().unwrap_or(0) as usize
+        + accessor["byteOffset"].as_u64().unwrap_or(0) as usize;
+    let width = match accessor["type"].as_str().unwrap() {
+        "SCALAR" => 1,
+        "VEC3" => 3,
+        "VEC4" => 4,
+        other => panic!("accessor type {other}"),
+    };
+    let count = accessor["count"].as_u64().unwrap() as usize * width;
+    (0..count)
+        .map(|k| f32::from_le_bytes(bin[start + 4 * k..start + 4 * k + 4].try_into().unwrap()))
+        .collect()
+}
+
+#[test]
+fn a_rig_blender_exported_reports_as_the_project_written_by_hand_from_its_raw_data() {
+    // tests/data/blender/figure_blender.glb is written by Blender's own glTF exporter: keys at
+    // frame / 24 s, every frame sampled, joints as empties with the parts' meshes under them.
+    let source =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/blender/figure_blender.glb");
+    let bytes = fs::read(&source).unwrap();
+    let (json, bin) = glb_chunks(&bytes);
+    let node = |name: &str| {
+        json["nodes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .position(|node| node["name"] == name)
+            .unwrap()
+    };
+    // glTF metres, +Y up, into the project's millimetres, +Z up: (x, y, z) -> 1000 (x, -z, y).
+    let to_project = nalgebra::Matrix3::new(1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 1.0, 0.0);
+    let translation = |index: usize| {
+        let t = &json["nodes"][index]["translation"];
+        nalgebra::Vector3::new(
+            t[0].as_f64().unwrap(),
+            t[1].as_f64().unwrap(),
+            t[2].as_f64().unwrap(),
+        )
+    };
+    // Every joint hangs, unturned, under `Hips`, which is only moved.
+    let hips = node("Hips");
+    assert!(json["nodes"][hips].get("rotation").is_none());
+    let pivot = |joint: &str| {
+        let joint = node(joint);
+        assert!(json["nodes"][joint].get("rotation").is_none());
+        to_project * (translation(hips) + translation(joint)) * 1000.0
+    };
+    // The last key of the animation `name` for `joint`: its time and the joint's turn, as
+    // extrinsic X, Y, Z Euler angles in the project's frame.
+    let last_key = |name: &str, joint: &str| {
+        let animation = json["animations"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|animation| animation["name"] == name)
+            .unwrap();
+        let joint = node(joint);
+        let channel = animation["channels"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|channel| channel["target"]["node"] == joint)
+            .unwrap();
+        assert_eq!(channel["target"]["path"], "rotation");
+        let sampler = &animation["samplers"][channel["sampler"].as_u64().unwrap() as usize];
+        let times = floats(&json, &bin, sampler["input"].as_u64().unwrap() as usize);
+        let values = floats(&json, &bin, sampler["output"].as_u64().unwrap() as usize);
+        let q = &values[values.len() - 4..];
+        let turn = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
+            f64::from(q[3]),
+            f64::from(q[0]),
+            f64::from(q[1]),
+            f64::from(q[2]),
+        ));
+        let in_project = nalgebra::Rotation3::from_matrix_unchecked(
+            to_project * turn.to_rotation_matrix().matrix() * to_project.transpose(),
+        );
+        let (x, y, z) = in_project.euler_angles();
+        let degrees = [x.to_degrees(), y.to_degrees(), z.to_degrees()];
+        (f64::from(*times.last().unwrap()), degrees, times.len())
+    };
+    let (wave_end, wave, wave_keys) = last_key("Wave", "Shoulder.R");
+    assert!(wave_keys > 2, "Blender samples every frame");
+    let (_, reach_left, reach_keys) = last_key("Reach", "Shoulder.L");
+    let (_, reach_right, _) = last_key("Reach", "Shoulder.R");
+    assert_eq!(reach_keys, 1, "a single STEP key");
+    let moved = |part: &str, joint: &str, [x, y, z]: [f64; 3]| {
+        let p = pivot(joint);
+        format!(
+            "    component \"{part}\" {{\n        pivot {} {} {}\n        rotate {x} {y} {z}\n    }}\n",
+            p.x, p.y, p.z
+        )
+    };
+
+    let header = "units mm\nup z\nmaterial \"PLA\" density=1.24\nprint model=\"uniform\"\n";
+    let rigged = format!(
+        "{header}rig \"figure.glb\"\npose \"stand\" {{ stand; }}\n\
+         pose \"wave\" animation=\"Wave\" time={wave_end} {{ stand; }}\n\
+         pose \"reach\" animation=\"Reach\" {{ stand; }}\n"
+    );
+    // The rig reads its parts in its node order, which the project by hand repeats.
+    let parts = ["Leg.L", "Leg.R", "Head", "Arm.L", "Arm.R", "Torso"];
+    let mut by_hand = header.to_owned();
+    for part in parts {
+        by_hand += &format!("component \"{part}\" mesh=\"figure.glb\" node=\"{part}\"\n");
+    }
+    by_hand += "pose \"stand\" { stand; }\n";
+    by_hand += &format!(
+        "pose \"wave\" {{\n{}    stand\n}}\n",
+        moved("Arm.R", "Shoulder.R", wave)
+    );
+    by_hand += &format!(
+        "pose \"reach\" {{\n{}{}    stand\n}}\n",
+        moved("Arm.L", "Shoulder.L", reach_left),
+        moved("Arm.R", "Shoulder.R", reach_right)
+    );
+
+    let compile_in = |text: &str| {
+        let folder = tempfile::tempdir().unwrap();
+        fs::copy(&source, folder.path().join("figure.glb")).unwrap();
+        let compilation = compiled(folder.path(), text).unwrap_or_else(|p| panic!("{p:#?}"));
+        let report = report(folder.path(), &compilation);
+        (compilation, report)
+    };
+    let (rig, rig_report) = compile_in(&rigged);
+    let (_, hand_report) = compile_in(&by_hand);
+    let names: Vec<&str> = rig
+        .project
+        .components
+        .iter()
+        .map(|c| c.name.value.as_str())
+        .collect();
+    assert_eq!(names, parts);
+    // The waving arm moves the centre of mass.
+    let com = |pose: usize| rig.poses[pose].centre_of_mass;
+    assert!(
+        (com(0)[0] - com(1)[0]).abs() > 0.5,
+        "{:?} {:?}",
+        com(0),
+        com(1)
+    );
+    agree(&rig_report, &hand_report, "report").unwrap();
+}
