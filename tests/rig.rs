@@ -656,8 +656,9 @@ fn a_rig_blender_exported_reports_as_the_project_written_by_hand_from_its_raw_da
         assert!(json["nodes"][joint].get("rotation").is_none());
         to_project * (translation(hips) + translation(joint)) * 1000.0
     };
-    // The last key of the animation `name` for `joint`: its time and the joint's turn, as
-    // extrinsic X, Y, Z Euler angles in the project's frame.
+    // The last key of the animation `name` for `joint`: its time, the joint's turn then and at
+    // the first key, as extrinsic X, Y, Z Euler angles in the project's frame, and the count of
+    // keys.
     let last_key = |name: &str, joint: &str| {
         let animation = json["animations"]
             .as_array()
@@ -676,24 +677,30 @@ fn a_rig_blender_exported_reports_as_the_project_written_by_hand_from_its_raw_da
         let sampler = &animation["samplers"][channel["sampler"].as_u64().unwrap() as usize];
         let times = floats(&json, &bin, sampler["input"].as_u64().unwrap() as usize);
         let values = floats(&json, &bin, sampler["output"].as_u64().unwrap() as usize);
-        let q = &values[values.len() - 4..];
-        let turn = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
-            f64::from(q[3]),
-            f64::from(q[0]),
-            f64::from(q[1]),
-            f64::from(q[2]),
-        ));
-        let in_project = nalgebra::Rotation3::from_matrix_unchecked(
-            to_project * turn.to_rotation_matrix().matrix() * to_project.transpose(),
-        );
-        let (x, y, z) = in_project.euler_angles();
-        let degrees = [x.to_degrees(), y.to_degrees(), z.to_degrees()];
-        (f64::from(*times.last().unwrap()), degrees, times.len())
+        let degrees = |q: &[f32]| {
+            let turn = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
+                f64::from(q[3]),
+                f64::from(q[0]),
+                f64::from(q[1]),
+                f64::from(q[2]),
+            ));
+            let in_project = nalgebra::Rotation3::from_matrix_unchecked(
+                to_project * turn.to_rotation_matrix().matrix() * to_project.transpose(),
+            );
+            let (x, y, z) = in_project.euler_angles();
+            [x.to_degrees(), y.to_degrees(), z.to_degrees()]
+        };
+        (
+            f64::from(*times.last().unwrap()),
+            degrees(&values[values.len() - 4..]),
+            degrees(&values[..4]),
+            times.len(),
+        )
     };
-    let (wave_end, wave, wave_keys) = last_key("Wave", "Shoulder.R");
+    let (wave_end, wave, wave_start, wave_keys) = last_key("Wave", "Shoulder.R");
     assert!(wave_keys > 2, "Blender samples every frame");
-    let (_, reach_left, reach_keys) = last_key("Reach", "Shoulder.L");
-    let (_, reach_right, _) = last_key("Reach", "Shoulder.R");
+    let (_, reach_left, _, reach_keys) = last_key("Reach", "Shoulder.L");
+    let (_, reach_right, _, _) = last_key("Reach", "Shoulder.R");
     assert_eq!(reach_keys, 1, "a single STEP key");
     let moved = |part: &str, joint: &str, [x, y, z]: [f64; 3]| {
         let p = pivot(joint);
@@ -707,6 +714,7 @@ fn a_rig_blender_exported_reports_as_the_project_written_by_hand_from_its_raw_da
     let rigged = format!(
         "{header}rig \"figure.glb\"\npose \"stand\" {{ stand; }}\n\
          pose \"wave\" animation=\"Wave\" time={wave_end} {{ stand; }}\n\
+         pose \"wave start\" animation=\"Wave\" time=0 {{ stand; }}\n\
          pose \"reach\" animation=\"Reach\" {{ stand; }}\n"
     );
     // The rig reads its parts in its node order, which the project by hand repeats.
@@ -719,6 +727,11 @@ fn a_rig_blender_exported_reports_as_the_project_written_by_hand_from_its_raw_da
     by_hand += &format!(
         "pose \"wave\" {{\n{}    stand\n}}\n",
         moved("Arm.R", "Shoulder.R", wave)
+    );
+    // Before the first key (at 1/24 s) the joint holds the first key's turn.
+    by_hand += &format!(
+        "pose \"wave start\" {{\n{}    stand\n}}\n",
+        moved("Arm.R", "Shoulder.R", wave_start)
     );
     by_hand += &format!(
         "pose \"reach\" {{\n{}{}    stand\n}}\n",

@@ -282,17 +282,22 @@ fn pose_time(
 ) -> Option<f64> {
     match pose.prop("time").zip(pose.number("time")) {
         Some((value, time)) => {
-            let slack = 1e-6 * (1.0 + clip.end.abs());
+            // Keys are 32-bit seconds, often at frame / fps (Blender's first at 1/24 s). Before
+            // the first key the channels hold their first values, so any time from 0 is taken up
+            // to a millisecond past the last key.
+            let slack = TIME_SLACK;
             let has_keys = clip.most_keys > 0;
-            if has_keys && (time < clip.start - slack || time > clip.end + slack) {
+            if has_keys && time > clip.end + slack {
                 problems.push(time_problem(
                     codes::RIG_TIME_OUTSIDE,
                     format!(
                         "time {time} s is outside animation `{}`, which runs from {} s to {} s",
-                        animation.value, clip.start, clip.end
+                        animation.value,
+                        seconds(clip.start),
+                        seconds(clip.end)
                     ),
                     (value.span, "outside the animation"),
-                    format!("give a time from {} to {} (seconds)", clip.start, clip.end),
+                    format!("give a time from 0 to {} (seconds)", seconds(clip.end)),
                 ));
                 return None;
             }
@@ -303,19 +308,36 @@ fn pose_time(
                 codes::RIG_TIME_NEEDED,
                 format!(
                     "animation `{}` has keys from {} s to {} s: the pose must say when",
-                    animation.value, clip.start, clip.end
+                    animation.value,
+                    seconds(clip.start),
+                    seconds(clip.end)
                 ),
                 (animation.span, "more than one key"),
                 format!(
                     "add `time=` in seconds, e.g. `time={}`, or give the animation a single \
                      (STEP) key",
-                    clip.end
+                    seconds(clip.end)
                 ),
             ));
             None
         }
         None if clip.most_keys == 1 => Some(clip.start),
         None => Some(0.0),
+    }
+}
+
+/// How far past its animation's last key a pose's `time=` may lie, seconds.
+const TIME_SLACK: f64 = 1e-3;
+
+/// A key time for a message: at most four decimals, trailing zeros dropped (within
+/// [`TIME_SLACK`] of the time, so it may be pasted as `time=`).
+fn seconds(time: f64) -> String {
+    let text = format!("{time:.4}");
+    let text = text.trim_end_matches('0').trim_end_matches('.');
+    if text == "-0" {
+        "0".to_owned()
+    } else {
+        text.to_owned()
     }
 }
 
