@@ -161,7 +161,8 @@ fn chosen_rule(optimization: &Optimization) -> String {
             plural(n)
         ),
         (None, true) => format!(
-            "the fewest capsules within {}° of the best objective that meets every goal",
+            "the design meeting every goal with the lowest objective plus {}° per capsule \
+             (`optimize tolerance=`): each capsule must gain that much",
             optimization.tolerance
         ),
         (None, false) => {
@@ -219,7 +220,8 @@ mod tests {
     fn the_chosen_rule_says_when_no_design_meets_every_goal() {
         assert_eq!(
             chosen_rule(&optimization(None, true)),
-            "the fewest capsules within 1° of the best objective that meets every goal"
+            "the design meeting every goal with the lowest objective plus 1° per capsule \
+             (`optimize tolerance=`): each capsule must gain that much"
         );
         let missed = chosen_rule(&optimization(None, false));
         assert_eq!(

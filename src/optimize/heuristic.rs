@@ -160,42 +160,41 @@ pub fn run(
 }
 
 /// The candidate to use: with `wanted = Some(n)`, the one with `n` capsules. Otherwise, among the
-/// candidates that meet every goal, the one with the fewest capsules whose objective is within
-/// `tolerance_degrees` of the best; when none meets every goal, the lowest objective. Ties go to
-/// the lower objective, then to fewer capsules.
+/// candidates that meet every goal, the one whose objective plus `tolerance_degrees` per capsule
+/// is lowest: each capsule (a ball to buy, a cavity, perhaps a pause) must gain that much
+/// objective to be worth making. When none meets every goal, the lowest objective. Ties go to
+/// fewer capsules, then to the lower objective.
 pub fn choose(candidates: &[Candidate], wanted: Option<usize>, tolerance_degrees: f64) -> usize {
     if let Some(n) = wanted {
         if let Some(i) = candidates.iter().position(|c| c.capsules == n) {
             return i;
         }
     }
-    let lowest = |pool: &mut dyn Iterator<Item = (usize, &Candidate)>| {
-        pool.min_by(|a, b| {
+    let per_capsule = tolerance_degrees.to_radians();
+    let effort = |c: &Candidate| c.outcome.value + per_capsule * c.capsules as f64;
+    let meeting = candidates
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| c.outcome.meets_goals)
+        .min_by(|a, b| {
+            effort(a.1)
+                .total_cmp(&effort(b.1))
+                .then(a.1.capsules.cmp(&b.1.capsules))
+                .then(a.1.outcome.value.total_cmp(&b.1.outcome.value))
+        });
+    if let Some((i, _)) = meeting {
+        return i;
+    }
+    candidates
+        .iter()
+        .enumerate()
+        .min_by(|a, b| {
             a.1.outcome
                 .value
                 .total_cmp(&b.1.outcome.value)
                 .then(a.1.capsules.cmp(&b.1.capsules))
         })
-        .map(|(i, _)| i)
-    };
-    let meeting = || {
-        candidates
-            .iter()
-            .enumerate()
-            .filter(|(_, c)| c.outcome.meets_goals)
-    };
-    let Some(best) = lowest(&mut meeting()) else {
-        return lowest(&mut candidates.iter().enumerate()).unwrap_or(0);
-    };
-    let threshold = candidates[best].outcome.value + tolerance_degrees.to_radians();
-    meeting()
-        .filter(|(_, c)| c.outcome.value <= threshold)
-        .min_by(|a, b| {
-            a.1.capsules
-                .cmp(&b.1.capsules)
-                .then(a.1.outcome.value.total_cmp(&b.1.outcome.value))
-        })
-        .map_or(best, |(i, _)| i)
+        .map_or(0, |(i, _)| i)
 }
 
 /// Whether `a` is the better outcome: it meets every goal and `b` does not, or both or neither do
@@ -266,17 +265,26 @@ mod tests {
     }
 
     #[test]
-    fn the_fewest_capsules_within_the_tolerance_of_the_best_are_chosen() {
+    fn each_capsule_must_gain_the_tolerance_to_be_chosen() {
         let candidates = [
             candidate(4, -9.0, true),
             candidate(2, -8.5, true),
             candidate(1, -7.0, true),
             candidate(0, 5.0, false),
         ];
+        // At 1° a capsule: 2 capsules gain 1.5° over 1, 4 gain only 0.5° more over 2.
         assert_eq!(choose(&candidates, None, 1.0), 1);
+        // At 2.5° a capsule, the second is not worth it.
         assert_eq!(choose(&candidates, None, 2.5), 2);
+        // At 0.1°, every gain is.
         assert_eq!(choose(&candidates, None, 0.1), 0);
         assert_eq!(choose(&candidates, Some(4), 1.0), 0);
+        // Five capsules 2.4° better than one, which meets every goal already: not worth four more.
+        let t_shape = [candidate(5, -9.9, true), candidate(1, -7.5, true)];
+        assert_eq!(choose(&t_shape, None, 1.0), 1);
+        // A tie goes to fewer capsules.
+        let tie = [candidate(3, -3.0, true), candidate(2, -2.0, true)];
+        assert_eq!(choose(&tie, None, 1.0), 1);
     }
 
     #[test]

@@ -203,8 +203,9 @@ pub struct Optimize {
     pub grid_cell: Option<f64>,
     /// Where `grid-cell=` was written, when it was.
     pub grid_cell_span: Option<SourceSpan>,
-    /// When the optimizer chooses the capsule count, it takes the fewest capsules whose worst
-    /// safety margin is within this many degrees of the best result.
+    /// When the optimizer chooses the capsule count, what each capsule costs, degrees of
+    /// objective: the design meeting every goal with the lowest objective plus this much per
+    /// capsule is taken.
     pub tolerance_degrees: f64,
     /// Seed of the random starts of exhaustive search.
     pub seed: u64,
