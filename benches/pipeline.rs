@@ -319,6 +319,22 @@ fn pipeline(c: &mut Criterion) {
                 b.iter(|| evaluate_pose(&project, black_box(&bodies), &many, &stand_only))
             });
         }
+        // An imbalance goal alone: a pose that topples on its facet is also set down on slopes,
+        // to see whether it only rocks onto a neighbouring facet (balance::rocking).
+        for (name, pose) in &poses {
+            let toppling = Pose {
+                goals: pose.goals[1..2].to_vec(),
+                ..pose.clone()
+            };
+            let result = evaluate_pose(&project, &bodies, &design, &toppling);
+            eprintln!(
+                "  {name}, imbalance only: tilt margin {:.2}°",
+                result.support.tilt_margin
+            );
+            group.bench_function(format!("evaluate_pose/imbalance/{name}"), |b| {
+                b.iter(|| evaluate_pose(&project, black_box(&bodies), &design, &toppling))
+            });
+        }
         // Distance queries: one point near the centroid, brute force against the tree.
         let probe = mass.centroid + nalgebra::Vector3::new(0.01, 0.02, 0.03);
         group.bench_function("distance/brute_force", |b| {
