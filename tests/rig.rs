@@ -765,3 +765,28 @@ fn a_rig_blender_exported_reports_as_the_project_written_by_hand_from_its_raw_da
     );
     agree(&rig_report, &hand_report, "report").unwrap();
 }
+
+#[test]
+fn blender_keys_of_location_and_scale_pose_the_rig_as_its_rotation_keys_do() {
+    // Blender's default keying set keys location, rotation and scale; its exporter then writes a
+    // translation and a scale channel beside every rotation, the scales decomposed from the
+    // sampled matrices (1 or 0.99999994). They move nothing more than the rotation keys do.
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/blender");
+    let project = "units mm\nup z\nmaterial \"PLA\" density=1.24\nprint model=\"uniform\"\n\
+                   rig \"figure.glb\"\npose \"stand\" { stand; }\n\
+                   pose \"wave\" animation=\"Wave\" time=1 { stand; }\n\
+                   pose \"reach\" animation=\"Reach\" { stand; }\n\
+                   pose \"kick\" animation=\"Kick\" time=0.5 { imbalance; }\n";
+    let report_of = |file: &str| {
+        let folder = tempfile::tempdir().unwrap();
+        fs::copy(data.join(file), folder.path().join("figure.glb")).unwrap();
+        let compilation = compiled(folder.path(), project).unwrap_or_else(|p| panic!("{p:#?}"));
+        report(folder.path(), &compilation)
+    };
+    agree(
+        &report_of("figure_blender_locrotscale.glb"),
+        &report_of("figure_blender.glb"),
+        "report",
+    )
+    .unwrap();
+}
