@@ -20,6 +20,16 @@ fn compiled(folder: &Path, source: &str) -> Result<Compilation, Vec<ballast::dia
     compile(source, &path)
 }
 
+/// The components' names, in project order.
+fn component_names(compilation: &Compilation) -> Vec<&str> {
+    compilation
+        .project
+        .components
+        .iter()
+        .map(|c| c.name.value.as_str())
+        .collect()
+}
+
 fn report(folder: &Path, compilation: &Compilation) -> serde_json::Value {
     serde_json::from_str(&Report::new(compilation, &folder.join("model.kdl")).to_json()).unwrap()
 }
@@ -125,12 +135,7 @@ fn a_rig_with_animated_poses_reports_as_the_project_written_by_hand() {
     let hand_folder = figure_folder();
     let rigged = compiled(rigged_folder.path(), &format!("{HEADER}{RIG_POSES}")).unwrap();
     let hand = compiled(hand_folder.path(), &format!("{HEADER}{HAND_POSES}")).unwrap();
-    let names: Vec<&str> = rigged
-        .project
-        .components
-        .iter()
-        .map(|c| c.name.value.as_str())
-        .collect();
+    let names = component_names(&rigged);
     assert_eq!(names, ["Torso", "Head", "Arm.L", "Arm.R", "Leg.L", "Leg.R"]);
     // The poses differ: the arms move the centre of mass.
     let com = |c: &Compilation, pose: usize| c.poses[pose].centre_of_mass;
@@ -236,12 +241,7 @@ pose "reach one" {
     let rigged = compiled(rigged_folder.path(), &format!("{HEADER}{rig}")).unwrap();
     let by_hand = compiled(hand_folder.path(), &format!("{HEADER}{hand}")).unwrap();
     // The parts are the default scene's, not the copies'.
-    let names: Vec<&str> = rigged
-        .project
-        .components
-        .iter()
-        .map(|c| c.name.value.as_str())
-        .collect();
+    let names = component_names(&rigged);
     assert_eq!(names, ["Torso", "Head", "Arm.L", "Arm.R", "Leg.L", "Leg.R"]);
     let com = |c: &Compilation, pose: usize| c.poses[pose].centre_of_mass;
     assert!((com(&rigged, 0)[2] - com(&rigged, 1)[2]).abs() > 0.5);
@@ -748,12 +748,7 @@ fn a_rig_blender_exported_reports_as_the_project_written_by_hand_from_its_raw_da
     };
     let (rig, rig_report) = compile_in(&rigged);
     let (_, hand_report) = compile_in(&by_hand);
-    let names: Vec<&str> = rig
-        .project
-        .components
-        .iter()
-        .map(|c| c.name.value.as_str())
-        .collect();
+    let names = component_names(&rig);
     assert_eq!(names, parts);
     // The waving arm moves the centre of mass.
     let com = |pose: usize| rig.poses[pose].centre_of_mass;
