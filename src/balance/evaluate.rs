@@ -88,6 +88,7 @@ fn evaluate_placed(
                 bodies,
                 design,
                 pose,
+                &vertices,
                 -support.tilt_margin,
                 &first,
             )

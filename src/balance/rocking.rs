@@ -4,7 +4,7 @@
 //! margin of an `imbalance` pose is minus the gentlest slope on which it comes to rest within
 //! [`ROCKING_DEGREES`] of where it was set down (docs/physics.md, "Rocking is not toppling").
 
-use nalgebra::{Unit, UnitQuaternion, Vector3};
+use nalgebra::{Point3, Unit, UnitQuaternion, Vector3};
 
 use super::rest::{roll, Rule, ROCKING_DEGREES};
 use super::support::GroundPlane;
@@ -21,7 +21,8 @@ const STEP: f64 = 0.5;
 const HALVINGS: usize = 6;
 
 /// The gentlest slope, degrees, with its downhill direction (a horizontal unit vector, world),
-/// on which `pose` of the model made of `bodies`, settled on a facet of its hull and set down
+/// on which `pose` of the model made of `bodies` (its vertices posed, `vertices`), settled on a
+/// facet of its hull and set down
 /// on the slope with every ball at the end the slope's gravity sends it to, comes to rest
 /// within [`ROCKING_DEGREES`] of where it was set down. Directions are tried from `first`
 /// around, slopes below `limit` (the one that brings the centre of mass over the facet's own
@@ -32,11 +33,11 @@ pub(crate) fn gentlest_rocking_slope(
     bodies: &[ComponentBody],
     design: &Design,
     pose: &Pose,
+    vertices: &[Point3<f64>],
     limit: f64,
     first: &Vector3<f64>,
 ) -> Option<(f64, Vector3<f64>)> {
-    let vertices = super::evaluate::posed_vertices(bodies, pose);
-    let hull = convex_hull(&vertices)?;
+    let hull = convex_hull(vertices)?;
     let plane = GroundPlane::new(project.up);
     let down = -plane.up;
     let within = ROCKING_DEGREES.to_radians().cos();
@@ -59,7 +60,7 @@ pub(crate) fn gentlest_rocking_slope(
         let centre = mass::mass_totals(project, bodies, design, pose, &balls).centre_of_mass;
         roll(
             &hull,
-            &vertices,
+            vertices,
             project.up,
             &centre,
             &gravity,
