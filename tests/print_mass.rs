@@ -8,7 +8,7 @@ use std::f64::consts::PI;
 
 use balance_support::*;
 use ballast::balance::capsule_shell;
-use ballast::geometry::{print_volumes, Slicing};
+use ballast::geometry::{print_volumes, print_volumes_with_voids, Slicing, Void};
 use ballast::spec::model::{Print, Units};
 use geometry_support::box_mesh;
 use nalgebra::{Point3, Rotation3, Vector3};
@@ -164,4 +164,52 @@ fn odd_input_gives_empty_regions_not_a_panic() {
     flat.layer_height = 0.0;
     let volumes = print_volumes(&box_mesh(10.0, 10.0, 10.0), &flat);
     assert_eq!(volumes.solid.volume + volumes.sparse.volume, 0.0);
+}
+
+#[test]
+fn a_void_cut_before_slicing_gets_a_ring_of_perimeters_and_solid_layers_over_and_under_it() {
+    // A 30 × 30 × 40 box, a void along z through its middle (radius 5, axis from z = 12 to 28),
+    // layers of 0.25, walls 1.2, 4 top and bottom layers, no margin or small-region rule.
+    // Every layer the void crosses gets a ring of wall around its hole; the 4 layers under its
+    // floor and over its ceiling are solid across the hole's widest slice in each of them.
+    let (a, c) = (30.0, 40.0);
+    let (t, h, n) = (1.2, 0.25, 4);
+    let (r, low, high) = (5.0, 12.0, 28.0);
+    let mesh = box_mesh(a, a, c);
+    let s = slicing(t, h, n);
+    let void = Void {
+        from: Point3::new(a / 2.0, a / 2.0, low),
+        to: Point3::new(a / 2.0, a / 2.0, high),
+        radius: r,
+    };
+    let bare = print_volumes(&mesh, &s);
+    let cut = print_volumes_with_voids(&mesh, &s, &[void]);
+    // The void's volume leaves the part.
+    let void_volume = PI * r * r * (high - low + 4.0 / 3.0 * r);
+    let total = |v: &ballast::geometry::PrintVolumes| v.solid.volume + v.sparse.volume;
+    assert_close(
+        "void",
+        total(&bare) - total(&cut),
+        void_volume,
+        0.02 * void_volume,
+    );
+    // The solid it adds: the ring along the axis, at least, and at most the ring over the whole
+    // height of the void plus a disc of the ring's outer radius under and over it, n layers thick.
+    let ring = PI * ((r + t).powi(2) - r * r);
+    let added = cut.solid.volume - bare.solid.volume;
+    let least = ring * (high - low);
+    let most = ring * (high - low + 2.0 * r) + 2.0 * PI * (r + t).powi(2) * n as f64 * h;
+    assert!(
+        added > 0.97 * least && added < most,
+        "solid added {added:.1}, between {least:.1} and {most:.1}"
+    );
+    // Symmetric about the box's middle: the centroids stay there.
+    for (what, region) in [("solid", cut.solid), ("sparse", cut.sparse)] {
+        assert_point(
+            &format!("{what} centroid"),
+            region.centroid.coords.into(),
+            [a / 2.0, a / 2.0, c / 2.0],
+            0.05,
+        );
+    }
 }
