@@ -23,11 +23,12 @@ use std::hint::black_box;
 use std::sync::Arc;
 use std::time::Instant;
 
+use ballast::balance::PartPrints;
 use ballast::compile::{
     self, compile_with, CompileOptions, OptimizeOptions, Preparation, Workspace,
 };
 use ballast::fabrication::PrintSetup;
-use ballast::geometry::{load_mesh, DistanceGrid, MeshSelector, PrintVolumes, Skeleton, TriMesh};
+use ballast::geometry::{load_mesh, DistanceGrid, MeshSelector, Skeleton, TriMesh};
 use ballast::objective::{GridInterior, Parameters};
 use ballast::optimize::{choose, default_cell, rank, run_heuristic, Candidate, Method, Problem};
 use ballast::spec::model::{Optimize, Project};
@@ -68,7 +69,7 @@ struct Example {
     name: String,
     project: Project,
     meshes: Vec<TriMesh>,
-    prints: Vec<PrintVolumes>,
+    prints: PartPrints,
     print: PrintSetup,
 }
 
@@ -83,11 +84,12 @@ impl Example {
             &mut Workspace::new(),
         )
         .unwrap_or_else(|failure| panic!("{name} did not compile: {failure:?}"));
+        let prints = compiled.part_prints();
         Example {
             name: name.to_string(),
             project: compiled.project,
             meshes: compiled.meshes,
-            prints: compiled.prints,
+            prints,
             print: PrintSetup::from_plan(&compiled.print_plan),
         }
     }

@@ -13,6 +13,8 @@ use ballast::spec::{parse_project, parse_solution, read_source, MAX_PROBLEMS, MA
 fn t_shape() -> (PathBuf, String) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/t_shape.kdl");
     let source = std::fs::read_to_string(&path).unwrap();
+    // The line the tests below edit.
+    assert!(source.contains("\noptimize tolerance=0.2\n"));
     (path, source)
 }
 
@@ -141,7 +143,10 @@ fn optimize(source: &str, capsules: Option<usize>) -> Result<(), Vec<Problem>> {
 fn a_grid_cell_too_fine_for_the_mesh_is_refused_at_its_span() {
     let (_, source) = t_shape();
     for cell in ["0.001", "1e-300"] {
-        let edited = source.replace("\noptimize\n", &format!("\noptimize grid-cell={cell}\n"));
+        let edited = source.replace(
+            "\noptimize tolerance=0.2\n",
+            &format!("\noptimize grid-cell={cell}\n"),
+        );
         let found = optimize(&edited, None).unwrap_err();
         let problem = found
             .iter()
@@ -174,13 +179,13 @@ fn a_grid_cell_too_fine_for_the_mesh_is_refused_at_its_span() {
 #[test]
 fn too_many_capsules_or_poses_times_capsules_are_refused() {
     let (_, source) = t_shape();
-    let edited = source.replace("\noptimize\n", "\noptimize capsules=1000\n");
+    let edited = source.replace("\noptimize tolerance=0.2\n", "\noptimize capsules=1000\n");
     let found = problems(&edited);
     assert_eq!(codes_of(&found), [codes::TOO_MANY_CAPSULES]);
     let poses: String = (0..40)
         .map(|i| format!("pose \"p{i}\" {{ rotate {i} 0 0; stand }}\n"))
         .collect();
-    let edited = source.replace("\noptimize\n", "\noptimize capsules=4\n") + &poses;
+    let edited = source.replace("\noptimize tolerance=0.2\n", "\noptimize capsules=4\n") + &poses;
     let found = problems(&edited);
     assert_eq!(codes_of(&found), [codes::TOO_MANY_CAPSULES]);
     assert!(
@@ -232,7 +237,7 @@ fn labelled<'a>(source: &'a str, found: &[Problem]) -> &'a str {
 fn kdl_v1_keywords_get_a_hint() {
     let (_, source) = t_shape();
     let edited = source.replace(
-        "\noptimize\n",
+        "\noptimize tolerance=0.2\n",
         "\ncapsule \"c\" component=\"T\" radius=1 pinned=true {\n  from 0 0 1\n  to 0 0 2\n}\n",
     );
     let found = problems(&edited);
@@ -251,7 +256,7 @@ fn a_bad_float_and_an_unclosed_comment_point_at_themselves() {
     assert_eq!(codes_of(&found), [codes::SYNTAX]);
     assert_eq!(labelled(&edited, &found), "margin=2.");
 
-    let edited = source.replace("\noptimize\n", "\n/* not closed\noptimize\n");
+    let edited = source.replace("\noptimize tolerance=0.2\n", "\n/* not closed\noptimize\n");
     let found = problems(&edited);
     assert_eq!(codes_of(&found), [codes::SYNTAX]);
     assert_eq!(labelled(&edited, &found), "/*");
@@ -270,7 +275,7 @@ fn an_empty_output_path_is_refused_at_its_span() {
 fn absurd_coordinates_are_refused_at_their_span() {
     let (_, source) = t_shape();
     let edited = source.replace(
-        "\noptimize\n",
+        "\noptimize tolerance=0.2\n",
         "\ncapsule \"c\" component=\"T\" radius=1 {\n  from 0 0 1e200\n  to 0 0 -1e200\n}\n",
     );
     let found = problems(&edited);

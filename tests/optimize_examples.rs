@@ -267,7 +267,7 @@ fn spot_meets_all_six_goals_that_the_solid_misses_three_of() {
 fn a_pinned_capsule_is_kept_exactly_and_a_written_seed_may_move() {
     let path = example("t_shape");
     let source = std::fs::read_to_string(&path).unwrap().replace(
-        "\noptimize\n",
+        "\noptimize tolerance=0.2\n",
         "\noptimize capsules=2\n\
          capsule \"junction\" component=\"T\" radius=8 pinned=#true { from -15 0 23; to 15 0 26; }\n\
          capsule \"bar\" component=\"T\" radius=2 { from -50 0 35; to -40 0 36; }\n",

@@ -19,34 +19,30 @@ use ballast::sliced::{verify_gcode, SlicedOptions};
 use nalgebra::{Point3, Vector3};
 use print_support::{examples, slice_with, slicer_available};
 
-/// The plastic the mass model puts in component `index` with the capsules of `design`: grams,
-/// and the centre, rest frame. Recomputed here from the pieces the model is made of (the
-/// component's solid and sparse volumes, each capsule's closed-form term), not read from an
-/// evaluation.
-fn modelled(c: &Compilation, design: &Design, index: usize) -> (f64, Point3<f64>) {
+/// The plastic the optimizer's closed form puts in component `index` with the capsules of
+/// `design`: grams. Recomputed here from its pieces (the component's solid and sparse volumes,
+/// each capsule's closed-form term), not read from an evaluation.
+fn closed_form(c: &Compilation, design: &Design, index: usize) -> f64 {
     let project = &c.project;
     let density = project.material.density * project.units.cubic_in_cm3();
     let infill = design.infill;
     let print = &c.prints[index];
     let shell = capsule_shell(&project.print);
     let mut mass = density * (print.solid.volume + infill * print.sparse.volume);
-    let mut moment = density
-        * (print.solid.centroid.coords * print.solid.volume
-            + print.sparse.centroid.coords * (infill * print.sparse.volume));
     for capsule in design.capsules.iter().filter(|k| k.component == index) {
         let length = capsule.axis_length();
         let volume = |r: f64| std::f64::consts::PI * r * r * (length + 4.0 / 3.0 * r);
         let change =
             density * ((1.0 - infill) * volume(capsule.radius + shell) - volume(capsule.radius));
         mass += change;
-        moment += nalgebra::center(&capsule.from, &capsule.to).coords * change;
     }
-    (mass, Point3::from(moment / mass))
+    mass
 }
 
-/// The plastic the raster puts in component `index` with the voids of `design` cut from its
-/// mesh before slicing (`geometry::print_volumes_with_voids`): grams.
-fn resliced(c: &Compilation, design: &Design, index: usize) -> f64 {
+/// The plastic the mass model puts in component `index` with the voids of `design` cut from its
+/// mesh before slicing (`geometry::print_volumes_with_voids`), without the calibration's
+/// correction: grams, and the centre, rest frame. Recomputed here, not read from an evaluation.
+fn modelled(c: &Compilation, design: &Design, index: usize) -> (f64, Point3<f64>) {
     let project = &c.project;
     let density = project.material.density * project.units.cubic_in_cm3();
     let voids: Vec<Void> = design
@@ -61,27 +57,28 @@ fn resliced(c: &Compilation, design: &Design, index: usize) -> f64 {
         .collect();
     let slicing = slicing(&project.print, c.orientations[index].to_print);
     let print = print_volumes_with_voids(&c.meshes[index], &slicing, &voids);
-    density * (print.solid.volume + design.infill * print.sparse.volume)
+    let (solid, sparse) = (print.solid.volume, design.infill * print.sparse.volume);
+    let moment = print.solid.centroid.coords * solid + print.sparse.centroid.coords * sparse;
+    (
+        density * (solid + sparse),
+        Point3::from(moment / (solid + sparse)),
+    )
 }
 
-/// Components whose mass the model misses by more than the bound (bare 11 %, with voids 5 %),
-/// with the error measured (model less G-code over G-code): the hammer standing on its head with
-/// its voids, and the T on its side face, bare and with its voids. Causes and numbers:
-/// docs/physics.md, "Agreement on the examples". The test fails when one of them comes within
-/// its bound, so that the list shrinks as the model improves.
-const KNOWN_MASS_DEVIATIONS: &[(&str, f64)] = &[
-    ("hammer: hammer", -0.1072),
-    ("t_shape, bare: T", -0.1661),
-    ("t_shape: T", -0.1298),
-];
+/// Components whose mass the model misses by more than the bound (11 %, bare or with the voids),
+/// with the error measured (model less G-code over G-code): the T on its side face, bare and with
+/// its voids. Causes and numbers: docs/physics.md, "Agreement on the examples". The test fails
+/// when one of them comes within its bound, so that the list shrinks as the model improves.
+const KNOWN_MASS_DEVIATIONS: &[(&str, f64)] =
+    &[("t_shape, bare: T", -0.1661), ("t_shape: T", -0.1238)];
 
 /// One component, modelled and sliced.
 struct Row {
     label: String,
-    /// Grams: the mass model's plastic, the raster's with the voids cut before slicing, the
+    /// Grams: the mass model's plastic (the voids cut before slicing), the closed form's, the
     /// G-code's.
     modelled: f64,
-    resliced: f64,
+    closed_form: f64,
     sliced: f64,
     mass_error: f64,
     centres_apart_mm: f64,
@@ -107,7 +104,7 @@ fn compare(c: &Compilation, design: &Design, folder: &Path, label: &str) -> Vec<
         let row = Row {
             label: format!("{label}: {}", sliced.component),
             modelled: mass,
-            resliced: resliced(c, design, index),
+            closed_form: closed_form(c, design, index),
             sliced: sliced.mass,
             mass_error: (mass - sliced.mass) / sliced.mass,
             centres_apart_mm: apart.norm(),
@@ -158,11 +155,11 @@ fn the_mass_model_against_the_sliced_examples() {
     }
     assert!(bare.len() >= 7 && cut.len() == bare.len());
     // Today's agreement (docs/physics.md): the bare parts within 11 % and 1.6 mm (the hammer's
-    // sloping faces the worst), the parts with their voids within 5 % and 3 mm, but for the known
-    // deviations, which must still be beyond their bound and within a percentage point of what
-    // was measured.
+    // sloping faces the worst), the parts with their voids within 11 % and 3 mm (re-sliced, they
+    // carry the body's error and little more), but for the known deviations, which must still be
+    // beyond their bound and within a percentage point of what was measured.
     let mut failures = Vec::new();
-    for (rows, mass, centre) in [(&bare, 0.11, 1.6), (&cut, 0.05, 3.0)] {
+    for (rows, mass, centre) in [(&bare, 0.11, 1.6), (&cut, 0.11, 3.0)] {
         for row in rows.iter() {
             let known = KNOWN_MASS_DEVIATIONS
                 .iter()
@@ -199,19 +196,20 @@ fn the_mass_model_against_the_sliced_examples() {
     }
     // What the voids change: the closed-form capsule term against the raster with the voids
     // cut before slicing, each beside the G-code's change (docs/physics.md, "The capsule term
-    // against re-slicing").
+    // against re-slicing"); the re-sliced change within 0.8 g of the G-code's (the cylinder's
+    // 22 mm void the worst, 0.73 g), where the closed form misses the hammer's by 1.8 g.
     println!("| example: component | closed form | re-sliced | G-code |");
     for (without, with) in bare.iter().zip(&cut) {
         let sliced = with.sliced - without.sliced;
-        let resliced = with.resliced - without.resliced;
+        let resliced = with.modelled - without.modelled;
         println!(
             "| {} | {:+.2} g | {:+.2} g | {:+.2} g |",
             with.label,
-            with.modelled - without.modelled,
+            with.closed_form - without.closed_form,
             resliced,
             sliced
         );
-        if (resliced - sliced).abs() > 0.6 {
+        if (resliced - sliced).abs() > 0.8 {
             failures.push(format!(
                 "{}: the voids change the re-sliced plastic by {resliced:+.2} g, the G-code's by {sliced:+.2} g",
                 with.label

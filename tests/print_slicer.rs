@@ -13,11 +13,11 @@ mod print_support;
 
 use std::path::Path;
 
-use ballast::balance::{capsule_shell, slicing, PoseEvaluation};
+use ballast::balance::{slicing, PoseEvaluation};
 use ballast::compile::compile;
 use ballast::design::Design;
 use ballast::gcode::read_deposit;
-use ballast::geometry::{print_volumes, TriMesh};
+use ballast::geometry::{print_volumes_with_voids, PrintCorrection, TriMesh, Void};
 use ballast::spec::model::{Print, Project, Units};
 use geometry_support::box_mesh;
 use nalgebra::{Point3, Rotation3, Vector3};
@@ -29,26 +29,25 @@ const FILAMENT: f64 = 1.75;
 const BED_CENTRE: (f64, f64) = (100.0, 100.0);
 
 /// Mass (g) and centre (rest frame) of the plastic ballast models for `body` with `capsules`
-/// (from, to, radius) cut, at `infill`, PLA, printed turned by `to_print`.
+/// (from, to, radius) cut before it is sliced, at `infill`, PLA, printed turned by `to_print`,
+/// with `correction` (a calibration's volume and first moment, mm³ and mm⁴) added.
 fn modelled(
     body: &TriMesh,
     capsules: &[(Point3<f64>, Point3<f64>, f64)],
     infill: f64,
     to_print: Rotation3<f64>,
+    correction: &PrintCorrection,
 ) -> (f64, Point3<f64>) {
     let print = Print::defaults(Units::Millimetre);
-    let volumes = print_volumes(body, &slicing(&print, to_print));
-    let t = capsule_shell(&print);
-    let mut volume = volumes.solid.volume + infill * volumes.sparse.volume;
-    let mut moment = volumes.solid.centroid.coords * volumes.solid.volume
-        + volumes.sparse.centroid.coords * (infill * volumes.sparse.volume);
-    for (p, q, r) in capsules {
-        let length = (q - p).norm();
-        let capsule = |r: f64| std::f64::consts::PI * r * r * (length + 4.0 / 3.0 * r);
-        let change = (1.0 - infill) * capsule(r + t) - capsule(*r);
-        volume += change;
-        moment += nalgebra::center(p, q).coords * change;
-    }
+    let voids: Vec<Void> = capsules
+        .iter()
+        .map(|&(from, to, radius)| Void { from, to, radius })
+        .collect();
+    let volumes = print_volumes_with_voids(body, &slicing(&print, to_print), &voids);
+    let volume = volumes.solid.volume + infill * volumes.sparse.volume + correction.volume;
+    let moment = volumes.solid.centroid.coords * volumes.solid.volume
+        + volumes.sparse.centroid.coords * (infill * volumes.sparse.volume)
+        + Vector3::from(correction.moment);
     (volume * 1.24 / 1000.0, Point3::from(moment / volume))
 }
 
@@ -125,12 +124,145 @@ fn compare(
     );
 }
 
-/// The mass model's error against the G-code for the T with its design printed on its declared
-/// side face, measured (model less G-code over G-code): beyond the 5% the other parts here keep.
-/// The T stands 60 mm tall on its side; its capsules' shells overlap its perimeters, and the narrow
-/// solid strips PrusaSlicer widens under its sloping faces are not modelled (docs/physics.md,
+fn skip() -> bool {
+    if slicer_available() {
+        return false;
+    }
+    eprintln!("skipped: prusa-slicer is not on the PATH (apt-get install prusa-slicer)");
+    true
+}
+
+#[test]
+fn a_box_weighs_what_prusaslicer_deposits() {
+    if skip() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let body = box_mesh(40.0, 30.0, 20.0);
+    for infill in [0.15, 0.5] {
+        let gcode = sliced(
+            dir.path(),
+            "box",
+            (&body, &body),
+            infill,
+            Rotation3::identity(),
+        );
+        compare(
+            &format!("box at {infill}"),
+            modelled(
+                &body,
+                &[],
+                infill,
+                Rotation3::identity(),
+                &PrintCorrection::default(),
+            ),
+            gcode,
+            0.05,
+            0.2,
+        );
+    }
+}
+
+#[test]
+fn a_capsule_void_weighs_what_prusaslicer_deposits() {
+    if skip() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let body = box_mesh(40.0, 30.0, 20.0);
+    let cases = [
+        (
+            Point3::new(10.0, 15.0, 10.0),
+            Point3::new(30.0, 15.0, 10.0),
+            4.0,
+        ),
+        (
+            Point3::new(8.0, 12.0, 8.0),
+            Point3::new(32.0, 16.0, 12.0),
+            3.0,
+        ),
+    ];
+    for (i, capsule) in cases.iter().enumerate() {
+        let (p, q, r) = *capsule;
+        let mesh = with_voids(&body, &[capsule_mesh(p, q, r, 64)]);
+        let gcode = sliced(
+            dir.path(),
+            &format!("void{i}"),
+            (&body, &mesh),
+            0.15,
+            Rotation3::identity(),
+        );
+        let model = modelled(
+            &body,
+            &[*capsule],
+            0.15,
+            Rotation3::identity(),
+            &PrintCorrection::default(),
+        );
+        compare(&format!("box with capsule {i}"), model, gcode, 0.05, 0.2);
+    }
+}
+
+#[test]
+fn a_box_with_a_void_printed_on_its_side_weighs_what_prusaslicer_deposits() {
+    if skip() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let body = box_mesh(40.0, 30.0, 20.0);
+    let capsule = (
+        Point3::new(8.0, 12.0, 8.0),
+        Point3::new(32.0, 16.0, 12.0),
+        3.0,
+    );
+    let mesh = with_voids(&body, &[capsule_mesh(capsule.0, capsule.1, capsule.2, 64)]);
+    // On its 30 × 20 end (rest-frame x up), then on its 40 × 20 side (y down).
+    let turns = [
+        (
+            "end",
+            Rotation3::from_euler_angles(0.0, -std::f64::consts::FRAC_PI_2, 0.0),
+        ),
+        (
+            "side",
+            Rotation3::from_euler_angles(-std::f64::consts::FRAC_PI_2, 0.0, 0.0),
+        ),
+    ];
+    for (name, to_print) in turns {
+        let gcode = sliced(dir.path(), name, (&body, &mesh), 0.15, to_print);
+        let model = modelled(
+            &body,
+            &[capsule],
+            0.15,
+            to_print,
+            &PrintCorrection::default(),
+        );
+        let upright = modelled(
+            &body,
+            &[capsule],
+            0.15,
+            Rotation3::identity(),
+            &PrintCorrection::default(),
+        );
+        let what = format!("box on its {name}");
+        if name == "side" {
+            known_deviation(&what, model, gcode, 0.05, BOX_ON_ITS_SIDE_MASS_ERROR, 0.2);
+        } else {
+            compare(&what, model, gcode, 0.05, 0.2);
+        }
+        println!(
+            "box on its {name}: the upright model would say {:.2} g at {:.2} mm from this centre",
+            upright.0,
+            (model.1 - upright.1).norm()
+        );
+    }
+}
+
+/// The mass model's error against the G-code for the box with its tilted capsule printed on its
+/// 40 × 20 side, measured (model less G-code over G-code): beyond the 5% the other parts here
+/// keep. Re-sliced, a void's wall slopes in every layer it crosses, and PrusaSlicer widens the
+/// narrow solid strips such a slope leaves, which the model does not (docs/physics.md,
 /// "Agreement on the examples"). When the model improves the test fails: take the entry off.
-const T_SHAPE_MASS_ERROR: f64 = -0.130;
+const BOX_ON_ITS_SIDE_MASS_ERROR: f64 = -0.053;
 
 /// As `compare`, for a known deviation of the mass: the error is still beyond `mass_tolerance`
 /// and within one percentage point of `known`, so that it neither hides a worse error nor stays
@@ -168,110 +300,6 @@ fn known_deviation(
         distance <= centre_tolerance,
         "{what}: centres {distance} mm apart"
     );
-}
-
-fn skip() -> bool {
-    if slicer_available() {
-        return false;
-    }
-    eprintln!("skipped: prusa-slicer is not on the PATH (apt-get install prusa-slicer)");
-    true
-}
-
-#[test]
-fn a_box_weighs_what_prusaslicer_deposits() {
-    if skip() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
-    let body = box_mesh(40.0, 30.0, 20.0);
-    for infill in [0.15, 0.5] {
-        let gcode = sliced(
-            dir.path(),
-            "box",
-            (&body, &body),
-            infill,
-            Rotation3::identity(),
-        );
-        compare(
-            &format!("box at {infill}"),
-            modelled(&body, &[], infill, Rotation3::identity()),
-            gcode,
-            0.05,
-            0.2,
-        );
-    }
-}
-
-#[test]
-fn a_capsule_void_weighs_what_prusaslicer_deposits() {
-    if skip() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
-    let body = box_mesh(40.0, 30.0, 20.0);
-    let cases = [
-        (
-            Point3::new(10.0, 15.0, 10.0),
-            Point3::new(30.0, 15.0, 10.0),
-            4.0,
-        ),
-        (
-            Point3::new(8.0, 12.0, 8.0),
-            Point3::new(32.0, 16.0, 12.0),
-            3.0,
-        ),
-    ];
-    for (i, capsule) in cases.iter().enumerate() {
-        let (p, q, r) = *capsule;
-        let mesh = with_voids(&body, &[capsule_mesh(p, q, r, 64)]);
-        let gcode = sliced(
-            dir.path(),
-            &format!("void{i}"),
-            (&body, &mesh),
-            0.15,
-            Rotation3::identity(),
-        );
-        let model = modelled(&body, &[*capsule], 0.15, Rotation3::identity());
-        compare(&format!("box with capsule {i}"), model, gcode, 0.05, 0.2);
-    }
-}
-
-#[test]
-fn a_box_with_a_void_printed_on_its_side_weighs_what_prusaslicer_deposits() {
-    if skip() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
-    let body = box_mesh(40.0, 30.0, 20.0);
-    let capsule = (
-        Point3::new(8.0, 12.0, 8.0),
-        Point3::new(32.0, 16.0, 12.0),
-        3.0,
-    );
-    let mesh = with_voids(&body, &[capsule_mesh(capsule.0, capsule.1, capsule.2, 64)]);
-    // On its 30 × 20 end (rest-frame x up), then on its 40 × 20 side (y down).
-    let turns = [
-        (
-            "end",
-            Rotation3::from_euler_angles(0.0, -std::f64::consts::FRAC_PI_2, 0.0),
-        ),
-        (
-            "side",
-            Rotation3::from_euler_angles(-std::f64::consts::FRAC_PI_2, 0.0, 0.0),
-        ),
-    ];
-    for (name, to_print) in turns {
-        let gcode = sliced(dir.path(), name, (&body, &mesh), 0.15, to_print);
-        let model = modelled(&body, &[capsule], 0.15, to_print);
-        let upright = modelled(&body, &[capsule], 0.15, Rotation3::identity());
-        compare(&format!("box on its {name}"), model, gcode, 0.05, 0.2);
-        println!(
-            "box on its {name}: the upright model would say {:.2} g at {:.2} mm from this centre",
-            upright.0,
-            (model.1 - upright.1).norm()
-        );
-    }
 }
 
 /// The tilt margin (degrees) of a centre of mass `c` over the support of `vertices` (world, z
@@ -369,8 +397,16 @@ fn the_t_shape_with_its_design_weighs_and_stands_as_prusaslicer_prints_it() {
         design.infill,
         to_print,
     );
-    let model = modelled(body, &capsules, design.infill, to_print);
-    known_deviation("t_shape", model, gcode, 0.05, T_SHAPE_MASS_ERROR, 1.0);
+    // The mass the report weighs: the T re-sliced with its voids, plus its calibration file's
+    // correction (examples/t_shape.calibration.json).
+    let model = modelled(
+        body,
+        &capsules,
+        design.infill,
+        to_print,
+        &compilation.corrections[0],
+    );
+    compare("t_shape", model, gcode, 0.05, 1.0);
 
     // The plastic ballast's physics sums is the plastic modelled here.
     let upright = &compilation.poses[0];

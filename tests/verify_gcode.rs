@@ -266,12 +266,11 @@ fn labelled_objects_and_a_skirt_outside_them() {
     assert!((part.shift[1] - 25.0).abs() < 0.1, "{:?}", part.shift);
 }
 
-/// The goals of the t_shape example that the sliced mass misses: on its sides the T stands with
-/// 2.08° and 2.21° of margin computed, 1.42° and 1.59° sliced, under its 2° limit
-/// (`SHORT_WITH_THE_SLICED_MASS` in `tests/fabrication_examples.rs`; docs/physics.md, "Agreement
-/// on the examples"). The test fails when the list is no longer exactly what the file misses.
-const T_SHAPE_SHORT_WITH_THE_SLICED_MASS: &[&str] =
-    &["on its right side stand", "on its left side stand"];
+/// The goals of the t_shape example that the sliced mass misses: none. With its calibration file
+/// the T stands on its sides 2.57° and 2.51° computed, 2.52° and 2.57° sliced, over its 2° limit
+/// (`SHORT_WITH_THE_SLICED_MASS` in `tests/fabrication_examples.rs`). The test fails when the list
+/// is no longer exactly what the file misses.
+const T_SHAPE_SHORT_WITH_THE_SLICED_MASS: &[&str] = &[];
 
 /// The t_shape example with its design, sliced from the PrusaSlicer project `ballast build`
 /// writes (the part where its print plan lays it, its voids, its pauses) with the command line

@@ -101,14 +101,16 @@ pub fn facet_rotation(normal: &Vector3<f64>, up: Axis) -> UnitQuaternion<f64> {
 }
 
 /// Every facet of the hull of the model as `pose` places its components (see [`model_frame`]),
-/// with the solid model's margin on it and, given a `design`, the design's; most stable first
+/// with the solid model's margin on it (`bodies` before capsules are cut) and, given a `design`
+/// with its bodies (the design's voids cut, [`PartPrints::bodies`](super::PartPrints::bodies)),
+/// the design's; most stable first
 /// (by the design's margin when there is one, then the solid's). `None` when the model has no
 /// volume.
 pub fn resting_facets(
     project: &Project,
     bodies: &[ComponentBody],
     pose: &Pose,
-    design: Option<&Design>,
+    design: Option<(&Design, &[ComponentBody])>,
 ) -> Option<Vec<RestingFacet>> {
     let frame = model_frame(pose);
     let points = super::evaluate::posed_vertices(bodies, &frame);
@@ -135,7 +137,7 @@ pub fn resting_facets(
                 corners: facet.corners.len(),
                 solid_margin,
                 design_margin: design
-                    .and_then(|design| design_margin(project, bodies, &frame, design, facet)),
+                    .and_then(|(design, cut)| design_margin(project, cut, &frame, design, facet)),
             }
         })
         .collect();

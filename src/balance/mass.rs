@@ -147,15 +147,15 @@ pub fn capsule_shell(print: &Print) -> f64 {
 }
 
 /// Volume of a capsule: `πr²(length + 4/3 r)`.
-fn capsule_volume(length: f64, radius: f64) -> f64 {
+pub(super) fn capsule_volume(length: f64, radius: f64) -> f64 {
     std::f64::consts::PI * radius * radius * (length + 4.0 / 3.0 * radius)
 }
 
 /// A running sum of weights at points.
 #[derive(Debug, Default)]
-struct Weighted {
+pub(super) struct Weighted {
     /// Σ w.
-    total: f64,
+    pub(super) total: f64,
     /// Σ w·x.
     moment: Vector3<f64>,
     /// Σ |w|, to tell a total that cancelled from one that is merely small.
@@ -163,14 +163,14 @@ struct Weighted {
 }
 
 impl Weighted {
-    fn add(&mut self, weight: f64, at: &Point3<f64>) {
+    pub(super) fn add(&mut self, weight: f64, at: &Point3<f64>) {
         self.total += weight;
         self.moment += at.coords * weight;
         self.magnitude += weight.abs();
     }
 
     /// The weighted mean position, or `None` when the weights cancel or the result is not finite.
-    fn centre(&self) -> Option<Point3<f64>> {
+    pub(super) fn centre(&self) -> Option<Point3<f64>> {
         if self.total.abs() <= CANCELLATION * self.magnitude || self.total == 0.0 {
             return None;
         }

@@ -38,6 +38,7 @@ pub(crate) mod evaluate;
 pub(crate) mod facets;
 mod goals;
 mod mass;
+mod printed;
 pub(crate) mod rest;
 mod rocking;
 pub(crate) mod support;
@@ -47,6 +48,7 @@ pub use equilibria::{CUT_FLIPS, MAX_ENUMERATED_BALLS};
 pub use evaluate::evaluate_pose;
 pub use facets::{facet_rotation, resting_facets, RestingFacet};
 pub use mass::{capsule_shell, component_material};
+pub use printed::PartPrints;
 pub use rest::{Resting, ROCKING_DEGREES, SNAP_WARNING};
 
 use nalgebra::{Isometry3, Matrix3, Rotation3};
@@ -104,6 +106,15 @@ impl<'a> ComponentBody<'a> {
             mass: crate::geometry::mass_properties(mesh),
             print,
             voids_in_print: false,
+        }
+    }
+
+    /// The body of `mesh` whose material `print` has a design's voids cut from it already
+    /// ([`PartPrints::cut`]): only the balls are added to it.
+    pub fn with_voids_cut(mesh: &'a TriMesh, print: PrintVolumes) -> Self {
+        ComponentBody {
+            voids_in_print: true,
+            ..ComponentBody::with_print(mesh, print)
         }
     }
 

@@ -4,7 +4,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use super::{compile_file, file_name, MessageFormat, EXIT_INVALID, EXIT_MET};
-use crate::balance::{resting_facets, ComponentBody, RestingFacet};
+use crate::balance::{resting_facets, RestingFacet};
 use crate::compile::{CompileOptions, Workspace};
 
 /// Lists the stable facets of the project at `path`, the components placed as the pose named
@@ -27,13 +27,10 @@ pub fn run(path: &Path, pose: Option<&str>, options: &CompileOptions) -> i32 {
         );
         return EXIT_INVALID;
     };
-    let bodies: Vec<ComponentBody> = compilation
-        .meshes
-        .iter()
-        .zip(&compilation.prints)
-        .map(|(mesh, print)| ComponentBody::with_print(mesh, *print))
-        .collect();
-    let design = (!compilation.design.capsules.is_empty()).then_some(&compilation.design);
+    let bodies = compilation.bare_bodies();
+    let cut = compilation.bodies();
+    let design =
+        (!compilation.design.capsules.is_empty()).then_some((&compilation.design, cut.as_slice()));
     let Some(facets) = resting_facets(project, &bodies, chosen, design) else {
         eprintln!(
             "error: the model of {} has no volume, so no convex hull",

@@ -68,8 +68,8 @@ pub use solution::{interrupted_solution_text, read_solution, solution_text};
 pub use workspace::{Failure, Stage, Workspace};
 
 use crate::balance::{
-    evaluate_pose, BallRest, ComponentBody, GoalOutcome, PoseEvaluation, MAX_ENUMERATED_BALLS,
-    SNAP_WARNING,
+    evaluate_pose, BallRest, ComponentBody, GoalOutcome, PartPrints, PoseEvaluation,
+    MAX_ENUMERATED_BALLS, SNAP_WARNING,
 };
 use crate::design::Design;
 use crate::diagnostic::Problem;
@@ -137,6 +137,9 @@ pub struct Compilation {
     /// Per component, where it is printed solid and where sparse (the project's mass model, plus
     /// the calibration file's correction), in its print orientation.
     pub prints: Vec<PrintVolumes>,
+    /// Per component, its material with the design's voids cut from it (and the correction
+    /// added): what every pose weighs ([`PartPrints::cut`]).
+    pub printed: Vec<PrintVolumes>,
     /// Per component, the calibration file's correction added to `prints` (zero without one).
     pub corrections: Vec<PrintCorrection>,
     /// Per component, how it is printed: declared or chosen, and why.
@@ -159,6 +162,35 @@ pub struct Compilation {
 }
 
 impl Compilation {
+    /// The components' bodies with the design's voids cut from their material (`printed`): what
+    /// every pose of the design weighs.
+    pub fn bodies(&self) -> Vec<ComponentBody<'_>> {
+        self.meshes
+            .iter()
+            .zip(&self.printed)
+            .map(|(mesh, print)| ComponentBody::with_voids_cut(mesh, *print))
+            .collect()
+    }
+
+    /// What it takes to print each component's material for any design (for the optimizer).
+    pub fn part_prints(&self) -> PartPrints {
+        part_prints(
+            &self.project,
+            self.prints.clone(),
+            &self.orientations,
+            &self.corrections,
+        )
+    }
+
+    /// The components' bodies before any capsule is cut (`prints`).
+    pub fn bare_bodies(&self) -> Vec<ComponentBody<'_>> {
+        self.meshes
+            .iter()
+            .zip(&self.prints)
+            .map(|(mesh, print)| ComponentBody::with_print(mesh, *print))
+            .collect()
+    }
+
     /// Whether every goal of every pose is met.
     pub fn all_goals_met(&self) -> bool {
         self.poses
@@ -275,6 +307,7 @@ pub fn compile_with(
         corrected_volumes(&project, &meshes, &orientations, &corrections, workspace)
     });
     problems.extend(refused);
+    let parts = part_prints(&project, prints, &orientations, &corrections);
     let print = print_setup(&project, &orientations);
     let (design, source, optimization) = match (&project.optimize, &options.optimize) {
         (None, _) => (written, DesignSource::Written, None),
@@ -285,7 +318,7 @@ pub fn compile_with(
                 return Err(Failure::Invalid(problems));
             }
             let (design, mut optimization) =
-                optimize_design(&project, settings, &meshes, &prints, &print, run, workspace)
+                optimize_design(&project, settings, &meshes, &parts, &print, run, workspace)
                     .ok_or(Failure::Cancelled)?;
             problems.append(&mut optimization.warnings);
             (design, DesignSource::Optimized, Some(optimization))
@@ -305,11 +338,8 @@ pub fn compile_with(
             }
         }
     };
-    let bodies: Vec<ComponentBody> = meshes
-        .iter()
-        .zip(&prints)
-        .map(|(mesh, print)| ComponentBody::with_print(mesh, *print))
-        .collect();
+    let printed = parts.cut(&meshes, &design);
+    let bodies = parts.bodies(&meshes, &design);
     let mass = bodies.iter().map(|body| body.mass).collect();
     let poses: Vec<PoseEvaluation> = project
         .poses
@@ -320,7 +350,7 @@ pub fn compile_with(
     problems.extend(settled_poses(&project, &poses));
     problems.extend(other_states(&project, &poses));
     problems.extend(sanity::warnings(&project, &meshes, &poses));
-    let solid_goals_lost = solid_goals_lost(&project, &bodies, &design, &poses);
+    let solid_goals_lost = solid_goals_lost(&project, &parts.bare_bodies(&meshes), &design, &poses);
     problems.extend(lost_goal_warnings(
         &project,
         &solid_goals_lost,
@@ -339,7 +369,8 @@ pub fn compile_with(
         project,
         meshes,
         mass,
-        prints,
+        prints: parts.bare,
+        printed,
         corrections,
         orientations,
         print_plan,
@@ -350,6 +381,22 @@ pub fn compile_with(
         optimization,
         solid_goals_lost,
     })
+}
+
+/// What it takes to print each component's material for any design: its `bare` print volumes
+/// (corrected), its print rotation and its calibration correction.
+fn part_prints(
+    project: &Project,
+    bare: Vec<PrintVolumes>,
+    orientations: &[Orientation],
+    corrections: &[PrintCorrection],
+) -> PartPrints {
+    PartPrints {
+        bare,
+        to_print: orientations.iter().map(|o| o.to_print).collect(),
+        corrections: corrections.to_vec(),
+        print: project.print,
+    }
 }
 
 /// Each component's print volumes in its print orientation (from `workspace`'s cache), with the

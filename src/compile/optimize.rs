@@ -9,9 +9,9 @@ use super::optimization::{
     Starts, Timings,
 };
 use super::workspace::{Stage, Workspace};
+use crate::balance::PartPrints;
 use crate::design::Design;
 use crate::fabrication::PrintSetup;
-use crate::geometry::PrintVolumes;
 use crate::geometry::{DistanceGrid, Skeleton, TriMesh};
 use crate::objective::{GridInterior, Parameters};
 pub use crate::optimize::length_decimals;
@@ -176,7 +176,7 @@ pub fn optimize_design(
     project: &Project,
     settings: &Optimize,
     meshes: &[TriMesh],
-    prints: &[PrintVolumes],
+    prints: &PartPrints,
     print: &PrintSetup,
     options: &OptimizeOptions,
     workspace: &mut Workspace,
@@ -212,7 +212,7 @@ fn optimize_from(
     project: &Project,
     settings: &Optimize,
     meshes: &[TriMesh],
-    prints: &[PrintVolumes],
+    prints: &PartPrints,
     print: &PrintSetup,
     options: &OptimizeOptions,
     workspace: &mut Workspace,

@@ -18,11 +18,16 @@ pub(crate) struct Limits {
     pub min_elevation_sine_squared: Vec<f64>,
     /// Material between two capsules, project units.
     pub wall: f64,
+    /// Added to every distance limit (the axis at least as long as the radius, eq. 16; the wall
+    /// to the surface, eq. 15; the wall between two capsules) for what rounding the design's
+    /// ends into the solution file may take from it (project units).
+    pub rounding_slack: f64,
     /// Sample positions along an axis, in [0, 1].
     pub samples: Vec<f64>,
 }
 
-/// The capsule constraints, capsule by capsule: `|q − p|² − r² ≥ 0` (eq. 16), `r − r_min ≥ 0`,
+/// The capsule constraints, capsule by capsule: `|q − p|² − (r + s)² ≥ 0` (eq. 16, `s` the
+/// rounding slack), `r − r_min ≥ 0`,
 /// `r_max − r ≥ 0`, then per pose `z² − sin² φ_min ≥ 0` (eq. 22 written without the arccos:
 /// `|arccos z − π/2| ≥ φ` ⇔ `|z| ≥ sin φ`).
 pub(crate) fn capsule_constraints<D: Scalar>(
@@ -33,7 +38,8 @@ pub(crate) fn capsule_constraints<D: Scalar>(
 ) {
     for capsule in capsules {
         let r = &capsule.r;
-        out.push(capsule.q.sub(&capsule.p).norm_squared() - r.clone() * r);
+        let least = r.clone() + limits.rounding_slack;
+        out.push(capsule.q.sub(&capsule.p).norm_squared() - least.clone() * least);
         out.push(r.clone() - limits.min_radius);
         let max = limits
             .max_radius
@@ -105,7 +111,7 @@ pub(crate) fn pair_constraints<D: Scalar>(
             if a.component != b.component {
                 continue;
             }
-            let reach = a.r.clone() + &b.r + limits.wall;
+            let reach = a.r.clone() + &b.r + limits.wall + limits.rounding_slack;
             let (s, t) = closest_parameters(&a.p.re(), &a.q.re(), &b.p.re(), &b.q.re());
             let gap = sample(a, s).sub(&sample(b, t)).norm_squared();
             out.push(gap - reach.clone() * reach);

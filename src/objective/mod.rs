@@ -92,6 +92,7 @@ impl Objective {
                 })
                 .collect(),
             wall: project.wall,
+            rounding_slack: 0.0,
             samples: parameters.samples(),
         };
         Objective {
@@ -122,6 +123,14 @@ impl Objective {
     /// take its ball at a pause with its component printed along its direction.
     pub fn with_insertion(mut self, insertion: Insertion) -> Objective {
         self.insertion = Some(insertion);
+        self
+    }
+
+    /// The same objective with `slack` (project units, for what rounding the design into the
+    /// solution file may take) added to every distance limit: the axis length of eq. 16, the
+    /// wall between two capsules (eq. 14) and to the surface (eq. 15).
+    pub fn with_rounding_slack(mut self, slack: f64) -> Objective {
+        self.limits.rounding_slack = slack;
         self
     }
 
@@ -178,14 +187,16 @@ impl Objective {
 
     /// The constraints, each `(g(x), ∂g/∂x)` with `g(x) ≥ 0` required, in this order:
     ///
-    /// 1. per capsule: `|q − p|² − r² ≥ 0` (eq. 16, squared project units), `r − r_min ≥ 0`,
+    /// 1. per capsule: `|q − p|² − (r + s)² ≥ 0` (eq. 16, squared project units; `s` the
+    ///    rounding slack, [`Objective::with_rounding_slack`], 0 by default; it is added to the
+    ///    wall limits below too), `r − r_min ≥ 0`,
     ///    `r_max − r ≥ 0` (project units), then per pose `z² − sin² φ_min ≥ 0` (eq. 22, `z` the
     ///    cosine between axis and gravity, `φ_min` = [`Ball::min_angle`](crate::spec::model::Ball::min_angle),
     ///    or the largest `stand` or `imbalance` margin of the pose when more, plus a slack of
     ///    0.25°, so a solution on this constraint's boundary still has a determined ball that does
     ///    not roll within the required tilt);
     /// 2. per pair of capsules in one component, at the closest points of their axes:
-    ///    `|x_i − x_j|² − (r_i + r_j + wall)² ≥ 0` (eq. 14);
+    ///    `|x_i − x_j|² − (r_i + r_j + wall + s)² ≥ 0` (eq. 14);
     /// 3. when the infill is a variable: `w − lo ≥ 0`, `hi − w ≥ 0`;
     /// 4. per pose, per `immerse` goal: `|c − c_buo|² − d_min² ≥ 0` (eq. 5), then with a mass
     ///    tolerance `τ`: `τ − (m − ρ_F V) ≥ 0` and `τ + (m − ρ_F V) ≥ 0` (eq. 3, grams), once per
@@ -198,7 +209,7 @@ impl Objective {
     ///    constrains: `u·(q − p) − (r − 3c + h + slack) ≥ 0` (eq. 16 in the print direction `u`,
     ///    project units; `docs/optimizer.md`);
     /// 7. with an [`InteriorDistance`] ([`with_interior`](Self::with_interior)), per capsule per
-    ///    axis sample: `d(x) − r − wall ≥ 0` (eq. 15).
+    ///    axis sample: `d(x) − r − wall − s ≥ 0` (eq. 15).
     ///
     /// The count depends only on the layout, the project, the parameters and the insertion
     /// directions, never on `x`.
@@ -288,7 +299,10 @@ impl Objective {
                     gradient[base + Q + k] = s * direction[k];
                 }
                 gradient[base + R] = -1.0;
-                out.push((distance - x[base + R] - self.limits.wall, gradient));
+                out.push((
+                    distance - x[base + R] - self.limits.wall - self.limits.rounding_slack,
+                    gradient,
+                ));
             }
         }
         out

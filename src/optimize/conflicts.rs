@@ -7,9 +7,10 @@ use serde::Serialize;
 
 use super::problem::{Outcome, Problem, StartCapsule};
 use super::solver::Method;
+use crate::balance::PartPrints;
 use crate::cancel::Cancel;
 use crate::fabrication::PrintSetup;
-use crate::geometry::{PrintVolumes, TriMesh};
+use crate::geometry::TriMesh;
 use crate::objective::GridInterior;
 use crate::spec::model::Project;
 
@@ -74,7 +75,7 @@ pub struct Space<'a> {
 pub fn explain(
     project: &Project,
     meshes: &[TriMesh],
-    prints: &[PrintVolumes],
+    prints: &PartPrints,
     print: &PrintSetup,
     interior: &Arc<GridInterior>,
     space: &Space,

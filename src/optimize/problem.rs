@@ -8,11 +8,13 @@ use nalgebra::{Point3, Vector3};
 use super::bounds::design_bounds;
 use super::solver::{solve, Bounds, Budget, Method, Solve, FEASIBLE};
 use super::stock::{capsule_radius, grid_scale, length_decimals, snap};
-use crate::balance::{evaluate_pose, ComponentBody, GoalOutcome, PoseEvaluation};
+use crate::balance::{
+    component_material, evaluate_pose, ComponentBody, GoalOutcome, PartPrints, PoseEvaluation,
+};
 use crate::cancel::Cancel;
 use crate::design::{Design, PlacedCapsule};
 use crate::fabrication::{check_design, CapsuleIssue, PrintSetup};
-use crate::geometry::{PrintVolumes, TriMesh};
+use crate::geometry::{PrintCorrection, TriMesh};
 use crate::objective::{
     DesignLayout, GridInterior, Insertion, Objective, Parameters, CAPSULE_STRIDE, R,
 };
@@ -99,11 +101,31 @@ pub struct Outcome {
     pub evaluations: usize,
 }
 
+/// At most this many solves, after the first, with the closed-form capsule term corrected
+/// towards the re-sliced material ([`Problem::corrected_bodies`]).
+const CORRECTIONS: usize = 3;
+
+/// Whether two sets of bodies have the same material within what moves no goal: volumes within
+/// 1e-4 of each component's outer volume, first moments within that volume times 1e-4 of its
+/// size (its cube root).
+fn same_material(a: &[ComponentBody], b: &[ComponentBody]) -> bool {
+    a.iter().zip(b).all(|(a, b)| {
+        let volume = a.mass.volume.abs();
+        let size = volume.cbrt();
+        let moment =
+            |body: &ComponentBody| body.print.solid.centroid.coords * body.print.solid.volume;
+        (a.print.solid.volume - b.print.solid.volume).abs() <= 1e-4 * volume
+            && (moment(a) - moment(b)).norm() <= 1e-4 * volume * size
+    })
+}
+
 /// Everything fixed while the capsules vary.
 pub struct Problem<'a> {
     project: &'a Project,
     meshes: &'a [TriMesh],
     bodies: Vec<ComponentBody<'a>>,
+    /// Each component's print, to cut a design's voids from when it is judged.
+    parts: PartPrints,
     interior: Arc<GridInterior>,
     parameters: Parameters,
     method: Method,
@@ -122,7 +144,7 @@ impl<'a> Problem<'a> {
     pub fn new(
         project: &'a Project,
         meshes: &'a [TriMesh],
-        prints: &[PrintVolumes],
+        parts: &PartPrints,
         print: PrintSetup,
         interior: Arc<GridInterior>,
         method: Method,
@@ -130,11 +152,8 @@ impl<'a> Problem<'a> {
         Problem {
             project,
             meshes,
-            bodies: meshes
-                .iter()
-                .zip(prints)
-                .map(|(mesh, print)| ComponentBody::with_print(mesh, *print))
-                .collect(),
+            bodies: parts.bare_bodies(meshes),
+            parts: parts.clone(),
             interior,
             parameters: Parameters::for_project(project),
             method,
@@ -179,14 +198,18 @@ impl<'a> Problem<'a> {
         let start = start.as_slice();
         let design = self.start_design(start);
         let layout = DesignLayout::for_design(self.project, &design);
-        let objective = Objective::new(
-            self.project,
-            &self.bodies,
-            layout.clone(),
-            self.parameters.clone(),
-        )
-        .with_interior(Box::new(self.interior.clone()))
-        .with_insertion(self.insertion(start));
+        let objective_over = |bodies: &[ComponentBody]| {
+            Objective::new(
+                self.project,
+                bodies,
+                layout.clone(),
+                self.parameters.clone(),
+            )
+            .with_interior(Box::new(self.interior.clone()))
+            .with_insertion(self.insertion(start))
+            .with_rounding_slack(self.rounding_slack())
+        };
+        let objective = objective_over(&self.bodies);
         let mut bounds = design_bounds(&objective, self.meshes);
         let x0 = layout.to_vector(&design);
         for (j, capsule) in start.iter().enumerate() {
@@ -203,6 +226,34 @@ impl<'a> Problem<'a> {
             ..Budget::default()
         };
         let solved = solve(&objective, &x0, &bounds, self.method, budget.clone());
+        // The closed-form capsule term is the smooth stand-in for the material the judge weighs
+        // (the design's voids cut from the print): correct it by their difference at the solved
+        // design and solve again from there, until the correction at the new design is the one
+        // it was solved with, so that the objective is that material's near the design.
+        let to_design =
+            |x: &[f64]| layout.to_design(x, &self.project.ball, self.project.infill.value);
+        let mut corrected = self.corrected_bodies(&to_design(&solved.x));
+        let mut solved = solved;
+        for _ in 0..CORRECTIONS {
+            let again = solve(
+                &objective_over(&corrected),
+                &solved.x,
+                &bounds,
+                self.method,
+                budget.clone(),
+            );
+            solved = Solve {
+                evaluations: solved.evaluations + again.evaluations,
+                ..again
+            };
+            let next = self.corrected_bodies(&to_design(&solved.x));
+            let settled = same_material(&corrected, &next);
+            corrected = next;
+            if settled {
+                break;
+            }
+        }
+        let objective = objective_over(&corrected);
         let solved = self.snapped(&objective, &bounds, start, solved, budget);
         let mut design = layout.to_design(&solved.x, &self.project.ball, self.project.infill.value);
         for (capsule, started) in design.capsules.iter_mut().zip(start) {
@@ -238,7 +289,10 @@ impl<'a> Problem<'a> {
                         continue;
                     }
                     let c = &mut shrunk.capsules[capsule];
-                    let deficit = (required - distance) * 1.01 + 1e-9 * c.radius.abs();
+                    // Past the limit by what rounding the ends into the solution file may take.
+                    let deficit = (required - distance) * 1.01
+                        + 1e-9 * c.radius.abs()
+                        + self.rounding_slack();
                     if move_first {
                         widening[capsule] += deficit;
                         changed = true;
@@ -270,6 +324,31 @@ impl<'a> Problem<'a> {
         outcome
     }
 
+    /// The bodies of the smooth objective near `design`: each component's bare material, plus
+    /// for one with capsules the difference between its material with `design`'s voids cut
+    /// ([`PartPrints::bodies`], what [`Problem::judge`] weighs) and the closed-form capsule term
+    /// at `design`, as a correction of its solid part.
+    fn corrected_bodies(&self, design: &Design) -> Vec<ComponentBody<'a>> {
+        let cut = self.parts.bodies(self.meshes, design);
+        self.bodies
+            .iter()
+            .zip(&cut)
+            .enumerate()
+            .map(|(index, (bare, cut))| {
+                if !design.capsules.iter().any(|c| c.component == index) {
+                    return *bare;
+                }
+                let truth = component_material(self.project, cut, design, index);
+                let surrogate = component_material(self.project, bare, design, index);
+                let correction = PrintCorrection::default().plus_difference(&truth, &surrogate);
+                match correction.apply(&bare.print) {
+                    Some(print) => ComponentBody { print, ..*bare },
+                    None => *bare,
+                }
+            })
+            .collect()
+    }
+
     /// `capsule` with `to` its upper end along its component's print direction, unless pinned.
     fn upright(&self, capsule: &StartCapsule) -> StartCapsule {
         let up = self.up(capsule.component);
@@ -289,6 +368,12 @@ impl<'a> Problem<'a> {
             .unwrap_or_else(Vector3::z)
     }
 
+    /// What rounding both ends of a capsule onto the solution file's length grid may take from
+    /// a length or a distance: two steps of that grid (at most √3 steps can be lost).
+    fn rounding_slack(&self) -> f64 {
+        2.0 / self.scale
+    }
+
     /// The insertion constraints of `start`: every unpinned capsule along its component's print
     /// direction, with a slack of two steps of the solution file's length grid (what rounding
     /// both ends there can take from the rise is at most √3 steps).
@@ -300,7 +385,7 @@ impl<'a> Problem<'a> {
                 .collect(),
             clearance: self.project.ball.clearance,
             layer_height: self.print.grid.layer_height,
-            slack: 2.0 / self.scale,
+            slack: self.rounding_slack(),
         }
     }
 
@@ -402,13 +487,15 @@ impl<'a> Problem<'a> {
         }
     }
 
-    /// The exact verdict on `design`: every pose evaluated, every capsule checked.
+    /// The exact verdict on `design`: every pose evaluated with the design's voids cut from the
+    /// print ([`PartPrints::bodies`]), every capsule checked.
     pub fn judge(&self, design: Design) -> Outcome {
+        let bodies = self.parts.bodies(self.meshes, &design);
         let poses: Vec<PoseEvaluation> = self
             .project
             .poses
             .iter()
-            .map(|pose| evaluate_pose(self.project, &self.bodies, &design, pose))
+            .map(|pose| evaluate_pose(self.project, &bodies, &design, pose))
             .collect();
         let fabrication = check_design(
             self.meshes,

@@ -250,15 +250,13 @@ pub fn measured_corrections(
     check: &SlicedCheck,
 ) -> Vec<PrintCorrection> {
     compilation
-        .meshes
+        .bodies()
         .iter()
-        .zip(&compilation.prints)
         .zip(&check.components)
         .enumerate()
-        .map(|(index, ((mesh, print), sliced))| {
-            let body = ComponentBody::with_print(mesh, *print);
+        .map(|(index, (body, sliced))| {
             let modelled =
-                component_material(&compilation.project, &body, &compilation.design, index);
+                component_material(&compilation.project, body, &compilation.design, index);
             let measured = Region {
                 volume: sliced.volume,
                 centroid: sliced.centroid.into(),

@@ -7,7 +7,6 @@
 
 use rapier3d_f64::prelude::*;
 
-use crate::balance::capsule_shell;
 use crate::compile::Compilation;
 use crate::spec::model::Pose;
 
@@ -42,8 +41,8 @@ impl BallSpec {
 pub(crate) struct Model {
     /// Printed material, body frame: every component's solid and sparse parts as the mass model
     /// prints them (the driver's print volumes: solid at the material's density, sparse at the
-    /// infill fraction of it), each capsule's shell made solid and its void emptied; inertia from
-    /// parry's mass properties of the meshes and capsules.
+    /// infill fraction of it), with the design's voids cut (`Compilation::printed`); inertia from
+    /// parry's mass properties of the meshes, scaled to that mass.
     pub material: MassProperties,
     /// The points of each component's mesh, body frame: the vertices of their convex hull are
     /// what touches the ground.
@@ -89,9 +88,10 @@ impl Model {
                 high = high.max(*point);
             }
             let shape = MassProperties::from_trimesh(1.0, &points, &mesh.triangles);
-            // The mass model's solid and sparse parts (the print volumes the driver computed),
-            // with the inertia of the whole solid scaled to their mass.
-            if let Some(print) = compilation.prints.get(index) {
+            // The mass model's solid and sparse parts with the design's voids cut (the print
+            // volumes the driver computed), with the inertia of the whole solid scaled to their
+            // mass.
+            if let Some(print) = compilation.printed.get(index) {
                 let solid = full * print.solid.volume * cubic;
                 let sparse = full * infill * print.sparse.volume * cubic;
                 let mass = solid + sparse;
@@ -111,18 +111,11 @@ impl Model {
             hulls.push(points);
         }
         let steel = project.ball.density * DENSITY_TO_SI;
-        let shell = capsule_shell(&project.print) * scale;
         let mut balls = Vec::new();
         for capsule in &compilation.design.capsules {
             let frame = pose.component_frame(capsule.component);
             let from = to_vector(&(frame * capsule.from), scale);
             let to = to_vector(&(frame * capsule.to), scale);
-            let radius = capsule.radius * scale;
-            // Around the void a solid shell where sparse infill was: the capsule dilated by the
-            // shell turns from sparse to solid, then the void is emptied.
-            let solidified = full * (1.0 - infill);
-            material += MassProperties::from_capsule(solidified, from, to, radius + shell);
-            material -= MassProperties::from_capsule(full, from, to, radius);
             balls.push(BallSpec {
                 from,
                 to,

@@ -1,0 +1,122 @@
+//! Each component's material with a design's voids cut from it: what the report, the judge of
+//! every design and `verify` weigh (`docs/physics.md`, "The mass of a print").
+//!
+//! Under the `fdm` model the component's mesh is sliced again with the design's capsules cut
+//! from it ([`print_volumes_with_voids`]), so the perimeters the slicer lays around each hole,
+//! the solid layers under each floor and over each ceiling, and the narrow regions between a
+//! void and the surface are classified as the slicer classifies them. Under `uniform` each void
+//! is taken out of the sparse material in closed form. The calibration's correction is added to
+//! the solid part in both. The optimizer's smooth objective keeps the closed-form capsule term
+//! ([`capsule_shell`](super::capsule_shell)) and is corrected towards this material between
+//! solves.
+
+use nalgebra::Rotation3;
+
+use super::mass::{capsule_volume, Weighted};
+use super::{slicing, ComponentBody};
+use crate::design::Design;
+use crate::geometry::{
+    print_volumes_with_voids, PrintCorrection, PrintVolumes, Region, TriMesh, Void,
+};
+use crate::spec::model::{MassModel, Print};
+
+/// What it takes to print each component's material for any design: the material before a
+/// capsule is cut (the mass model's, with the calibration's correction), how the component is
+/// printed, and the correction.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PartPrints {
+    /// Per component, in project order: the material before capsules are cut, corrected.
+    pub bare: Vec<PrintVolumes>,
+    /// Per component: the rotation from its rest frame to its print frame.
+    pub to_print: Vec<Rotation3<f64>>,
+    /// Per component: the calibration's correction already in `bare` (zero without one).
+    pub corrections: Vec<PrintCorrection>,
+    /// The print settings and the mass model.
+    pub print: Print,
+}
+
+impl PartPrints {
+    /// Per component, its material with `design`'s voids cut (solid and sparse parts; the sparse
+    /// one printed at `design.infill`). A component without capsules keeps its bare material.
+    pub fn cut(&self, meshes: &[TriMesh], design: &Design) -> Vec<PrintVolumes> {
+        self.bare
+            .iter()
+            .enumerate()
+            .map(|(index, bare)| {
+                let voids: Vec<Void> = design
+                    .capsules
+                    .iter()
+                    .filter(|capsule| capsule.component == index)
+                    .map(|capsule| Void {
+                        from: capsule.from,
+                        to: capsule.to,
+                        radius: capsule.radius,
+                    })
+                    .collect();
+                match (meshes.get(index), self.to_print.get(index)) {
+                    (Some(mesh), Some(to_print)) if !voids.is_empty() => {
+                        self.cut_one(mesh, *to_print, bare, index, &voids)
+                    }
+                    _ => *bare,
+                }
+            })
+            .collect()
+    }
+
+    /// The bodies of `meshes` with `design`'s voids cut from their material
+    /// ([`ComponentBody::voids_in_print`]): what a pose of `design` weighs.
+    pub fn bodies<'a>(&self, meshes: &'a [TriMesh], design: &Design) -> Vec<ComponentBody<'a>> {
+        meshes
+            .iter()
+            .zip(self.cut(meshes, design))
+            .map(|(mesh, print)| ComponentBody::with_voids_cut(mesh, print))
+            .collect()
+    }
+
+    /// The bodies of `meshes` before any capsule is cut, for the closed-form capsule term.
+    pub fn bare_bodies<'a>(&self, meshes: &'a [TriMesh]) -> Vec<ComponentBody<'a>> {
+        meshes
+            .iter()
+            .zip(&self.bare)
+            .map(|(mesh, print)| ComponentBody::with_print(mesh, *print))
+            .collect()
+    }
+
+    /// Component `index`'s material with `voids` cut.
+    fn cut_one(
+        &self,
+        mesh: &TriMesh,
+        to_print: Rotation3<f64>,
+        bare: &PrintVolumes,
+        index: usize,
+        voids: &[Void],
+    ) -> PrintVolumes {
+        match self.print.model {
+            MassModel::Fdm => {
+                let sliced = print_volumes_with_voids(mesh, &slicing(&self.print, to_print), voids);
+                let correction = self.corrections.get(index).copied().unwrap_or_default();
+                if correction == PrintCorrection::default() {
+                    sliced
+                } else {
+                    correction.apply(&sliced).unwrap_or(sliced)
+                }
+            }
+            MassModel::Uniform => {
+                let mut sparse = Weighted::default();
+                sparse.add(bare.sparse.volume, &bare.sparse.centroid);
+                for void in voids {
+                    let length = (void.to - void.from).norm();
+                    let volume = capsule_volume(length, void.radius);
+                    sparse.add(-volume, &nalgebra::center(&void.from, &void.to));
+                }
+                PrintVolumes {
+                    solid: bare.solid,
+                    sparse: Region {
+                        volume: sparse.total.max(0.0),
+                        centroid: sparse.centre().unwrap_or(bare.sparse.centroid),
+                    },
+                }
+            }
+        }
+    }
+}
