@@ -29,6 +29,7 @@ mod load_gltf;
 mod load_obj;
 mod mass;
 mod mesh;
+mod parallel;
 pub(crate) mod polygon;
 mod print;
 mod print_correction;

@@ -6,8 +6,8 @@ use nalgebra::{Point3, Vector3};
 
 use super::super::distance::point_triangle_distance;
 use super::super::tree::TriangleTree;
-use super::parallel::map_nodes;
 use crate::cancel::Cancel;
+use crate::geometry::parallel::map_nodes;
 
 /// Nodes along each side of a block.
 const SIDE: usize = 4;

@@ -2,7 +2,6 @@
 
 mod blocks;
 mod fast_winding;
-mod parallel;
 mod sign;
 mod tricubic;
 

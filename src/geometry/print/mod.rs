@@ -30,6 +30,7 @@ mod distance;
 mod layout;
 mod voids;
 
+use super::parallel::map_each;
 use layout::Layout;
 pub use voids::Void;
 
@@ -128,20 +129,27 @@ pub fn print_volumes_with_voids(mesh: &TriMesh, slicing: &Slicing, voids: &[Void
             ..*void
         })
         .collect();
+    // Every layer's raster is independent of the others' until the surfaces and the classes,
+    // which read their neighbours' finished rasters: each step runs over the layers on every
+    // core, and the sums below run in layer order, so the result does not depend on the cores.
+    let layers = layout.layers;
     let segments = layout.slice(mesh);
-    let mut inside: Vec<Vec<bool>> = segments.iter().map(|s| layout.inside(s)).collect();
-    let mut near: Vec<Vec<bool>> = segments.iter().map(|s| layout.near_outline(s)).collect();
+    let mut inside: Vec<Vec<bool>> = map_each(layers, |k| layout.inside(&segments[k]));
+    let mut near: Vec<Vec<bool>> = map_each(layers, |k| layout.near_outline(&segments[k]));
     if !voids.is_empty() {
-        for (k, (inside, near)) in inside.iter_mut().zip(&mut near).enumerate() {
+        let holes: Vec<(Vec<bool>, Vec<bool>)> = map_each(layers, |k| {
             let mut hole = layout.in_voids(k, &voids);
-            for (h, i) in hole.iter_mut().zip(inside.iter()) {
+            for (h, i) in hole.iter_mut().zip(&inside[k]) {
                 *h &= *i;
             }
             let around = layout.near_hole(&hole);
+            (hole, around)
+        });
+        for ((inside, near), (hole, around)) in inside.iter_mut().zip(&mut near).zip(&holes) {
             for ((i, n), (h, a)) in inside
                 .iter_mut()
                 .zip(near.iter_mut())
-                .zip(hole.iter().zip(&around))
+                .zip(hole.iter().zip(around))
             {
                 *i &= !h;
                 *n |= *a;
@@ -153,16 +161,18 @@ pub fn print_volumes_with_voids(mesh: &TriMesh, slicing: &Slicing, voids: &[Void
         .zip(&near)
         .map(|(inside, near)| inside.iter().zip(near).map(|(i, n)| *i && !n).collect())
         .collect();
-    let tops: Vec<Vec<bool>> = (0..layout.layers)
-        .map(|k| layout.surface(&fill[k], k.checked_add(1), &inside))
-        .collect();
-    let bottoms: Vec<Vec<bool>> = (0..layout.layers)
-        .map(|k| layout.surface(&fill[k], k.checked_sub(1), &inside))
-        .collect();
+    let tops: Vec<Vec<bool>> = map_each(layers, |k| {
+        layout.surface(&fill[k], k.checked_add(1), &inside)
+    });
+    let bottoms: Vec<Vec<bool>> = map_each(layers, |k| {
+        layout.surface(&fill[k], k.checked_sub(1), &inside)
+    });
+    let classes: Vec<Vec<Cell>> = map_each(layers, |k| {
+        layout.classify(k, &inside, &near, &tops, &bottoms)
+    });
     let mut solid = Sum::default();
     let mut sparse = Sum::default();
-    for k in 0..layout.layers {
-        let class = layout.classify(k, &inside, &near, &tops, &bottoms);
+    for (k, class) in classes.iter().enumerate() {
         let z = layout.slice_height(k);
         let cell_volume = layout.cell * layout.cell * layout.thickness(k);
         for (index, kind) in class.iter().enumerate() {

@@ -1,4 +1,5 @@
-//! A per-node map on every available core.
+//! A map over indices on every available core, whose result does not depend on the thread
+//! count: the distance grid's nodes, the print raster's layers.
 
 use std::thread;
 
@@ -9,14 +10,29 @@ const BLOCK: usize = 1024;
 /// `available_parallelism` threads. Each element depends only on its index, so the result does
 /// not depend on the thread count.
 pub(super) fn map_nodes<T: Send>(count: usize, f: impl Fn(usize) -> T + Sync) -> Vec<T> {
-    let threads = thread::available_parallelism().map_or(1, |n| n.get());
-    map_nodes_on(threads, count, f)
+    map_blocks_on(threads(), BLOCK, count, f)
 }
 
-/// [`map_nodes`] on `threads` threads (at least one).
-fn map_nodes_on<T: Send>(threads: usize, count: usize, f: impl Fn(usize) -> T + Sync) -> Vec<T> {
+/// As [`map_nodes`], one index at a time: for few, costly elements (a print layer).
+pub(super) fn map_each<T: Send>(count: usize, f: impl Fn(usize) -> T + Sync) -> Vec<T> {
+    map_blocks_on(threads(), 1, count, f)
+}
+
+/// The cores available.
+fn threads() -> usize {
+    thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// [`map_nodes`] on `threads` threads (at least one), in blocks of `block` indices.
+fn map_blocks_on<T: Send>(
+    threads: usize,
+    block: usize,
+    count: usize,
+    f: impl Fn(usize) -> T + Sync,
+) -> Vec<T> {
     let threads = threads.max(1);
-    let blocks = count.div_ceil(BLOCK);
+    let block = block.max(1);
+    let blocks = count.div_ceil(block);
     let f = &f;
     let per_thread: Vec<Vec<Vec<T>>> = thread::scope(|scope| {
         let handles: Vec<_> = (0..threads.min(blocks))
@@ -24,7 +40,7 @@ fn map_nodes_on<T: Send>(threads: usize, count: usize, f: impl Fn(usize) -> T + 
                 scope.spawn(move || {
                     (t..blocks)
                         .step_by(threads)
-                        .map(|b| (b * BLOCK..((b + 1) * BLOCK).min(count)).map(f).collect())
+                        .map(|b| (b * block..((b + 1) * block).min(count)).map(f).collect())
                         .collect()
                 })
             })
@@ -44,7 +60,7 @@ fn map_nodes_on<T: Send>(threads: usize, count: usize, f: impl Fn(usize) -> T + 
 
 #[cfg(test)]
 mod tests {
-    use super::map_nodes_on;
+    use super::{map_blocks_on, BLOCK};
 
     #[test]
     fn the_result_does_not_depend_on_the_thread_count() {
@@ -52,11 +68,13 @@ mod tests {
         for count in [0, 1, 1023, 1024, 1025, 5000] {
             let sequential: Vec<f64> = (0..count).map(f).collect();
             for threads in [0, 1, 2, 3, 7] {
-                assert_eq!(
-                    map_nodes_on(threads, count, f),
-                    sequential,
-                    "{threads} threads, {count} nodes"
-                );
+                for block in [1, BLOCK] {
+                    assert_eq!(
+                        map_blocks_on(threads, block, count, f),
+                        sequential,
+                        "{threads} threads, blocks of {block}, {count} nodes"
+                    );
+                }
             }
         }
     }
