@@ -10,11 +10,11 @@ mod print_support;
 
 use std::path::Path;
 
-use ballast::balance::{capsule_shell, slicing};
+use ballast::balance::{capsule_shell, component_voids, slicing};
 use ballast::compile::{bed_parts, compile, print_settings, Compilation};
 use ballast::design::Design;
 use ballast::emit::print_files::write_prusa_3mf;
-use ballast::geometry::{print_volumes_with_voids, Void};
+use ballast::geometry::print_volumes_with_voids;
 use ballast::sliced::{verify_gcode, SlicedOptions};
 use nalgebra::{Point3, Vector3};
 use print_support::{examples, slice_with, slicer_available};
@@ -45,16 +45,7 @@ fn closed_form(c: &Compilation, design: &Design, index: usize) -> f64 {
 fn modelled(c: &Compilation, design: &Design, index: usize) -> (f64, Point3<f64>) {
     let project = &c.project;
     let density = project.material.density * project.units.cubic_in_cm3();
-    let voids: Vec<Void> = design
-        .capsules
-        .iter()
-        .filter(|k| k.component == index)
-        .map(|k| Void {
-            from: k.from,
-            to: k.to,
-            radius: k.radius,
-        })
-        .collect();
+    let voids = component_voids(design, index);
     let slicing = slicing(&project.print, c.orientations[index].to_print);
     let print = print_volumes_with_voids(&c.meshes[index], &slicing, &voids);
     let (solid, sparse) = (print.solid.volume, design.infill * print.sparse.volume);

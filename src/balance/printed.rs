@@ -20,6 +20,30 @@ use crate::geometry::{
 };
 use crate::spec::model::{MassModel, Print};
 
+/// The voids `design`'s capsules in component `component` cut from it.
+pub fn component_voids(design: &Design, component: usize) -> Vec<Void> {
+    design
+        .capsules
+        .iter()
+        .filter(|capsule| capsule.component == component)
+        .map(|capsule| Void {
+            from: capsule.from,
+            to: capsule.to,
+            radius: capsule.radius,
+        })
+        .collect()
+}
+
+/// The bodies of `meshes` whose material `printed` (one per mesh) has a design's voids cut from
+/// it already ([`PartPrints::cut`]).
+pub fn cut_bodies<'a>(meshes: &'a [TriMesh], printed: &[PrintVolumes]) -> Vec<ComponentBody<'a>> {
+    meshes
+        .iter()
+        .zip(printed)
+        .map(|(mesh, print)| ComponentBody::with_voids_cut(mesh, *print))
+        .collect()
+}
+
 /// What it takes to print each component's material for any design: the material before a
 /// capsule is cut (the mass model's, with the calibration's correction), how the component is
 /// printed, and the correction.
@@ -43,16 +67,7 @@ impl PartPrints {
             .iter()
             .enumerate()
             .map(|(index, bare)| {
-                let voids: Vec<Void> = design
-                    .capsules
-                    .iter()
-                    .filter(|capsule| capsule.component == index)
-                    .map(|capsule| Void {
-                        from: capsule.from,
-                        to: capsule.to,
-                        radius: capsule.radius,
-                    })
-                    .collect();
+                let voids = component_voids(design, index);
                 match (meshes.get(index), self.to_print.get(index)) {
                     (Some(mesh), Some(to_print)) if !voids.is_empty() => {
                         self.cut_one(mesh, *to_print, bare, index, &voids)
@@ -66,11 +81,7 @@ impl PartPrints {
     /// The bodies of `meshes` with `design`'s voids cut from their material
     /// ([`ComponentBody::voids_in_print`]): what a pose of `design` weighs.
     pub fn bodies<'a>(&self, meshes: &'a [TriMesh], design: &Design) -> Vec<ComponentBody<'a>> {
-        meshes
-            .iter()
-            .zip(self.cut(meshes, design))
-            .map(|(mesh, print)| ComponentBody::with_voids_cut(mesh, print))
-            .collect()
+        cut_bodies(meshes, &self.cut(meshes, design))
     }
 
     /// The bodies of `meshes` before any capsule is cut, for the closed-form capsule term.

@@ -68,7 +68,7 @@ pub use solution::{interrupted_solution_text, read_solution, solution_text};
 pub use workspace::{Failure, Stage, Workspace};
 
 use crate::balance::{
-    evaluate_pose, BallRest, ComponentBody, GoalOutcome, PartPrints, PoseEvaluation,
+    cut_bodies, evaluate_pose, BallRest, ComponentBody, GoalOutcome, PartPrints, PoseEvaluation,
     MAX_ENUMERATED_BALLS, SNAP_WARNING,
 };
 use crate::design::Design;
@@ -165,11 +165,7 @@ impl Compilation {
     /// The components' bodies with the design's voids cut from their material (`printed`): what
     /// every pose of the design weighs.
     pub fn bodies(&self) -> Vec<ComponentBody<'_>> {
-        self.meshes
-            .iter()
-            .zip(&self.printed)
-            .map(|(mesh, print)| ComponentBody::with_voids_cut(mesh, *print))
-            .collect()
+        cut_bodies(&self.meshes, &self.printed)
     }
 
     /// What it takes to print each component's material for any design (for the optimizer).
@@ -339,7 +335,7 @@ pub fn compile_with(
         }
     };
     let printed = parts.cut(&meshes, &design);
-    let bodies = parts.bodies(&meshes, &design);
+    let bodies = cut_bodies(&meshes, &printed);
     let mass = bodies.iter().map(|body| body.mass).collect();
     let poses: Vec<PoseEvaluation> = project
         .poses
