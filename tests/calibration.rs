@@ -10,8 +10,8 @@ mod print_support;
 use std::path::{Path, PathBuf};
 
 use ballast::compile::{
-    calibration_path, calibration_text, compile, Compilation, CALIBRATION_STALE,
-    CALIBRATION_UNKNOWN, CALIBRATION_UNREADABLE,
+    calibration_path, calibration_text, compile, Compilation, CALIBRATION_REFUSED,
+    CALIBRATION_STALE, CALIBRATION_UNKNOWN, CALIBRATION_UNREADABLE,
 };
 use ballast::sliced::{measured_corrections, verify_gcode, SlicedOptions};
 use print_support::{sliced_compilation, slicer_available};
@@ -197,6 +197,36 @@ fn a_correction_is_applied_only_where_it_was_measured() {
         .iter()
         .any(|w| w.code == CALIBRATION_UNKNOWN));
     assert_eq!(unknown.poses[0].mass, plain.poses[0].mass);
+}
+
+#[test]
+fn a_refused_correction_is_left_out_of_the_designs_material_too() {
+    // A correction that takes away more than the bare T's solid material but less than the
+    // solid material of the T with its capsules cut (their perimeters and floors are solid):
+    // refused for the bare print, so left out of the cut one as well.
+    let dir = tempfile::tempdir().unwrap();
+    let path = t_shape_in(dir.path());
+    let plain = compiled(&path);
+    let (bare, cut) = (plain.prints[0].solid.volume, plain.printed[0].solid.volume);
+    assert!(
+        cut > bare + 10.0,
+        "the capsules add {} mm³ of solid",
+        cut - bare
+    );
+    let volume = -(bare + cut) / 2.0;
+    let text = written(&plain, "T").replace("\"volume\": 1000.0", &format!("\"volume\": {volume}"));
+    assert!(text.contains(&format!("{volume}")));
+    std::fs::write(calibration_path(&path), text).unwrap();
+    let refused = compiled(&path);
+    assert!(refused
+        .warnings
+        .iter()
+        .any(|w| w.code == CALIBRATION_REFUSED));
+    assert_eq!(refused.printed, plain.printed);
+    assert_eq!(refused.corrections, plain.corrections);
+    for (pose, before) in refused.poses.iter().zip(&plain.poses) {
+        assert_eq!(pose.mass, before.mass, "pose {}", pose.pose);
+    }
 }
 
 #[test]

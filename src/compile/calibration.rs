@@ -163,29 +163,47 @@ pub fn corrected_prints(
     project: &Project,
     prints: &[PrintVolumes],
     corrections: &[PrintCorrection],
-) -> (Vec<PrintVolumes>, Vec<Problem>) {
-    let mut problems = Vec::new();
-    let corrected = prints
+) -> Corrected {
+    let mut refused = Vec::new();
+    let (prints, applied) = prints
         .iter()
         .zip(corrections)
         .enumerate()
         .map(|(index, (print, correction))| {
             if *correction == PrintCorrection::default() {
-                return *print;
+                return (*print, *correction);
             }
-            correction.apply(print).unwrap_or_else(|| {
-                problems.push(Problem::warning(
-                    CALIBRATION_REFUSED,
-                    format!(
-                        "component `{}`'s mass correction takes away more than its solid material; it is left out",
-                        project.component_name(index)
-                    ),
-                ));
-                *print
-            })
+            match correction.apply(print) {
+                Some(corrected) => (corrected, *correction),
+                None => {
+                    refused.push(Problem::warning(
+                        CALIBRATION_REFUSED,
+                        format!(
+                            "component `{}`'s mass correction takes away more than its solid material; it is left out",
+                            project.component_name(index)
+                        ),
+                    ));
+                    (*print, PrintCorrection::default())
+                }
+            }
         })
-        .collect();
-    (corrected, problems)
+        .unzip();
+    Corrected {
+        prints,
+        applied,
+        refused,
+    }
+}
+
+/// Each component's print volumes with the calibration's corrections added.
+#[derive(Debug, Clone)]
+pub struct Corrected {
+    /// Per component, its print volumes, corrected where the correction was applied.
+    pub prints: Vec<PrintVolumes>,
+    /// Per component, the correction in `prints`: zero where there was none or it was refused.
+    pub applied: Vec<PrintCorrection>,
+    /// A warning per correction refused.
+    pub refused: Vec<Problem>,
 }
 
 /// The calibration file's text for `corrections` (one per component, in project order),

@@ -260,20 +260,22 @@ pub fn compile_with(
     };
     // The print volumes, computed once: here for the `down` poses, which rest on the print-true
     // body, or else below, once the project is known to be valid.
-    let mut corrected: Option<(Vec<PrintVolumes>, Vec<Problem>)> = None;
+    let mut corrected: Option<calibration::Corrected> = None;
     if let (Some(meshes), Some(orientations)) = (
         meshes
             .as_ref()
             .filter(|_| project.poses.iter().any(|pose| pose.down.is_some())),
         &orientations,
     ) {
-        let (prints, _) = corrected.insert(corrected_volumes(
-            &project,
-            meshes,
-            orientations,
-            &corrections,
-            workspace,
-        ));
+        let prints = &corrected
+            .insert(corrected_volumes(
+                &project,
+                meshes,
+                orientations,
+                &corrections,
+                workspace,
+            ))
+            .prints;
         let bodies: Vec<ComponentBody> = meshes
             .iter()
             .zip(prints.iter())
@@ -299,10 +301,12 @@ pub fn compile_with(
         }
         _ => return Err(Failure::Invalid(problems)),
     };
-    let (prints, refused) = corrected.unwrap_or_else(|| {
+    let corrected = corrected.unwrap_or_else(|| {
         corrected_volumes(&project, &meshes, &orientations, &corrections, workspace)
     });
-    problems.extend(refused);
+    problems.extend(corrected.refused);
+    // A refused correction is in no material: neither in the bare prints nor in any cut.
+    let (prints, corrections) = (corrected.prints, corrected.applied);
     let parts = part_prints(&project, prints, &orientations, &corrections);
     let print = print_setup(&project, &orientations);
     let (design, source, optimization) = match (&project.optimize, &options.optimize) {
@@ -396,14 +400,14 @@ fn part_prints(
 }
 
 /// Each component's print volumes in its print orientation (from `workspace`'s cache), with the
-/// calibration's corrections added, and the problems of corrections refused.
+/// calibration's corrections added, the corrections applied and the problems of those refused.
 fn corrected_volumes(
     project: &Project,
     meshes: &[TriMesh],
     orientations: &[Orientation],
     corrections: &[PrintCorrection],
     workspace: &mut Workspace,
-) -> (Vec<PrintVolumes>, Vec<Problem>) {
+) -> calibration::Corrected {
     let prints: Vec<PrintVolumes> = meshes
         .iter()
         .zip(orientations)
