@@ -2,7 +2,7 @@
 //! every design and `verify` weigh (`docs/physics.md`, "The mass of a print").
 //!
 //! Under the `fdm` model the component's mesh is sliced again with the design's capsules cut
-//! from it ([`print_volumes_with_voids`]), so the perimeters the slicer lays around each hole,
+//! from it ([`PrintRaster::volumes_with_voids`]), so the perimeters the slicer lays around each hole,
 //! the solid layers under each floor and over each ceiling, and the narrow regions between a
 //! void and the surface are classified as the slicer classifies them. Under `uniform` each void
 //! is taken out of the sparse material in closed form. The calibration's correction is added to
@@ -10,14 +10,14 @@
 //! ([`capsule_shell`](super::capsule_shell)) and is corrected towards this material between
 //! solves.
 
+use std::sync::OnceLock;
+
 use nalgebra::Rotation3;
 
 use super::mass::{capsule_volume, Weighted};
 use super::{slicing, ComponentBody};
 use crate::design::Design;
-use crate::geometry::{
-    print_volumes_with_voids, PrintCorrection, PrintVolumes, Region, TriMesh, Void,
-};
+use crate::geometry::{PrintCorrection, PrintRaster, PrintVolumes, Region, TriMesh, Void};
 use crate::spec::model::{MassModel, Print};
 
 /// The voids `design`'s capsules in component `component` cut from it.
@@ -46,8 +46,9 @@ pub fn cut_bodies<'a>(meshes: &'a [TriMesh], printed: &[PrintVolumes]) -> Vec<Co
 
 /// What it takes to print each component's material for any design: the material before a
 /// capsule is cut (the mass model's, with the calibration's correction), how the component is
-/// printed, and the correction.
-#[derive(Debug, Clone, PartialEq)]
+/// printed, and the correction. Under the `fdm` model each component is sliced the first time a
+/// design's voids are cut from it, and its layers are kept for the next design.
+#[derive(Debug, Clone)]
 pub struct PartPrints {
     /// Per component, in project order: the material before capsules are cut, corrected.
     pub bare: Vec<PrintVolumes>,
@@ -57,11 +58,32 @@ pub struct PartPrints {
     pub corrections: Vec<PrintCorrection>,
     /// The print settings and the mass model.
     pub print: Print,
+    /// Per component, its layers, once sliced.
+    rasters: Vec<OnceLock<PrintRaster>>,
 }
 
 impl PartPrints {
+    /// What it takes to print components whose material before capsules are cut is `bare`
+    /// (with `corrections` in it), printed turned by `to_print`, with `print`.
+    pub fn new(
+        bare: Vec<PrintVolumes>,
+        to_print: Vec<Rotation3<f64>>,
+        corrections: Vec<PrintCorrection>,
+        print: Print,
+    ) -> PartPrints {
+        let rasters = bare.iter().map(|_| OnceLock::new()).collect();
+        PartPrints {
+            bare,
+            to_print,
+            corrections,
+            print,
+            rasters,
+        }
+    }
+
     /// Per component, its material with `design`'s voids cut (solid and sparse parts; the sparse
     /// one printed at `design.infill`). A component without capsules keeps its bare material.
+    /// `meshes` are the components' meshes, the same on every call.
     pub fn cut(&self, meshes: &[TriMesh], design: &Design) -> Vec<PrintVolumes> {
         self.bare
             .iter()
@@ -104,7 +126,14 @@ impl PartPrints {
     ) -> PrintVolumes {
         match self.print.model {
             MassModel::Fdm => {
-                let sliced = print_volumes_with_voids(mesh, &slicing(&self.print, to_print), voids);
+                let raster = self.rasters.get(index).map(|raster| {
+                    raster.get_or_init(|| PrintRaster::new(mesh, &slicing(&self.print, to_print)))
+                });
+                let sliced = match raster {
+                    Some(raster) => raster.volumes_with_voids(voids),
+                    None => PrintRaster::new(mesh, &slicing(&self.print, to_print))
+                        .volumes_with_voids(voids),
+                };
                 let correction = self.corrections.get(index).copied().unwrap_or_default();
                 if correction == PrintCorrection::default() {
                     sliced

@@ -391,12 +391,12 @@ fn part_prints(
     orientations: &[Orientation],
     corrections: &[PrintCorrection],
 ) -> PartPrints {
-    PartPrints {
+    PartPrints::new(
         bare,
-        to_print: orientations.iter().map(|o| o.to_print).collect(),
-        corrections: corrections.to_vec(),
-        print: project.print,
-    }
+        orientations.iter().map(|o| o.to_print).collect(),
+        corrections.to_vec(),
+        project.print,
+    )
 }
 
 /// Each component's print volumes in its print orientation (from `workspace`'s cache), with the

@@ -52,7 +52,9 @@ pub(crate) use load_files::FileReader;
 pub use load_files::{MeshLimits, ReadPolicy, DEFAULT_MAX_MESH_BYTES, DEFAULT_MAX_TRIANGLES};
 pub use mass::{mass_properties, MassProperties};
 pub use mesh::TriMesh;
-pub use print::{print_volumes, print_volumes_with_voids, PrintVolumes, Region, Slicing, Void};
+pub use print::{
+    print_volumes, print_volumes_with_voids, PrintRaster, PrintVolumes, Region, Slicing, Void,
+};
 pub use print_correction::PrintCorrection;
 pub use rig::{read_rig, Rig, RigAnimation, RigNode, RigScene};
 pub use shells::ShellFault;

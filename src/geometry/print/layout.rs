@@ -1,10 +1,9 @@
-//! The layers and the raster of one mesh in its print frame: slicing, inside cells, perimeters,
-//! top and bottom surfaces, and each cell's class.
+//! The layers and the raster of one mesh in its print frame: slicing, the cells inside each
+//! slice and those within the perimeters of its outline.
 
 use nalgebra::{Point3, Vector3};
 
-use super::distance::squared_distance;
-use super::{Cell, Slicing};
+use super::Slicing;
 use crate::geometry::mesh::TriMesh;
 
 /// The raster holds at most about this many cells over all layers; a finer cell than
@@ -20,6 +19,7 @@ pub(super) const U: usize = 0;
 pub(super) const V: usize = 1;
 
 /// The layers and the raster of one mesh, print frame.
+#[derive(Clone)]
 pub(super) struct Layout {
     pub(super) slicing: Slicing,
     /// The mesh's lowest point along z.
@@ -263,113 +263,5 @@ impl Layout {
             }
         }
         near
-    }
-
-    /// The fill cells of a layer (`fill`) under which (or over which) layer `next` is outside,
-    /// grown by the surface margin within `fill`: the slicer's top (or bottom) surface of the
-    /// layer with the ring it adds around it.
-    pub(super) fn surface(
-        &self,
-        fill: &[bool],
-        next: Option<usize>,
-        inside: &[Vec<bool>],
-    ) -> Vec<bool> {
-        let exposed: Vec<bool> = fill
-            .iter()
-            .enumerate()
-            .map(|(index, &f)| {
-                f && !next
-                    .and_then(|l| inside.get(l))
-                    .is_some_and(|cells| cells[index])
-            })
-            .collect();
-        let reach = self.slicing.surface_margin / self.cell;
-        if reach <= 0.0 || !exposed.iter().any(|&e| e) {
-            return exposed;
-        }
-        let distance = squared_distance(&exposed, self.columns, self.rows);
-        distance
-            .iter()
-            .zip(fill)
-            .map(|(d, &f)| f && *d <= reach * reach)
-            .collect()
-    }
-
-    /// Layer `k`'s cells: outside, solid or sparse.
-    pub(super) fn classify(
-        &self,
-        k: usize,
-        inside: &[Vec<bool>],
-        near: &[Vec<bool>],
-        tops: &[Vec<bool>],
-        bottoms: &[Vec<bool>],
-    ) -> Vec<Cell> {
-        let here = &inside[k];
-        let covered = |layer: Option<usize>, index: usize| {
-            layer
-                .and_then(|l| inside.get(l))
-                .is_some_and(|cells| cells[index])
-        };
-        let (top, bottom) = (self.slicing.top_layers, self.slicing.bottom_layers);
-        let mut class: Vec<Cell> = (0..here.len())
-            .map(|index| {
-                if !here[index] {
-                    return Cell::Outside;
-                }
-                let shell = near[k][index]
-                    || (1..=top).any(|j| !covered(k.checked_add(j), index))
-                    || (1..=bottom).any(|j| !covered(k.checked_sub(j), index))
-                    || (0..top).any(|j| tops.get(k + j).is_some_and(|s| s[index]))
-                    || (0..bottom).any(|j| k.checked_sub(j).is_some_and(|l| bottoms[l][index]));
-                if shell {
-                    Cell::Solid
-                } else {
-                    Cell::Sparse
-                }
-            })
-            .collect();
-        self.fill_small_regions(&mut class);
-        class
-    }
-
-    /// Sparse regions (4-connected) smaller than the minimum area become solid.
-    pub(super) fn fill_small_regions(&self, class: &mut [Cell]) {
-        let limit = self.slicing.min_sparse_area;
-        if limit <= 0.0 {
-            return;
-        }
-        let cell_area = self.cell * self.cell;
-        let mut seen = vec![false; class.len()];
-        let mut stack = Vec::new();
-        let mut region = Vec::new();
-        for start in 0..class.len() {
-            if seen[start] || class[start] != Cell::Sparse {
-                continue;
-            }
-            seen[start] = true;
-            stack.push(start);
-            region.clear();
-            while let Some(index) = stack.pop() {
-                region.push(index);
-                let (i, j) = (index % self.columns, index / self.columns);
-                let neighbours = [
-                    (i > 0).then(|| index - 1),
-                    (i + 1 < self.columns).then(|| index + 1),
-                    (j > 0).then(|| index - self.columns),
-                    (j + 1 < self.rows).then(|| index + self.columns),
-                ];
-                for next in neighbours.into_iter().flatten() {
-                    if !seen[next] && class[next] == Cell::Sparse {
-                        seen[next] = true;
-                        stack.push(next);
-                    }
-                }
-            }
-            if (region.len() as f64) * cell_area < limit {
-                for &index in &region {
-                    class[index] = Cell::Solid;
-                }
-            }
-        }
     }
 }

@@ -26,11 +26,16 @@ use nalgebra::{Point3, Rotation3, Vector3};
 use super::mass::MassProperties;
 use super::mesh::TriMesh;
 
+mod cells;
+mod classes;
 mod distance;
 mod layout;
 mod voids;
+mod window;
 
 use super::parallel::map_each;
+use cells::{CellBox, Overlay, Planes};
+use classes::Cell;
 use layout::Layout;
 pub use voids::Void;
 
@@ -94,7 +99,7 @@ impl PrintVolumes {
 /// documentation). A mesh without extent or with a non-finite coordinate, or settings without a
 /// positive layer height, gives empty regions at the origin.
 pub fn print_volumes(mesh: &TriMesh, slicing: &Slicing) -> PrintVolumes {
-    print_volumes_with_voids(mesh, slicing, &[])
+    PrintRaster::new(mesh, slicing).volumes()
 }
 
 /// The solid and sparse volumes of `mesh` with `voids` (rest frame) cut from it, printed with
@@ -102,105 +107,195 @@ pub fn print_volumes(mesh: &TriMesh, slicing: &Slicing) -> PrintVolumes {
 /// so the slicer's perimeters around each hole, the solid layers under its floor and over its
 /// ceiling, and the small regions it leaves are classified as for the mesh's own outline.
 pub fn print_volumes_with_voids(mesh: &TriMesh, slicing: &Slicing, voids: &[Void]) -> PrintVolumes {
-    let empty = PrintVolumes {
-        solid: Region {
-            volume: 0.0,
-            centroid: Point3::origin(),
-        },
-        sparse: Region {
-            volume: 0.0,
-            centroid: Point3::origin(),
-        },
-    };
-    let to_print = exact_axes(&slicing.to_print);
-    let printed = TriMesh {
-        positions: mesh.positions.iter().map(|p| to_print * p).collect(),
-        triangles: mesh.triangles.clone(),
-    };
-    let mesh = &printed;
-    let Some(layout) = Layout::new(mesh, slicing) else {
-        return empty;
-    };
-    let voids: Vec<Void> = voids
-        .iter()
-        .map(|void| Void {
-            from: to_print * void.from,
-            to: to_print * void.to,
-            ..*void
-        })
-        .collect();
-    // Every layer's raster is independent of the others' until the surfaces and the classes,
-    // which read their neighbours' finished rasters: each step runs over the layers on every
-    // core, and the sums below run in layer order, so the result does not depend on the cores.
-    let layers = layout.layers;
-    let segments = layout.slice(mesh);
-    let mut inside: Vec<Vec<bool>> = map_each(layers, |k| layout.inside(&segments[k]));
-    let mut near: Vec<Vec<bool>> = map_each(layers, |k| layout.near_outline(&segments[k]));
-    if !voids.is_empty() {
-        let holes: Vec<(Vec<bool>, Vec<bool>)> = map_each(layers, |k| {
-            let mut hole = layout.in_voids(k, &voids);
-            for (h, i) in hole.iter_mut().zip(&inside[k]) {
-                *h &= *i;
-            }
-            let around = layout.near_hole(&hole);
-            (hole, around)
+    PrintRaster::new(mesh, slicing).volumes_with_voids(voids)
+}
+
+/// A mesh sliced once, for cutting any set of voids from it: each layer's inside cells, its
+/// perimeters, and its cells' classes before a void is cut. Cutting voids re-classifies only
+/// the cells they can change: in the layers they cross and the solid layers above and below
+/// those, within the perimeters and the surface margin of the voids' box, and the regions the
+/// small-region rule joins to those ([`window`]). The cells are summed one by one in layer
+/// order from the first layer a cut changes, on the sums of the bare layers below it, so a cut
+/// gives the same bits as slicing the whole mesh with the voids again.
+#[derive(Clone)]
+pub struct PrintRaster {
+    to_print: Rotation3<f64>,
+    /// `None` for a mesh that cannot be sliced (see [`print_volumes`]).
+    layers: Option<Layers>,
+}
+
+impl std::fmt::Debug for PrintRaster {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let mut out = f.debug_struct("PrintRaster");
+        out.field("to_print", &self.to_print);
+        if let Some(layers) = &self.layers {
+            let layout = &layers.layout;
+            out.field("layers", &layout.layers)
+                .field("cell", &layout.cell)
+                .field("columns", &layout.columns)
+                .field("rows", &layout.rows);
+        }
+        out.finish()
+    }
+}
+
+/// The sliced layers of a [`PrintRaster`], before a void is cut.
+#[derive(Clone)]
+struct Layers {
+    layout: Layout,
+    /// Per layer, the cells inside the mesh.
+    inside: Vec<Vec<bool>>,
+    /// Per layer, the cells within the perimeter thickness of the outline.
+    near: Vec<Vec<bool>>,
+    /// Per layer, each cell's class before the small-region rule.
+    unsettled: Vec<Vec<Cell>>,
+    /// Per layer, each cell's class.
+    classes: Vec<Vec<Cell>>,
+    /// The solid and sparse sums of the layers below each layer (and of all of them, last).
+    below: Vec<Totals>,
+}
+
+impl PrintRaster {
+    /// Slices `mesh` with `slicing`.
+    pub fn new(mesh: &TriMesh, slicing: &Slicing) -> PrintRaster {
+        let to_print = exact_axes(&slicing.to_print);
+        let printed = TriMesh {
+            positions: mesh.positions.iter().map(|p| to_print * p).collect(),
+            triangles: mesh.triangles.clone(),
+        };
+        let layers = Layout::new(&printed, slicing).map(|layout| {
+            // Every layer's raster is independent of the others' until the surfaces and the
+            // classes, which read their neighbours' finished rasters: each step runs over the
+            // layers on every core.
+            let segments = layout.slice(&printed);
+            let inside = map_each(layout.layers, |k| layout.inside(&segments[k]));
+            let near = map_each(layout.layers, |k| layout.near_outline(&segments[k]));
+            Layers::classified(layout, inside, near)
         });
-        for ((inside, near), (hole, around)) in inside.iter_mut().zip(&mut near).zip(&holes) {
-            for ((i, n), (h, a)) in inside
-                .iter_mut()
-                .zip(near.iter_mut())
-                .zip(hole.iter().zip(around))
-            {
-                *i &= !h;
-                *n |= *a;
-            }
+        PrintRaster { to_print, layers }
+    }
+
+    /// The mesh's solid and sparse volumes before a void is cut.
+    pub fn volumes(&self) -> PrintVolumes {
+        match &self.layers {
+            Some(layers) => self.volumes_of(&layers.layout, &layers.below[layers.layout.layers]),
+            None => empty_volumes(),
         }
     }
-    let fill: Vec<Vec<bool>> = inside
-        .iter()
-        .zip(&near)
-        .map(|(inside, near)| inside.iter().zip(near).map(|(i, n)| *i && !n).collect())
-        .collect();
-    let tops: Vec<Vec<bool>> = map_each(layers, |k| {
-        layout.surface(&fill[k], k.checked_add(1), &inside)
-    });
-    let bottoms: Vec<Vec<bool>> = map_each(layers, |k| {
-        layout.surface(&fill[k], k.checked_sub(1), &inside)
-    });
-    let classes: Vec<Vec<Cell>> = map_each(layers, |k| {
-        layout.classify(k, &inside, &near, &tops, &bottoms)
-    });
-    let mut solid = Sum::default();
-    let mut sparse = Sum::default();
-    for (k, class) in classes.iter().enumerate() {
+
+    /// The mesh's solid and sparse volumes with `voids` (rest frame) cut from it
+    /// ([`print_volumes_with_voids`]).
+    pub fn volumes_with_voids(&self, voids: &[Void]) -> PrintVolumes {
+        let Some(layers) = &self.layers else {
+            return empty_volumes();
+        };
+        let voids: Vec<Void> = voids
+            .iter()
+            .map(|void| Void {
+                from: self.to_print * void.from,
+                to: self.to_print * void.to,
+                ..*void
+            })
+            .collect();
+        let Some((first, window)) = layers.cut(&voids) else {
+            return self.volumes();
+        };
+        // Summed cell by cell in layer order, as the whole raster would be: the sums below the
+        // window are the bare layers', the rest is added again.
+        let layout = &layers.layout;
+        let mut totals = layers.below[first];
+        for k in first..layout.layers {
+            let class = window.get(k - first).unwrap_or(&layers.classes[k]);
+            totals.add_layer(layout, k, class);
+        }
+        self.volumes_of(layout, &totals)
+    }
+
+    /// The volumes of `totals`, turned back to the rest frame.
+    fn volumes_of(&self, layout: &Layout, totals: &Totals) -> PrintVolumes {
+        let fallback = layout.centre();
+        let back = |region: Region| Region {
+            centroid: self.to_print.inverse() * region.centroid,
+            ..region
+        };
+        PrintVolumes {
+            solid: back(totals.solid.region(fallback)),
+            sparse: back(totals.sparse.region(fallback)),
+        }
+    }
+}
+
+/// The solid and the sparse sum of some layers.
+#[derive(Debug, Clone, Copy, Default)]
+struct Totals {
+    solid: Sum,
+    sparse: Sum,
+}
+
+impl Totals {
+    /// Adds layer `k`'s cells of `class`, one by one in the raster's order.
+    fn add_layer(&mut self, layout: &Layout, k: usize, class: &[Cell]) {
         let z = layout.slice_height(k);
         let cell_volume = layout.cell * layout.cell * layout.thickness(k);
         for (index, kind) in class.iter().enumerate() {
-            let point = layout.point(index, z);
             match kind {
-                Cell::Solid => solid.add(cell_volume, &point),
-                Cell::Sparse => sparse.add(cell_volume, &point),
+                Cell::Solid => self.solid.add(cell_volume, &layout.point(index, z)),
+                Cell::Sparse => self.sparse.add(cell_volume, &layout.point(index, z)),
                 Cell::Outside => {}
             }
         }
     }
-    let fallback = layout.centre();
-    let back = |region: Region| Region {
-        centroid: to_print.inverse() * region.centroid,
-        ..region
-    };
-    PrintVolumes {
-        solid: back(solid.region(fallback)),
-        sparse: back(sparse.region(fallback)),
+}
+
+impl Layers {
+    /// The layers of `layout` with these `inside` cells and perimeters (`near`), classified.
+    fn classified(layout: Layout, inside: Vec<Vec<bool>>, near: Vec<Vec<bool>>) -> Layers {
+        let whole = CellBox::whole(&layout);
+        let none = Planes {
+            first: 0,
+            area: whole.clone(),
+            layers: Vec::new(),
+        };
+        let over = |bare| Overlay {
+            columns: layout.columns,
+            bare,
+            planes: &none,
+        };
+        let all = 0..=layout.layers - 1;
+        let unsettled = classes::classify(&layout, over(&inside), over(&near), &whole, &whole, all);
+        let classes = map_each(layout.layers, |k| {
+            let mut class = unsettled[k].clone();
+            classes::fill_small_regions(&layout, &mut class);
+            class
+        });
+        let mut below = Vec::with_capacity(layout.layers + 1);
+        let mut totals = Totals::default();
+        for (k, class) in classes.iter().enumerate() {
+            below.push(totals);
+            totals.add_layer(&layout, k, class);
+        }
+        below.push(totals);
+        Layers {
+            layout,
+            inside,
+            near,
+            unsettled,
+            classes,
+            below,
+        }
     }
 }
 
-/// What a raster cell of one layer holds.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Cell {
-    Outside,
-    Solid,
-    Sparse,
+/// Empty regions at the origin: what a mesh that cannot be sliced prints.
+fn empty_volumes() -> PrintVolumes {
+    let empty = Region {
+        volume: 0.0,
+        centroid: Point3::origin(),
+    };
+    PrintVolumes {
+        solid: empty,
+        sparse: empty,
+    }
 }
 
 /// Entries of a print rotation this close to 0 or ±1 are taken as exactly that.
@@ -222,7 +317,7 @@ fn exact_axes(rotation: &Rotation3<f64>) -> Rotation3<f64> {
 }
 
 /// A running sum of volumes at points.
-#[derive(Debug, Default)]
+#[derive(Debug, Clone, Copy, Default)]
 struct Sum {
     volume: f64,
     moment: Vector3<f64>,
@@ -243,6 +338,128 @@ impl Sum {
         Region {
             volume: self.volume,
             centroid,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An axis-aligned box from `low` to `high`, outward, its vertices from `first` on.
+    fn box_at(low: [f64; 3], high: [f64; 3], first: u32) -> TriMesh {
+        let positions = (0..8)
+            .map(|i| {
+                let pick = |bit: usize, axis: usize| {
+                    if i & bit != 0 {
+                        high[axis]
+                    } else {
+                        low[axis]
+                    }
+                };
+                Point3::new(pick(1, 0), pick(2, 1), pick(4, 2))
+            })
+            .collect();
+        let faces: [[u32; 3]; 12] = [
+            [0, 2, 1],
+            [1, 2, 3],
+            [4, 5, 6],
+            [5, 7, 6],
+            [0, 1, 4],
+            [1, 5, 4],
+            [2, 6, 3],
+            [3, 6, 7],
+            [0, 4, 2],
+            [2, 4, 6],
+            [1, 3, 5],
+            [3, 7, 5],
+        ];
+        TriMesh {
+            positions,
+            triangles: faces.iter().map(|f| f.map(|v| v + first)).collect(),
+        }
+    }
+
+    /// A box with a narrower box standing on it: a step whose top surface rings the upper box.
+    fn stepped() -> TriMesh {
+        let mut mesh = box_at([0.0; 3], [20.0, 14.0, 8.0], 0);
+        let upper = box_at([4.0, 3.0, 8.0], [16.0, 11.0, 14.0], 8);
+        mesh.positions.extend(upper.positions);
+        mesh.triangles.extend(upper.triangles);
+        mesh
+    }
+
+    fn void(from: [f64; 3], to: [f64; 3], radius: f64) -> Void {
+        Void {
+            from: Point3::from(from),
+            to: Point3::from(to),
+            radius,
+        }
+    }
+
+    /// `voids` cut from every layer of `raster` and every cell classified again.
+    fn everywhere(raster: &PrintRaster, voids: &[Void]) -> PrintVolumes {
+        let layers = raster.layers.as_ref().expect("a sliced mesh");
+        let layout = &layers.layout;
+        let voids: Vec<Void> = voids
+            .iter()
+            .map(|void| Void {
+                from: raster.to_print * void.from,
+                to: raster.to_print * void.to,
+                ..*void
+            })
+            .collect();
+        let whole = CellBox::whole(layout);
+        let (inside, near) = layers.cut_planes(&voids, 0..=layout.layers - 1, &whole);
+        let cut = Layers::classified(layout.clone(), inside.layers, near.layers);
+        raster.volumes_of(layout, &cut.below[layout.layers])
+    }
+
+    #[test]
+    fn re_classifying_the_cells_a_cut_reaches_gives_the_bits_of_re_classifying_them_all() {
+        // A stepped part printed upright and tilted, with the small-region rule and the surface
+        // margin on, and voids at pseudo-random places and sizes: near the floor and the
+        // ceiling, across the step, close to the walls (small regions between hole and wall).
+        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mesh = stepped();
+        for to_print in [
+            Rotation3::identity(),
+            Rotation3::from_euler_angles(0.3, -0.2, 0.1),
+        ] {
+            let slicing = Slicing {
+                to_print,
+                perimeter_thickness: 0.9,
+                layer_height: 0.3,
+                first_layer_height: 0.2,
+                top_layers: 5,
+                bottom_layers: 3,
+                min_sparse_area: 8.0,
+                surface_margin: 1.5,
+            };
+            let raster = PrintRaster::new(&mesh, &slicing);
+            let bare = raster.volumes();
+            for case in 0..24 {
+                let voids: Vec<Void> = (0..1 + case % 3)
+                    .map(|_| {
+                        let at = [4.0 + next() * 12.0, 3.0 + next() * 8.0, 1.0 + next() * 12.0];
+                        let along = [next() * 6.0 - 3.0, next() * 6.0 - 3.0, next() * 2.0 - 1.0];
+                        let to = [at[0] + along[0], at[1] + along[1], at[2] + along[2]];
+                        void(at, to, 0.5 + next() * 2.5)
+                    })
+                    .collect();
+                let windowed = raster.volumes_with_voids(&voids);
+                assert_eq!(windowed, everywhere(&raster, &voids), "voids {voids:?}");
+                assert_ne!(windowed, bare, "voids {voids:?}");
+            }
+            // No void: the bare volumes, to the bit, through either path.
+            assert_eq!(raster.volumes_with_voids(&[]), bare);
+            assert_eq!(everywhere(&raster, &[]), bare);
         }
     }
 }

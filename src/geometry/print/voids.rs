@@ -3,6 +3,7 @@
 
 use nalgebra::Point3;
 
+use super::cells::CellBox;
 use super::distance::squared_distance;
 use super::layout::{Layout, U, UP, V};
 use crate::geometry::distance::point_segment_distance;
@@ -20,6 +21,12 @@ pub struct Void {
 }
 
 impl Void {
+    /// Whether the plane at height `z` (print frame) cuts the void.
+    pub(super) fn crosses(&self, z: f64) -> bool {
+        let (r, a, b) = (self.radius, self.from, self.to);
+        z > a[UP].min(b[UP]) - r && z < a[UP].max(b[UP]) + r
+    }
+
     /// Whether `point` lies inside the void (strictly within the radius of the axis).
     fn contains(&self, point: &Point3<f64>) -> bool {
         point_segment_distance(point, &self.from, &self.to) < self.radius
@@ -27,32 +34,26 @@ impl Void {
 }
 
 impl Layout {
-    /// The cells of layer `k` whose centres lie in one of `voids` (print frame).
-    pub(super) fn in_voids(&self, k: usize, voids: &[Void]) -> Vec<bool> {
-        let mut cells = vec![false; self.columns * self.rows];
+    /// The cells of `area` in layer `k` whose centres lie in one of `voids` (print frame), in
+    /// `area`'s order.
+    pub(super) fn in_voids(&self, k: usize, voids: &[Void], area: &CellBox) -> Vec<bool> {
+        let mut cells = vec![false; area.len()];
         let z = self.slice_height(k);
         for void in voids {
-            let (r, a, b) = (void.radius, void.from, void.to);
-            if z <= a[UP].min(b[UP]) - r || z >= a[UP].max(b[UP]) + r {
+            if !void.crosses(z) {
                 continue;
             }
-            let span = |axis: usize, origin: f64, count: usize| {
-                let low = a[axis].min(b[axis]) - r;
-                let high = a[axis].max(b[axis]) + r;
-                let first = ((low - origin) / self.cell - 0.5).ceil().max(0.0) as usize;
-                let last = ((high - origin) / self.cell - 0.5).floor();
-                (last >= 0.0).then(|| first..(last as usize + 1).min(count))
-            };
-            let columns = span(U, self.origin.0, self.columns);
-            let rows = span(V, self.origin.1, self.rows);
-            let (Some(columns), Some(rows)) = (columns, rows) else {
+            let cover = self.cover(void).and_then(|cover| cover.within(area));
+            let Some(cover) = cover else {
                 continue;
             };
-            for j in rows {
-                for i in columns.clone() {
+            for j in cover.j {
+                for i in cover.i.clone() {
                     let index = j * self.columns + i;
-                    if !cells[index] && void.contains(&self.point(index, z)) {
-                        cells[index] = true;
+                    if let Some(local) = area.local(i, j) {
+                        if !cells[local] && void.contains(&self.point(index, z)) {
+                            cells[local] = true;
+                        }
                     }
                 }
             }
@@ -60,18 +61,71 @@ impl Layout {
         cells
     }
 
-    /// The cells within the perimeter thickness of a hole's outline: of a cell of `hole` (the
-    /// void cells of a layer that lie inside the mesh), measured from the hole's edge, half a
-    /// cell past its outermost cell centres.
-    pub(super) fn near_hole(&self, hole: &[bool]) -> Vec<bool> {
-        let reach = self.slicing.perimeter_thickness / self.cell + 0.5;
-        if !hole.iter().any(|&h| h) {
-            return vec![false; hole.len()];
-        }
-        squared_distance(hole, self.columns, self.rows)
-            .iter()
-            .zip(hole)
-            .map(|(d, &h)| !h && *d < reach * reach)
-            .collect()
+    /// The cells whose centres lie within the box around `void` (print frame), seen from
+    /// above; `None` when none do.
+    pub(super) fn cover(&self, void: &Void) -> Option<CellBox> {
+        let (r, a, b) = (void.radius, void.from, void.to);
+        let span = |axis: usize, origin: f64, count: usize| {
+            let low = a[axis].min(b[axis]) - r;
+            let high = a[axis].max(b[axis]) + r;
+            let first = ((low - origin) / self.cell - 0.5).ceil().max(0.0) as usize;
+            let last = ((high - origin) / self.cell - 0.5).floor();
+            (last >= 0.0)
+                .then(|| first..(last as usize + 1).min(count))
+                .filter(|range| !range.is_empty())
+        };
+        Some(CellBox {
+            i: span(U, self.origin.0, self.columns)?,
+            j: span(V, self.origin.1, self.rows)?,
+        })
     }
+
+    /// The cells of `area` within the perimeter thickness of a hole's outline: of a cell of
+    /// `hole` (the void cells of a layer that lie inside the mesh, over `area`), measured from
+    /// the hole's edge, half a cell past its outermost cell centres. Exact for the cells of
+    /// `area` when `area` holds every hole cell.
+    pub(super) fn near_hole(&self, hole: &[bool], area: &CellBox) -> Vec<bool> {
+        let reach = self.slicing.perimeter_thickness / self.cell + 0.5;
+        let mut near = vec![false; hole.len()];
+        // The distances that matter lie within the reach of the hole's box.
+        let Some(held) = holding(hole, area) else {
+            return near;
+        };
+        let around = held.grown(reach.ceil() as usize + 1, self).within(area);
+        let Some(around) = around else {
+            return near;
+        };
+        let marked: Vec<bool> = (0..around.len())
+            .map(|local| {
+                let (i, j) = around.cell(local);
+                area.local(i, j).is_some_and(|a| hole[a])
+            })
+            .collect();
+        let distance = squared_distance(&marked, around.width(), around.height());
+        for (local, (d, &h)) in distance.iter().zip(&marked).enumerate() {
+            let (i, j) = around.cell(local);
+            if !h && *d < reach * reach {
+                if let Some(a) = area.local(i, j) {
+                    near[a] = true;
+                }
+            }
+        }
+        near
+    }
+}
+
+/// The smallest box holding every marked cell of `cells` (over `area`); `None` without one.
+fn holding(cells: &[bool], area: &CellBox) -> Option<CellBox> {
+    cells
+        .iter()
+        .enumerate()
+        .filter(|(_, &marked)| marked)
+        .map(|(local, _)| {
+            let (i, j) = area.cell(local);
+            CellBox {
+                i: i..i + 1,
+                j: j..j + 1,
+            }
+        })
+        .reduce(|a, b| a.union(&b))
 }

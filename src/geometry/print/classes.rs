@@ -1,0 +1,170 @@
+//! Each cell's class: outside, solid (perimeters, top and bottom layers, small regions) or
+//! sparse, over a box of the raster and a range of layers.
+
+use std::ops::RangeInclusive;
+
+use super::cells::{CellBox, Overlay, Planes};
+use super::distance::squared_distance;
+use super::layout::Layout;
+use crate::geometry::parallel::map_each;
+
+/// What a raster cell of one layer holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Cell {
+    Outside,
+    Solid,
+    Sparse,
+}
+
+/// The class of every cell of `valid` in each layer of `layers`, before the small-region rule,
+/// from every layer's `inside` cells and perimeters (`near`). The surfaces the classes read are
+/// computed over `area`, which must hold `valid` grown by the surface margin and a cell; the
+/// cells outside `valid` are not classified. Each layer's classes are in `valid`'s order.
+pub(super) fn classify(
+    layout: &Layout,
+    inside: Overlay,
+    near: Overlay,
+    area: &CellBox,
+    valid: &CellBox,
+    layers: RangeInclusive<usize>,
+) -> Vec<Vec<Cell>> {
+    let (low, high) = (*layers.start(), *layers.end());
+    let count = layout.layers;
+    let (top, bottom) = (layout.slicing.top_layers, layout.slicing.bottom_layers);
+    // Every layer the classes read, over `area`.
+    let first = low.saturating_sub(bottom);
+    let last = high.saturating_add(top).min(count - 1);
+    let held = |cells: Overlay| Planes {
+        first,
+        area: area.clone(),
+        layers: map_each(last - first + 1, |offset| cells.over(first + offset, area)),
+    };
+    let (inside, near) = (held(inside), held(near));
+    // The top surfaces the classes read, and the bottom ones.
+    let tops_to = high.saturating_add(top.saturating_sub(1)).min(count - 1);
+    let bottoms_from = low.saturating_sub(bottom.saturating_sub(1));
+    let surfaces = |from: usize, to: usize, next: fn(usize) -> Option<usize>| Planes {
+        first: from,
+        area: area.clone(),
+        layers: map_each(to - from + 1, |offset| {
+            let k = from + offset;
+            let (here, rim) = (layer(&inside, k), layer(&near, k));
+            let fill: Vec<bool> = here.iter().zip(rim).map(|(i, n)| *i && !n).collect();
+            let above = next(k).and_then(|l| inside.layer(l));
+            surface(layout, area, &fill, above)
+        }),
+    };
+    let tops = surfaces(low, tops_to, |k| k.checked_add(1));
+    let bottoms = surfaces(bottoms_from, high, |k| k.checked_sub(1));
+    // A layer past the raster is outside: every cell under (or over) it is uncovered.
+    let inside_at = |k: usize| inside.layer(k);
+    map_each(high - low + 1, |offset| {
+        let k = low + offset;
+        let here = layer(&inside, k);
+        let rim = layer(&near, k);
+        let above: Vec<Option<&[bool]>> = (1..=top).map(|d| inside_at(k + d)).collect();
+        let below: Vec<Option<&[bool]>> = (1..=bottom)
+            .map(|d| k.checked_sub(d).and_then(inside_at))
+            .collect();
+        let top_surfaces: Vec<&[bool]> = (0..top).filter_map(|d| tops.layer(k + d)).collect();
+        let bottom_surfaces: Vec<&[bool]> = (0..bottom)
+            .filter_map(|d| k.checked_sub(d).and_then(|l| bottoms.layer(l)))
+            .collect();
+        let uncovered = |layers: &[Option<&[bool]>], a: usize| {
+            layers
+                .iter()
+                .any(|cells| cells.is_none_or(|cells| !cells[a]))
+        };
+        (0..valid.len())
+            .map(|local| {
+                let (i, j) = valid.cell(local);
+                let a = area.local(i, j).unwrap_or_default();
+                if !here[a] {
+                    return Cell::Outside;
+                }
+                let shell = rim[a]
+                    || uncovered(&above, a)
+                    || uncovered(&below, a)
+                    || top_surfaces.iter().any(|cells| cells[a])
+                    || bottom_surfaces.iter().any(|cells| cells[a]);
+                if shell {
+                    Cell::Solid
+                } else {
+                    Cell::Sparse
+                }
+            })
+            .collect()
+    })
+}
+
+/// Layer `k` of `planes`, which hold it.
+fn layer(planes: &Planes, k: usize) -> &[bool] {
+    planes.layer(k).unwrap_or_default()
+}
+
+/// The fill cells of a layer (`fill`, over `area`) under which (or over which) the layer
+/// `next` (over `area`; `None` past the raster) is outside, grown by the surface margin within
+/// `fill`: the slicer's top (or bottom) surface of the layer with the ring it adds around it.
+fn surface(layout: &Layout, area: &CellBox, fill: &[bool], next: Option<&[bool]>) -> Vec<bool> {
+    let exposed: Vec<bool> = match next {
+        Some(next) => fill.iter().zip(next).map(|(f, n)| *f && !n).collect(),
+        None => fill.to_vec(),
+    };
+    let reach = layout.slicing.surface_margin / layout.cell;
+    if reach <= 0.0 || !exposed.iter().any(|&e| e) {
+        return exposed;
+    }
+    let distance = squared_distance(&exposed, area.width(), area.height());
+    distance
+        .iter()
+        .zip(fill)
+        .map(|(d, &f)| f && *d <= reach * reach)
+        .collect()
+}
+
+/// Sparse regions (4-connected) of a whole layer's `class` smaller than the minimum area
+/// become solid.
+pub(super) fn fill_small_regions(layout: &Layout, class: &mut [Cell]) {
+    let limit = layout.slicing.min_sparse_area;
+    if limit <= 0.0 {
+        return;
+    }
+    let cell_area = layout.cell * layout.cell;
+    let mut seen = vec![false; class.len()];
+    let mut stack = Vec::new();
+    let mut region = Vec::new();
+    for start in 0..class.len() {
+        if seen[start] || class[start] != Cell::Sparse {
+            continue;
+        }
+        seen[start] = true;
+        stack.push(start);
+        region.clear();
+        while let Some(index) = stack.pop() {
+            region.push(index);
+            for next in neighbours(layout, index).into_iter().flatten() {
+                if !seen[next] && class[next] == Cell::Sparse {
+                    seen[next] = true;
+                    stack.push(next);
+                }
+            }
+        }
+        if (region.len() as f64) * cell_area < limit {
+            for &index in &region {
+                class[index] = Cell::Solid;
+            }
+        }
+    }
+}
+
+/// The 4-connected neighbours of raster cell `index` (a layer's index).
+pub(super) fn neighbours(layout: &Layout, index: usize) -> [Option<usize>; 4] {
+    let columns = layout.columns;
+    let (i, j) = (index % columns, index / columns);
+    [
+        (i > 0).then(|| index - 1),
+        (i + 1 < columns).then(|| index + 1),
+        (j > 0).then(|| index - columns),
+        (j + 1 < layout.rows).then(|| index + columns),
+    ]
+}
