@@ -189,14 +189,7 @@ impl PrintRaster {
         let Some(layers) = &self.layers else {
             return empty_volumes();
         };
-        let voids: Vec<Void> = voids
-            .iter()
-            .map(|void| Void {
-                from: self.to_print * void.from,
-                to: self.to_print * void.to,
-                ..*void
-            })
-            .collect();
+        let voids = self.in_print_frame(voids);
         let Some((first, window)) = layers.cut(&voids) else {
             return self.volumes();
         };
@@ -209,6 +202,18 @@ impl PrintRaster {
             totals.add_layer(layout, k, class);
         }
         self.volumes_of(layout, &totals)
+    }
+
+    /// `voids` (rest frame) turned into the print frame.
+    fn in_print_frame(&self, voids: &[Void]) -> Vec<Void> {
+        voids
+            .iter()
+            .map(|void| Void {
+                from: self.to_print * void.from,
+                to: self.to_print * void.to,
+                ..*void
+            })
+            .collect()
     }
 
     /// The volumes of `totals`, turned back to the rest frame.
@@ -401,14 +406,7 @@ mod tests {
     fn everywhere(raster: &PrintRaster, voids: &[Void]) -> PrintVolumes {
         let layers = raster.layers.as_ref().expect("a sliced mesh");
         let layout = &layers.layout;
-        let voids: Vec<Void> = voids
-            .iter()
-            .map(|void| Void {
-                from: raster.to_print * void.from,
-                to: raster.to_print * void.to,
-                ..*void
-            })
-            .collect();
+        let voids = raster.in_print_frame(voids);
         let whole = CellBox::whole(layout);
         let (inside, near) = layers.cut_planes(&voids, 0..=layout.layers - 1, &whole);
         let cut = Layers::classified(layout.clone(), inside.layers, near.layers);
