@@ -22,7 +22,7 @@ use nalgebra::{Point3, Rotation3, Unit, Vector3};
 
 use super::plan::OrientationChoice;
 use crate::balance::facets::{facet_along, facet_margin};
-use crate::geometry::{ConvexHull, HullFacet};
+use crate::geometry::{ConvexHull, HullFacet, HullWalk};
 
 /// Facets whose area is within this fraction of the largest candidate's rank as equally large.
 pub const AREA_TIE: f64 = 0.01;
@@ -117,7 +117,7 @@ pub fn choose(
                 facet,
                 rank: rank(&rotation),
                 stable: facet_margin(&hull.facets[facet], points, centre) > 0.0,
-                height: height(points, &rotation),
+                height: f64::NAN,
             }
         })
         .collect();
@@ -135,10 +135,21 @@ pub fn choose(
         .filter(|c| hull.facets[c.facet].area >= (1.0 - AREA_TIE) * largest)
         .collect();
     let any_stable = large.iter().any(|c| c.stable);
-    let steady: Vec<&Candidate> = large
+    // The height only of the facets still in the running, each by a walk over the hull's edges
+    // from where the last one ended (a scan of every point per facet made this quadratic).
+    let walk = HullWalk::new(hull);
+    let mut start = (0, 0);
+    let steady: Vec<Candidate> = large
         .iter()
-        .copied()
         .filter(|c| c.stable == any_stable)
+        .map(|c| {
+            let rotation = facet_rotation(&hull.facets[c.facet], points);
+            let along = rotation.matrix().row(2).transpose();
+            let height = walk
+                .extent(points, &along, &mut start)
+                .map_or(0.0, |(low, high)| high - low);
+            Candidate { height, ..**c }
+        })
         .collect();
     let lowest = steady
         .iter()
@@ -181,6 +192,7 @@ pub fn choose(
 }
 
 /// One facet as [`choose`] ranks it.
+#[derive(Clone, Copy)]
 struct Candidate {
     /// Index into the hull's facets.
     facet: usize,
@@ -188,7 +200,7 @@ struct Candidate {
     rank: Option<InsertionRank>,
     /// Whether the part stands on the facet by itself.
     stable: bool,
-    /// The part's height on the bed.
+    /// The part's height on the bed (measured only for the facets that reach that rule).
     height: f64,
 }
 

@@ -12,7 +12,7 @@
 //!   ten times the rounding of coordinates stored as 32-bit floats (`6e-8` relative), so a face
 //!   exported from a modeller stays one facet while the smallest real bump does not.
 
-use std::collections::HashMap;
+use std::collections::{BTreeSet, HashMap};
 
 use nalgebra::{Point3, Vector3};
 
@@ -97,6 +97,9 @@ struct Quickhull<'a> {
     points: &'a [Point3<f64>],
     faces: Vec<Face>,
     edges: HashMap<(usize, usize), usize>,
+    /// The live faces with points outside them, so the next one is found without a scan over
+    /// every face ever made (which made the hull quadratic in its vertex count).
+    pending: BTreeSet<usize>,
     /// A point counts as outside a face when farther than this above it.
     epsilon: f64,
 }
@@ -145,6 +148,7 @@ impl<'a> Quickhull<'a> {
             points,
             faces: Vec::new(),
             edges: HashMap::new(),
+            pending: BTreeSet::new(),
             epsilon,
         };
         let centre = Point3::from((p(a).coords + p(b).coords + p(c).coords + p(d).coords) / 4.0);
@@ -205,15 +209,19 @@ impl<'a> Quickhull<'a> {
             }
             if let Some((f, _)) = best {
                 self.faces[f].outside.push(i);
+                self.pending.insert(f);
             }
         }
     }
 
-    /// Adds outside points, farthest first, until none is left.
+    /// Adds outside points until none is left: the farthest outside the first face (in the order
+    /// faces were made) that has any. O(n log n) for points spread over the hull: each step finds
+    /// that face in the pending set, not by a scan.
     fn run(&mut self) {
-        while let Some(f) = (0..self.faces.len())
-            .find(|&f| self.faces[f].alive && !self.faces[f].outside.is_empty())
-        {
+        while let Some(f) = self.pending.pop_first() {
+            if !self.faces[f].alive || self.faces[f].outside.is_empty() {
+                continue;
+            }
             let outside = &self.faces[f].outside;
             let mut k = 0;
             for (j, &i) in outside.iter().enumerate() {
@@ -222,6 +230,9 @@ impl<'a> Quickhull<'a> {
                 }
             }
             let apex = self.faces[f].outside.swap_remove(k);
+            if !self.faces[f].outside.is_empty() {
+                self.pending.insert(f);
+            }
             self.add_point(f, apex);
         }
     }
@@ -263,6 +274,7 @@ impl<'a> Quickhull<'a> {
             let face = &mut self.faces[f];
             face.alive = false;
             orphans.append(&mut face.outside);
+            self.pending.remove(&f);
             let corners = face.corners;
             for e in 0..3 {
                 self.edges.remove(&(corners[e], corners[(e + 1) % 3]));

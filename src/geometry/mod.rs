@@ -10,7 +10,8 @@
 //! - [`check_mesh`]: holes, non-manifold and misoriented edges, degenerate triangles, inversion,
 //!   crossing triangles and misnested shells (a winding number other than 0 or 1).
 //! - [`convex_hull`]: the exact convex hull of points, its coplanar triangles merged into
-//!   convex polygon facets with outward normals.
+//!   convex polygon facets with outward normals; [`HullWalk`], its extent along a direction by
+//!   walking its edges.
 //! - [`mass_properties`]: volume, centroid and second moment of the enclosed solid.
 //! - [`print_volumes`]: the solid and the sparse part of an FDM print of the solid.
 //! - [`winding_number`]: inside/outside test that tolerates small holes.
@@ -23,6 +24,7 @@ mod convex_hull;
 mod distance;
 mod field;
 mod gltf_buffers;
+mod hull_walk;
 mod load;
 mod load_files;
 mod load_gltf;
@@ -47,6 +49,7 @@ pub use distance::{
 };
 pub use field::DistanceGrid;
 pub(crate) use gltf_buffers::external_buffer_paths;
+pub use hull_walk::HullWalk;
 pub use load::{load_mesh, load_mesh_with, LoadError, LoadedMesh, MeshSelector};
 pub(crate) use load_files::FileReader;
 pub use load_files::{MeshLimits, ReadPolicy, DEFAULT_MAX_MESH_BYTES, DEFAULT_MAX_TRIANGLES};
