@@ -35,6 +35,7 @@ pub mod gcode;
 pub mod geometry;
 pub mod objective;
 pub mod optimize;
+mod parallel;
 pub mod sliced;
 pub mod spec;
 pub mod verify;

@@ -31,7 +31,6 @@ mod load_gltf;
 mod load_obj;
 mod mass;
 mod mesh;
-mod parallel;
 pub(crate) mod polygon;
 mod print;
 mod print_correction;

@@ -4,6 +4,7 @@
 use std::time::Instant;
 
 use super::problem::{Outcome, Problem, StartCapsule};
+use crate::parallel::map_each;
 
 /// A capsule grew when its optimized radius exceeds its starting radius by this factor.
 const GROWTH: f64 = 1.1;
@@ -83,17 +84,17 @@ pub fn run(
             solve,
             solves,
         };
+        // The round's solves are independent of each other: from the seeds, from where the last
+        // round left the survivors, and with one movable capsule left from each seed alone.
+        // They run side by side on every core, and are compared in that order, so the round's
+        // outcome is the one solving them one after another would give.
+        let mut starts = vec![current.clone()];
         starting(at(1));
-        let clock = Instant::now();
-        let mut outcome = problem.optimize(&current);
         if let Some(warm) = &warm {
             starting(at(2));
-            let resumed = problem.optimize(warm);
-            if better(&resumed, &outcome) {
-                outcome = resumed;
-            }
+            starts.push(warm.clone());
         }
-        // Down to one movable capsule, every seed can be tried on its own at little cost.
+        let mut alone_starts = Vec::new();
         if one_left {
             let first = solves - alone_seeds;
             for (index, alone) in seeds.iter().filter(|s| !s.pinned).enumerate() {
@@ -104,11 +105,27 @@ pub fn run(
                     continue;
                 }
                 starting(at(first + index + 1));
-                let tried = problem.optimize(&start);
-                if better(&tried, &outcome) {
-                    outcome = tried;
-                    current = start;
-                }
+                alone_starts.push(start.clone());
+                starts.push(start);
+            }
+        }
+        let clock = Instant::now();
+        let mut reached = map_each(starts.len(), |i| problem.optimize(&starts[i])).into_iter();
+        let mut outcome = reached.next().expect("the round's first solve");
+        if warm.is_some() {
+            let resumed = reached.next().expect("the resumed solve");
+            if better(&resumed, &outcome) {
+                outcome = resumed;
+            }
+        }
+        // Down to one movable capsule, every seed is tried on its own at little cost.
+        for (start, tried) in alone_starts.into_iter().zip(reached) {
+            if start == current {
+                continue;
+            }
+            if better(&tried, &outcome) {
+                outcome = tried;
+                current = start;
             }
         }
         if problem.is_cancelled() {

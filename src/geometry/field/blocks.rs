@@ -7,7 +7,7 @@ use nalgebra::{Point3, Vector3};
 use super::super::distance::point_triangle_distance;
 use super::super::tree::TriangleTree;
 use crate::cancel::Cancel;
-use crate::geometry::parallel::map_nodes;
+use crate::parallel::map_nodes;
 
 /// Nodes along each side of a block.
 const SIDE: usize = 4;

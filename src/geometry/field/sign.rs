@@ -1,7 +1,7 @@
 //! Signs of the grid nodes: winding numbers near the surface, flood-filled regions elsewhere.
 
 use super::fast_winding::WindingTree;
-use crate::geometry::parallel::map_nodes;
+use crate::parallel::map_nodes;
 
 /// `true` for every node inside the surface, in the grid's node order (x fastest).
 ///

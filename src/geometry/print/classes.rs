@@ -6,7 +6,7 @@ use std::ops::RangeInclusive;
 use super::cells::{CellBox, Overlay, Planes};
 use super::distance::squared_distance;
 use super::layout::Layout;
-use crate::geometry::parallel::map_each;
+use crate::parallel::map_each;
 
 /// What a raster cell of one layer holds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -33,7 +33,7 @@ mod layout;
 mod voids;
 mod window;
 
-use super::parallel::map_each;
+use crate::parallel::map_each;
 use cells::{CellBox, Overlay, Planes};
 use classes::Cell;
 use layout::Layout;

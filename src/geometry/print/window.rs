@@ -14,7 +14,7 @@ use super::cells::{CellBox, Overlay, Planes};
 use super::classes::{self, neighbours, Cell};
 use super::layout::Layout;
 use super::{Layers, Void};
-use crate::geometry::parallel::map_each;
+use crate::parallel::map_each;
 
 /// The small-region rule's verdict on a cell of one layer.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -1,5 +1,6 @@
 //! A map over indices on every available core, whose result does not depend on the thread
-//! count: the distance grid's nodes, the print raster's layers.
+//! count: the distance grid's nodes, the print raster's layers, the optimizer's independent
+//! solves.
 
 use std::thread;
 
@@ -9,12 +10,12 @@ const BLOCK: usize = 1024;
 /// `(0..count).map(f).collect()`, with blocks of `BLOCK` indices dealt round-robin to up to
 /// `available_parallelism` threads. Each element depends only on its index, so the result does
 /// not depend on the thread count.
-pub(super) fn map_nodes<T: Send>(count: usize, f: impl Fn(usize) -> T + Sync) -> Vec<T> {
+pub(crate) fn map_nodes<T: Send>(count: usize, f: impl Fn(usize) -> T + Sync) -> Vec<T> {
     map_blocks_on(threads(), BLOCK, count, f)
 }
 
 /// As [`map_nodes`], one index at a time: for few, costly elements (a print layer).
-pub(super) fn map_each<T: Send>(count: usize, f: impl Fn(usize) -> T + Sync) -> Vec<T> {
+pub(crate) fn map_each<T: Send>(count: usize, f: impl Fn(usize) -> T + Sync) -> Vec<T> {
     map_blocks_on(threads(), 1, count, f)
 }
 
