@@ -7,6 +7,7 @@ use serde::Serialize;
 use super::heuristic::Candidate;
 use super::problem::{Origin, Problem, StartCapsule};
 use crate::objective::InteriorDistance;
+use crate::parallel::map_each;
 
 /// The random starts for one capsule count and where the heuristic's result ranks among them.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -51,13 +52,20 @@ pub fn rank(
         let mut values = Vec::with_capacity(starts);
         let mut best: Option<(f64, Option<f64>)> = None;
         let mut meeting_goals = 0;
-        for _ in 0..starts {
-            if problem.is_cancelled() {
-                return rankings;
-            }
-            let mut start = pinned.clone();
-            start.extend((0..free).map(|_| random_capsule(problem, interior, &mut random)));
-            let outcome = problem.optimize(&start);
+        // Every start drawn first, in the generator's order; then solved side by side on every
+        // core (each solve depends only on its start, so the ranking is the same on any count).
+        let drawn: Vec<Vec<StartCapsule>> = (0..starts)
+            .map(|_| {
+                let mut start = pinned.clone();
+                start.extend((0..free).map(|_| random_capsule(problem, interior, &mut random)));
+                start
+            })
+            .collect();
+        let outcomes = map_each(drawn.len(), |i| problem.optimize(&drawn[i]));
+        if problem.is_cancelled() {
+            return rankings;
+        }
+        for outcome in outcomes {
             meeting_goals += usize::from(outcome.meets_goals);
             if best.is_none_or(|(v, _)| outcome.value < v) {
                 best = Some((outcome.value, outcome.worst_tilt_margin));
