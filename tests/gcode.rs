@@ -191,3 +191,24 @@ M486 S-1
     assert_eq!(read.objects.len(), 1);
     assert_eq!(read.objects[0].segments.len(), 4);
 }
+
+/// A file of many labelled objects, each printed twice (as a slicer prints objects layer by
+/// layer): every label one object, in first-seen order, with both of its moves.
+#[test]
+fn many_labels_each_one_object_in_first_seen_order() {
+    let objects = 20_000;
+    let mut program = String::from("M83\nG1 Z0.2\n");
+    for pass in 0..2 {
+        for i in 0..objects {
+            program.push_str(&format!(
+                "; printing object part{i} id:{i} copy 0\nG1 X{i} Y{pass}\nG1 X{i}.5 Y{pass} E0.1\n; stop printing object part{i} id:{i} copy 0\n"
+            ));
+        }
+    }
+    let read = read_program(&program, &ReadOptions::default()).unwrap();
+    assert_eq!(read.objects.len(), objects);
+    for (i, object) in read.objects.iter().enumerate() {
+        assert_eq!(object.name(), Some(format!("part{i}").as_str()));
+        assert_eq!(object.segments.len(), 2);
+    }
+}

@@ -1,6 +1,8 @@
 //! One pass over a G-code program: its extrusion segments by printed object, its layers and its
 //! pauses.
 
+use std::collections::HashMap;
+
 use nalgebra::{Point3, Vector3};
 
 use super::GcodeError;
@@ -249,6 +251,9 @@ struct State {
     relative_xyz: bool,
     relative_e: bool,
     objects: Vec<PrintedObject>,
+    /// Index into `objects` of each label seen (`None`: the unlabelled extrusions), so a file
+    /// of many objects is read in time linear in its length.
+    indices: HashMap<Option<String>, usize>,
     /// Index into `objects` of the labelled object printing now.
     current: Option<usize>,
     /// Whether any label was seen.
@@ -262,16 +267,15 @@ impl State {
     /// Index of the object labelled `label`, added when new.
     fn object(&mut self, label: Option<String>) -> usize {
         self.labelled |= label.is_some();
-        match self.objects.iter().position(|o| o.label == label) {
-            Some(index) => index,
-            None => {
-                self.objects.push(PrintedObject {
-                    label,
-                    segments: Vec::new(),
-                });
-                self.objects.len() - 1
-            }
+        if let Some(&index) = self.indices.get(&label) {
+            return index;
         }
+        self.indices.insert(label.clone(), self.objects.len());
+        self.objects.push(PrintedObject {
+            label,
+            segments: Vec::new(),
+        });
+        self.objects.len() - 1
     }
 
     fn pause(&mut self, line: usize) {
