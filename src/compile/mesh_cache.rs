@@ -7,20 +7,39 @@
 use std::collections::HashMap;
 use std::hash::{DefaultHasher, Hasher};
 use std::path::{Path, PathBuf};
+use std::rc::Rc;
 
 use crate::geometry::{check_mesh, external_buffer_paths, load_mesh_with, LoadError, MeshCheck};
-use crate::geometry::{FileReader, LoadedMesh, MeshSelector, ReadPolicy};
+use crate::geometry::{FileReader, LoadedMesh, MeshFile, MeshSelector, ReadPolicy};
 
 /// Loaded meshes and their checks. Entries not asked for since [`start_build`] can be dropped
 /// with [`prune`].
 ///
 /// [`start_build`]: MeshCache::start_build
 /// [`prune`]: MeshCache::prune
-#[derive(Debug, Default)]
+#[derive(Default)]
 pub struct MeshCache {
     entries: HashMap<(PathBuf, MeshSelector, u64), Entry>,
+    /// This build's hash of each file read, so that a file many components share (a rig) is
+    /// read and hashed once a build.
+    hashes: HashMap<PathBuf, Option<u64>>,
+    /// This build's files opened for a part not cached, so that a file of many parts is parsed
+    /// once a build, not once a part.
+    opened: HashMap<(PathBuf, u64), Rc<MeshFile>>,
     build: u64,
     loaded: usize,
+    /// Files opened since the build started.
+    files_opened: usize,
+}
+
+impl std::fmt::Debug for MeshCache {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("MeshCache")
+            .field("entries", &self.entries.len())
+            .field("build", &self.build)
+            .field("loaded", &self.loaded)
+            .finish()
+    }
 }
 
 #[derive(Debug)]
@@ -42,17 +61,27 @@ impl MeshCache {
     pub fn start_build(&mut self) {
         self.build += 1;
         self.loaded = 0;
+        self.files_opened = 0;
+        self.hashes.clear();
+        self.opened.clear();
     }
 
     /// Drops every entry not asked for since the last [`start_build`](Self::start_build).
     pub fn prune(&mut self) {
         let build = self.build;
         self.entries.retain(|_, entry| entry.used == build);
+        self.opened.clear();
     }
 
     /// Meshes parsed (not found in the cache) since the last [`start_build`](Self::start_build).
     pub fn loaded(&self) -> usize {
         self.loaded
+    }
+
+    /// Mesh files read and parsed since the last [`start_build`](Self::start_build): once per
+    /// file however many of its parts were loaded.
+    pub fn files_opened(&self) -> usize {
+        self.files_opened
     }
 
     /// Number of meshes held.
@@ -75,7 +104,11 @@ impl MeshCache {
         selector: &MeshSelector,
         policy: &ReadPolicy,
     ) -> Result<(LoadedMesh, MeshCheck), LoadError> {
-        let Some(hash) = content_hash(path, policy) else {
+        let hash = *self
+            .hashes
+            .entry(path.to_path_buf())
+            .or_insert_with(|| content_hash(path, policy));
+        let Some(hash) = hash else {
             // Unreadable or not allowed: the loader says why.
             self.loaded += 1;
             let mesh = load_mesh_with(path, selector, policy)?;
@@ -89,7 +122,16 @@ impl MeshCache {
             return Ok((entry.mesh.clone(), entry.check.clone()));
         }
         self.loaded += 1;
-        let mesh = load_mesh_with(path, selector, policy)?;
+        let file = match self.opened.get(&(path.to_path_buf(), hash)) {
+            Some(file) => file.clone(),
+            None => {
+                self.files_opened += 1;
+                let file = Rc::new(MeshFile::open(path, policy)?);
+                self.opened.insert((path.to_path_buf(), hash), file.clone());
+                file
+            }
+        };
+        let mesh = file.load(selector)?;
         let check = check_mesh(&mesh.mesh);
         self.entries.insert(
             key,
@@ -148,6 +190,48 @@ mod tests {
         assert_eq!(cache.len(), 2);
         cache.prune();
         assert_eq!(cache.len(), 1);
+    }
+
+    #[test]
+    fn a_file_of_several_parts_is_parsed_once_a_build() {
+        let folder = tempfile::tempdir().unwrap();
+        let path = folder.path().join("two.obj");
+        let second = TETRAHEDRON
+            .lines()
+            .map(|line| match line.strip_prefix("f ") {
+                Some(face) => {
+                    let shifted: Vec<String> = face
+                        .split(' ')
+                        .map(|i| (i.parse::<usize>().unwrap() + 4).to_string())
+                        .collect();
+                    format!("f {}\n", shifted.join(" "))
+                }
+                None => format!("{}\n", line.replace("v 0 0 0", "v 5 0 0")),
+            })
+            .collect::<String>();
+        std::fs::write(&path, format!("o a\n{TETRAHEDRON}o b\n{second}")).unwrap();
+        let policy = ReadPolicy::within(folder.path());
+        let mut cache = MeshCache::new();
+        cache.start_build();
+        let part = |name: &str| MeshSelector::ObjObject(name.to_string());
+        let (a, _) = cache.load(&path, &part("a"), &policy).unwrap();
+        let (b, _) = cache.load(&path, &part("b"), &policy).unwrap();
+        assert_eq!(a.mesh.triangles.len(), 4);
+        assert_eq!(b.mesh.triangles.len(), 4);
+        assert_ne!(a.mesh.positions, b.mesh.positions);
+        assert_eq!((cache.loaded(), cache.files_opened()), (2, 1));
+        std::fs::write(
+            &path,
+            format!(
+                "o a\n{}o b\n{second}",
+                TETRAHEDRON.replace("v 0 1 0", "v 0 2 0")
+            ),
+        )
+        .unwrap();
+        cache.start_build();
+        cache.load(&path, &part("a"), &policy).unwrap();
+        cache.load(&path, &part("b"), &policy).unwrap();
+        assert_eq!((cache.loaded(), cache.files_opened()), (2, 1));
     }
 
     #[test]

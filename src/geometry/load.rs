@@ -6,8 +6,9 @@ use std::path::{Path, PathBuf};
 use nalgebra::Point3;
 
 use super::load_files::{FileReader, MeshLimits, ReadPolicy};
+use super::load_gltf::OpenedGltf;
+use super::load_obj;
 use super::mesh::TriMesh;
-use super::{load_gltf, load_obj};
 
 /// Which part of a mesh file to load.
 ///
@@ -188,31 +189,66 @@ pub fn load_mesh_with(
     selector: &MeshSelector,
     policy: &ReadPolicy,
 ) -> Result<LoadedMesh, LoadError> {
-    let extension = path
-        .extension()
-        .map(|e| e.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let format = match extension.to_ascii_lowercase().as_str() {
-        "obj" => Format::Obj,
-        "gltf" | "glb" => Format::Gltf,
-        _ => return Err(LoadError::UnknownFormat { extension }),
-    };
-    let mut reader = FileReader::new(policy);
-    let bytes = reader.read(path)?;
-    let (raw, short_faces) = match format {
-        Format::Obj => load_obj::parse_obj(&bytes, selector, &policy.limits)?,
-        Format::Gltf => {
-            let base = path.parent().unwrap_or_else(|| Path::new("."));
-            (
-                load_gltf::parse_gltf(&bytes, base, selector, &mut reader)?,
-                Vec::new(),
-            )
-        }
-    };
-    Ok(LoadedMesh {
-        mesh: finish(raw)?,
-        short_faces,
-    })
+    MeshFile::open(path, policy)?.load(selector)
+}
+
+/// A mesh file read (and a glTF file parsed) once, for loading several parts of it: the parts
+/// of a rig, or the objects of one OBJ file that several components name.
+pub struct MeshFile {
+    contents: Contents,
+    /// The limits of the policy the file was opened with, which every part is held to.
+    limits: MeshLimits,
+}
+
+/// What a [`MeshFile`] keeps between parts.
+enum Contents {
+    /// An OBJ file's bytes (each part is parsed from them).
+    Obj(Vec<u8>),
+    /// A glTF file's document, buffers and node hierarchy.
+    Gltf(Box<OpenedGltf>),
+}
+
+impl MeshFile {
+    /// Reads the `.obj`, `.gltf` or `.glb` file at `path` (extension compared
+    /// case-insensitively), and parses a glTF file, reading only what `policy` allows
+    /// ([`load_mesh_with`]).
+    pub fn open(path: &Path, policy: &ReadPolicy) -> Result<MeshFile, LoadError> {
+        let extension = path
+            .extension()
+            .map(|e| e.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let format = match extension.to_ascii_lowercase().as_str() {
+            "obj" => Format::Obj,
+            "gltf" | "glb" => Format::Gltf,
+            _ => return Err(LoadError::UnknownFormat { extension }),
+        };
+        let mut reader = FileReader::new(policy);
+        let bytes = reader.read(path)?;
+        let contents = match format {
+            Format::Obj => Contents::Obj(bytes),
+            Format::Gltf => {
+                let base = path.parent().unwrap_or_else(|| Path::new("."));
+                Contents::Gltf(Box::new(OpenedGltf::open(&bytes, base, &mut reader)?))
+            }
+        };
+        Ok(MeshFile {
+            contents,
+            limits: policy.limits,
+        })
+    }
+
+    /// The part `selector` picks (the whole file for [`MeshSelector::Whole`]), as
+    /// [`load_mesh_with`] describes, within the limits it was opened with.
+    pub fn load(&self, selector: &MeshSelector) -> Result<LoadedMesh, LoadError> {
+        let (raw, short_faces) = match &self.contents {
+            Contents::Obj(bytes) => load_obj::parse_obj(bytes, selector, &self.limits)?,
+            Contents::Gltf(opened) => (opened.part(selector)?, Vec::new()),
+        };
+        Ok(LoadedMesh {
+            mesh: finish(raw)?,
+            short_faces,
+        })
+    }
 }
 
 /// Fails with [`LoadError::TooMany`] when `count` triangles pass `limits`.

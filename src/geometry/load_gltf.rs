@@ -22,56 +22,81 @@ pub(super) fn err(message: impl Into<String>) -> LoadError {
     }
 }
 
-/// Parses a glTF or GLB file. `base` is the folder that relative buffer URIs are resolved
-/// against; `reader` reads them, within its policy and budget. Every primitive instance counts
-/// against the triangle limit (at least one each), and its vertex and index counts are checked
-/// against the limits before its data is decoded.
-///
-/// - `Whole`: every mesh instance of the default scene (or the first scene; or, without scenes,
-///   of every root node), each in its node's world frame.
-/// - A name: the node with that name, in its world frame (its own mesh, or when it has none, the
-///   meshes of all its descendants, each in its world frame); failing that, the mesh with that
-///   name, untransformed.
-pub(crate) fn parse_gltf(
-    bytes: &[u8],
-    base: &Path,
-    selector: &MeshSelector,
-    reader: &mut FileReader,
-) -> Result<RawMesh, LoadError> {
-    let (document, buffers) = open_document(bytes, base, reader)?;
-    let limits = *reader.limits();
-    let hierarchy = Hierarchy::new(&document)?;
+/// A glTF or GLB file parsed once (its document, buffers and node hierarchy), for taking any
+/// number of its parts without parsing it again: a rig of thousands of parts is parsed once,
+/// not once a part.
+pub(crate) struct OpenedGltf {
+    document: Document,
+    buffers: Vec<Vec<u8>>,
+    hierarchy: Hierarchy,
+    limits: MeshLimits,
+}
 
-    let instances = match selector.part_name() {
-        None => match document
-            .default_scene()
-            .or_else(|| document.scenes().next())
-        {
-            Some(scene) => {
-                hierarchy.mesh_instances(&scene.nodes().map(|n| n.index()).collect::<Vec<_>>())
-            }
-            None => hierarchy.mesh_instances(&hierarchy.roots),
-        },
-        Some(name) => select_named(&document, &hierarchy, name)?,
-    };
-
-    let mut raw = RawMesh {
-        positions: Vec::new(),
-        triangles: Vec::new(),
-    };
-    let mut work = 0usize;
-    for (mesh_index, transform) in instances {
-        let Some(mesh) = document.meshes().nth(mesh_index) else {
-            return Err(err(format!("mesh {mesh_index} does not exist")));
-        };
-        for primitive in mesh.primitives() {
-            work += 1;
-            check_triangles(work, &limits)?;
-            append_primitive(&primitive, &transform, &buffers, &limits, &mut raw)?;
-            work = work.max(raw.triangles.len());
-        }
+impl OpenedGltf {
+    /// The file of `bytes`, its buffers read through `reader` (relative URIs against `base`,
+    /// within the reader's policy and budget).
+    pub(crate) fn open(
+        bytes: &[u8],
+        base: &Path,
+        reader: &mut FileReader,
+    ) -> Result<OpenedGltf, LoadError> {
+        let (document, buffers) = open_document(bytes, base, reader)?;
+        let hierarchy = Hierarchy::new(&document)?;
+        Ok(OpenedGltf {
+            document,
+            buffers,
+            hierarchy,
+            limits: *reader.limits(),
+        })
     }
-    Ok(raw)
+
+    /// The part `selector` picks. Every primitive instance counts against the triangle limit
+    /// (at least one each), and its vertex and index counts are checked against the limits
+    /// before its data is decoded.
+    ///
+    /// - `Whole`: every mesh instance of the default scene (or the first scene; or, without
+    ///   scenes, of every root node), each in its node's world frame.
+    /// - A name: the node with that name, in its world frame (its own mesh, or when it has
+    ///   none, the meshes of all its descendants, each in its world frame); failing that, the
+    ///   mesh with that name, untransformed.
+    pub(crate) fn part(&self, selector: &MeshSelector) -> Result<RawMesh, LoadError> {
+        let (document, hierarchy) = (&self.document, &self.hierarchy);
+        let instances = match selector.part_name() {
+            None => match document
+                .default_scene()
+                .or_else(|| document.scenes().next())
+            {
+                Some(scene) => {
+                    hierarchy.mesh_instances(&scene.nodes().map(|n| n.index()).collect::<Vec<_>>())
+                }
+                None => hierarchy.mesh_instances(&hierarchy.roots),
+            },
+            Some(name) => select_named(document, hierarchy, name)?,
+        };
+        let mut raw = RawMesh {
+            positions: Vec::new(),
+            triangles: Vec::new(),
+        };
+        let mut work = 0usize;
+        for (mesh_index, transform) in instances {
+            let Some(mesh) = document.meshes().nth(mesh_index) else {
+                return Err(err(format!("mesh {mesh_index} does not exist")));
+            };
+            for primitive in mesh.primitives() {
+                work += 1;
+                check_triangles(work, &self.limits)?;
+                append_primitive(
+                    &primitive,
+                    &transform,
+                    &self.buffers,
+                    &self.limits,
+                    &mut raw,
+                )?;
+                work = work.max(raw.triangles.len());
+            }
+        }
+        Ok(raw)
+    }
 }
 
 /// The validated document of a glTF or GLB file and its buffers, read through `reader`

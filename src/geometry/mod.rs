@@ -49,7 +49,7 @@ pub use distance::{
 pub use field::DistanceGrid;
 pub(crate) use gltf_buffers::external_buffer_paths;
 pub use hull_walk::HullWalk;
-pub use load::{load_mesh, load_mesh_with, LoadError, LoadedMesh, MeshSelector};
+pub use load::{load_mesh, load_mesh_with, LoadError, LoadedMesh, MeshFile, MeshSelector};
 pub(crate) use load_files::FileReader;
 pub use load_files::{MeshLimits, ReadPolicy, DEFAULT_MAX_MESH_BYTES, DEFAULT_MAX_TRIANGLES};
 pub use mass::{mass_properties, MassProperties};
