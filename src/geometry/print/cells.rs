@@ -69,12 +69,12 @@ impl CellBox {
             .then(|| (j - self.j.start) * self.width() + (i - self.i.start))
     }
 
-    /// The raster's (`i`, `j`) of the box's cell `local`.
-    pub(super) fn cell(&self, local: usize) -> (usize, usize) {
-        (
-            self.i.start + local % self.width(),
-            self.j.start + local / self.width(),
-        )
+    /// The raster's (`i`, `j`) of every cell of the box, in the box's order (row by row), without
+    /// the division per cell that finding one cell's (`i`, `j`) from its index takes.
+    pub(super) fn cells(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        self.j
+            .clone()
+            .flat_map(move |j| self.i.clone().map(move |i| (i, j)))
     }
 }
 

@@ -75,9 +75,9 @@ pub(super) fn classify(
                 .iter()
                 .any(|cells| cells.is_none_or(|cells| !cells[a]))
         };
-        (0..valid.len())
-            .map(|local| {
-                let (i, j) = valid.cell(local);
+        valid
+            .cells()
+            .map(|(i, j)| {
                 let a = area.local(i, j).unwrap_or_default();
                 if !here[a] {
                     return Cell::Outside;

@@ -109,9 +109,8 @@ impl Layout {
         }
     }
 
-    /// The print-frame point at cell `index`'s centre and height `z`.
-    pub(super) fn point(&self, index: usize, z: f64) -> Point3<f64> {
-        let (i, j) = (index % self.columns, index / self.columns);
+    /// The print-frame point at the centre of cell (`i`, `j`) and height `z`.
+    pub(super) fn point_at(&self, i: usize, j: usize, z: f64) -> Point3<f64> {
         Point3::new(
             self.origin.0 + (i as f64 + 0.5) * self.cell,
             self.origin.1 + (j as f64 + 0.5) * self.cell,

@@ -242,11 +242,13 @@ impl Totals {
     fn add_layer(&mut self, layout: &Layout, k: usize, class: &[Cell]) {
         let z = layout.slice_height(k);
         let cell_volume = layout.cell * layout.cell * layout.thickness(k);
-        for (index, kind) in class.iter().enumerate() {
-            match kind {
-                Cell::Solid => self.solid.add(cell_volume, &layout.point(index, z)),
-                Cell::Sparse => self.sparse.add(cell_volume, &layout.point(index, z)),
-                Cell::Outside => {}
+        for (j, row) in class.chunks(layout.columns).enumerate() {
+            for (i, kind) in row.iter().enumerate() {
+                match kind {
+                    Cell::Solid => self.solid.add(cell_volume, &layout.point_at(i, j, z)),
+                    Cell::Sparse => self.sparse.add(cell_volume, &layout.point_at(i, j, z)),
+                    Cell::Outside => {}
+                }
             }
         }
     }

@@ -49,9 +49,8 @@ impl Layout {
             };
             for j in cover.j {
                 for i in cover.i.clone() {
-                    let index = j * self.columns + i;
                     if let Some(local) = area.local(i, j) {
-                        if !cells[local] && void.contains(&self.point(index, z)) {
+                        if !cells[local] && void.contains(&self.point_at(i, j, z)) {
                             cells[local] = true;
                         }
                     }
@@ -95,15 +94,12 @@ impl Layout {
         let Some(around) = around else {
             return near;
         };
-        let marked: Vec<bool> = (0..around.len())
-            .map(|local| {
-                let (i, j) = around.cell(local);
-                area.local(i, j).is_some_and(|a| hole[a])
-            })
+        let marked: Vec<bool> = around
+            .cells()
+            .map(|(i, j)| area.local(i, j).is_some_and(|a| hole[a]))
             .collect();
         let distance = squared_distance(&marked, around.width(), around.height());
-        for (local, (d, &h)) in distance.iter().zip(&marked).enumerate() {
-            let (i, j) = around.cell(local);
+        for ((i, j), (d, &h)) in around.cells().zip(distance.iter().zip(&marked)) {
             if !h && *d < reach * reach {
                 if let Some(a) = area.local(i, j) {
                     near[a] = true;
@@ -116,16 +112,12 @@ impl Layout {
 
 /// The smallest box holding every marked cell of `cells` (over `area`); `None` without one.
 fn holding(cells: &[bool], area: &CellBox) -> Option<CellBox> {
-    cells
-        .iter()
-        .enumerate()
+    area.cells()
+        .zip(cells)
         .filter(|(_, &marked)| marked)
-        .map(|(local, _)| {
-            let (i, j) = area.cell(local);
-            CellBox {
-                i: i..i + 1,
-                j: j..j + 1,
-            }
+        .map(|((i, j), _)| CellBox {
+            i: i..i + 1,
+            j: j..j + 1,
         })
         .reduce(|a, b| a.union(&b))
 }

@@ -83,17 +83,19 @@ impl Layers {
         let first = *crossed.start();
         let cut: Vec<(Vec<bool>, Vec<bool>)> = map_each(crossed.count(), |offset| {
             let k = first + offset;
-            let bare = |layer: &[bool], local: usize| {
-                let (i, j) = area.cell(local);
-                layer[j * layout.columns + i]
+            let bare = |layer: &[bool]| -> Vec<bool> {
+                area.cells()
+                    .map(|(i, j)| layer[j * layout.columns + i])
+                    .collect()
             };
+            let (bare_inside, bare_near) = (bare(&self.inside[k]), bare(&self.near[k]));
             let mut hole = layout.in_voids(k, voids, area);
-            for (local, h) in hole.iter_mut().enumerate() {
-                *h &= bare(&self.inside[k], local);
+            for (h, &inside) in hole.iter_mut().zip(&bare_inside) {
+                *h &= inside;
             }
             let around = layout.near_hole(&hole, area);
-            let inside = (0..area.len()).map(|l| bare(&self.inside[k], l) && !hole[l]);
-            let near = (0..area.len()).map(|l| bare(&self.near[k], l) || around[l]);
+            let inside = bare_inside.iter().zip(&hole).map(|(&b, &h)| b && !h);
+            let near = bare_near.iter().zip(&around).map(|(&b, &a)| b || a);
             (inside.collect(), near.collect())
         });
         let (inside, near) = cut.into_iter().unzip();
@@ -113,12 +115,12 @@ impl Layers {
         let columns = layout.columns;
         let (bare_unsettled, bare) = (&self.unsettled[k], &self.classes[k]);
         let at = |index: usize| (index % columns, index / columns);
-        let before_rule = |index: usize| {
-            let (i, j) = at(index);
-            valid
-                .local(i, j)
-                .map_or(bare_unsettled[index], |local| unsettled[local])
-        };
+        // Each cell's class before the rule: the bare layer's, `unsettled` over `valid`.
+        let mut rule_input = bare_unsettled.clone();
+        for ((i, j), &cell) in valid.cells().zip(unsettled) {
+            rule_input[j * columns + i] = cell;
+        }
+        let before_rule = |index: usize| rule_input[index];
         let mut verdict = vec![Verdict::Unseen; bare.len()];
         // The cells outside `valid` whose class the rule settles here.
         let mut settled = Vec::new();
@@ -127,8 +129,7 @@ impl Layers {
             let edge = valid.grown(1, layout);
             let cell_area = layout.cell * layout.cell;
             let mut flood = Flood::default();
-            for local in 0..edge.len() {
-                let (i, j) = edge.cell(local);
+            for (i, j) in edge.cells() {
                 let start = j * columns + i;
                 if verdict[start] == Verdict::Unseen && before_rule(start) == Cell::Sparse {
                     let region = flood.region(layout, start, &before_rule, &mut verdict, |n| {
@@ -146,8 +147,7 @@ impl Layers {
                 |index: usize| bare_unsettled[index] == Cell::Sparse && bare[index] == Cell::Solid;
             let mut seen = vec![false; bare.len()];
             let mut stack = Vec::new();
-            for local in 0..edge.len() {
-                let (i, j) = edge.cell(local);
+            for (i, j) in edge.cells() {
                 let start = j * columns + i;
                 if valid.contains(i, j) || seen[start] || !filled(start) {
                     continue;
@@ -170,25 +170,20 @@ impl Layers {
                 }
             }
         }
-        let class = |index: usize| match verdict[index] {
+        // A cell the rule reached takes its verdict; one it did not keeps its class before the
+        // rule inside `valid`, the bare layer's outside.
+        let class = |index: usize, unreached: Cell| match verdict[index] {
             Verdict::Small => Cell::Solid,
             Verdict::Large => Cell::Sparse,
-            Verdict::Unseen | Verdict::Queued => {
-                let (i, j) = at(index);
-                if valid.contains(i, j) {
-                    before_rule(index)
-                } else {
-                    bare[index]
-                }
-            }
+            Verdict::Unseen | Verdict::Queued => unreached,
         };
         let mut classes = bare.clone();
-        let inner = (0..valid.len()).map(|local| {
-            let (i, j) = valid.cell(local);
-            j * columns + i
-        });
-        for index in inner.chain(settled) {
-            classes[index] = class(index);
+        for (i, j) in valid.cells() {
+            let index = j * columns + i;
+            classes[index] = class(index, before_rule(index));
+        }
+        for index in settled {
+            classes[index] = class(index, bare[index]);
         }
         classes
     }
