@@ -2,6 +2,8 @@
 //! capsules, and enumerating the stable states of a hanging pose with up to 12, each beside a baseline (one pass summing every vertex coordinate) measured in the
 //! same process so results can be read as ratios. `docs/benchmarks.md` describes the figures.
 //!
+//! The convex hull of the same meshes and of a 1M-triangle sphere (`-- hull`).
+//!
 //! Run with `cargo bench --bench pipeline`. Meshes come from `../shared/meshes` beside the
 //! checkout; a mesh that is missing is skipped with a note. The stable states use the example
 //! hammer in `examples/meshes` (`cargo bench --bench pipeline -- equilibria`).
@@ -15,8 +17,8 @@ use std::time::Duration;
 use ballast::balance::{evaluate_pose, ComponentBody};
 use ballast::design::{Design, PlacedCapsule};
 use ballast::geometry::{
-    distance_to_point, load_mesh, mass_properties, DistanceGrid, MeshSelector, Skeleton,
-    TriangleTree,
+    convex_hull, distance_to_point, load_mesh, mass_properties, DistanceGrid, MeshSelector,
+    Skeleton, TriMesh, TriangleTree,
 };
 use ballast::spec::model::{
     Axis, Ball, Component, Goal, Infill, Material, MeshFrame, Output, Pose, Print, Project,
@@ -366,5 +368,60 @@ fn pipeline(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, pipeline, equilibria);
+/// The vertices of a UV sphere of radius 40 with `rings` rings of `around` points (and its two
+/// poles): `2 × rings × around` triangles, every vertex on the convex hull, the hull's worst
+/// case for the work per point.
+fn sphere(rings: usize, around: usize) -> TriMesh {
+    let mut positions = vec![Point3::new(0.0, 0.0, 40.0)];
+    for ring in 1..rings {
+        let theta = std::f64::consts::PI * ring as f64 / rings as f64;
+        for k in 0..around {
+            let phi = std::f64::consts::TAU * k as f64 / around as f64;
+            positions.push(Point3::new(
+                40.0 * theta.sin() * phi.cos(),
+                40.0 * theta.sin() * phi.sin(),
+                40.0 * theta.cos(),
+            ));
+        }
+    }
+    positions.push(Point3::new(0.0, 0.0, -40.0));
+    TriMesh {
+        positions,
+        triangles: Vec::new(),
+    }
+}
+
+/// The convex hull of the hammers' vertices and of a 1M-triangle sphere's (every vertex on the
+/// hull), beside the baseline: that the hull of a million-triangle mesh finishes, and how its
+/// time grows with the points (O(n log n)).
+fn hull(c: &mut Criterion) {
+    let mut sets = vec![("sphere_1m".to_string(), sphere(708, 708))];
+    for (label, relative) in MESHES {
+        match load_mesh(&shared_mesh(relative), &MeshSelector::Whole) {
+            Ok(mesh) => sets.push((label.to_string(), mesh)),
+            Err(error) => eprintln!("note: skipping {label}: {error}"),
+        }
+    }
+    let mut group = c.benchmark_group("hull");
+    group
+        .sample_size(10)
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(5));
+    for (label, mesh) in &sets {
+        let facets = convex_hull(&mesh.positions).map_or(0, |hull| hull.facets.len());
+        eprintln!(
+            "{label}: {} points, {facets} hull facets",
+            mesh.positions.len()
+        );
+        group.bench_function(format!("{label}/baseline"), |b| {
+            b.iter(|| sum_coordinates(black_box(mesh)))
+        });
+        group.bench_function(format!("{label}/convex_hull"), |b| {
+            b.iter(|| convex_hull(black_box(&mesh.positions)).map(|h| h.facets.len()))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, pipeline, equilibria, hull);
 criterion_main!(benches);

@@ -13,6 +13,7 @@
 //!   exported from a modeller stays one facet while the smallest real bump does not.
 
 use std::collections::{BTreeSet, HashMap};
+use std::hash::{BuildHasherDefault, Hasher};
 
 use nalgebra::{Point3, Vector3};
 
@@ -92,11 +93,40 @@ struct Face {
     seen_by: Option<usize>,
 }
 
+/// A hasher for pairs of point indices: a multiply and a rotation per word. The edge map is the
+/// hull's busiest structure, and its keys are small integers no input chooses to collide (the
+/// standard hasher's resistance to chosen keys costs several times more here).
+#[derive(Default)]
+struct EdgeHasher(u64);
+
+impl Hasher for EdgeHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        for &byte in bytes {
+            self.write_u64(u64::from(byte));
+        }
+    }
+
+    fn write_u64(&mut self, word: u64) {
+        self.0 = (self.0.rotate_left(5) ^ word).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+
+    fn write_usize(&mut self, word: usize) {
+        self.write_u64(word as u64);
+    }
+}
+
+/// Each directed edge (its two corners) of the hull under construction, to its triangle.
+type Edges = HashMap<(usize, usize), usize, BuildHasherDefault<EdgeHasher>>;
+
 /// Quickhull's state: triangles, and each directed edge's triangle.
 struct Quickhull<'a> {
     points: &'a [Point3<f64>],
     faces: Vec<Face>,
-    edges: HashMap<(usize, usize), usize>,
+    edges: Edges,
     /// The live faces with points outside them, so the next one is found without a scan over
     /// every face ever made (which made the hull quadratic in its vertex count).
     pending: BTreeSet<usize>,
@@ -147,7 +177,7 @@ impl<'a> Quickhull<'a> {
         let mut hull = Quickhull {
             points,
             faces: Vec::new(),
-            edges: HashMap::new(),
+            edges: Edges::default(),
             pending: BTreeSet::new(),
             epsilon,
         };
