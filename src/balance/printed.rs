@@ -10,7 +10,7 @@
 //! ([`capsule_shell`](super::capsule_shell)) and is corrected towards this material between
 //! solves.
 
-use std::sync::OnceLock;
+use std::sync::{Arc, OnceLock};
 
 use nalgebra::Rotation3;
 
@@ -59,7 +59,7 @@ pub struct PartPrints {
     /// The print settings and the mass model.
     pub print: Print,
     /// Per component, its layers, once sliced.
-    rasters: Vec<OnceLock<PrintRaster>>,
+    rasters: Vec<OnceLock<Arc<PrintRaster>>>,
 }
 
 impl PartPrints {
@@ -79,6 +79,19 @@ impl PartPrints {
             print,
             rasters,
         }
+    }
+
+    /// These prints with each component's layers already sliced where `rasters` (in component
+    /// order) holds them: sliced with these print settings in this orientation, so each cut
+    /// gives the bits slicing it here would.
+    pub fn with_rasters(self, rasters: Vec<Option<Arc<PrintRaster>>>) -> PartPrints {
+        for (slot, raster) in self.rasters.iter().zip(rasters) {
+            if let Some(raster) = raster {
+                // Each slot is new and empty: setting it cannot fail.
+                let _ = slot.set(raster);
+            }
+        }
+        self
     }
 
     /// Per component, its material with `design`'s voids cut (solid and sparse parts; the sparse
@@ -127,7 +140,9 @@ impl PartPrints {
         match self.print.model {
             MassModel::Fdm => {
                 let raster = self.rasters.get(index).map(|raster| {
-                    raster.get_or_init(|| PrintRaster::new(mesh, &slicing(&self.print, to_print)))
+                    raster.get_or_init(|| {
+                        Arc::new(PrintRaster::new(mesh, &slicing(&self.print, to_print)))
+                    })
                 });
                 let sliced = match raster {
                     Some(raster) => raster.volumes_with_voids(voids),

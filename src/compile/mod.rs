@@ -307,7 +307,13 @@ pub fn compile_with(
     problems.extend(corrected.refused);
     // A refused correction is in no material: neither in the bare prints nor in any cut.
     let (prints, corrections) = (corrected.prints, corrected.applied);
-    let parts = part_prints(&project, prints, &orientations, &corrections);
+    // Each part as the cache sliced it for its volumes, for cutting every design's voids.
+    let rasters = meshes
+        .iter()
+        .zip(&orientations)
+        .map(|(mesh, o)| workspace.prints.raster(&project, mesh, o.to_print))
+        .collect();
+    let parts = part_prints(&project, prints, &orientations, &corrections).with_rasters(rasters);
     let print = print_setup(&project, &orientations);
     let (design, source, optimization) = match (&project.optimize, &options.optimize) {
         (None, _) => (written, DesignSource::Written, None),

@@ -1,21 +1,39 @@
-//! `PrintCache`: each component's print volumes kept between builds of one process, so a watch
-//! session slices an unchanged mesh with unchanged print settings and orientation once.
+//! `PrintCache`: each component's sliced print kept between builds of one process, so a watch
+//! session slices an unchanged mesh with unchanged print settings and orientation once, and a
+//! build slices each part once: for its bare volumes and for cutting every design's voids.
+
+use std::sync::Arc;
 
 use nalgebra::Rotation3;
 
 use crate::balance::{component_print, slicing};
-use crate::geometry::{mass_properties, PrintVolumes, Slicing, TriMesh};
+use crate::geometry::{mass_properties, PrintRaster, PrintVolumes, Slicing, TriMesh};
 use crate::optimize::content_hash;
 use crate::spec::model::{MassModel, Project};
 
-/// Print volumes by mesh content and slicing. Entries not asked for since
+/// Sliced prints and their volumes by mesh content and slicing. Entries not asked for since
 /// [`start_build`](Self::start_build) are dropped by [`prune`](Self::prune).
 #[derive(Debug, Default)]
 pub struct PrintCache {
-    /// (mesh content hash, slicing with the print orientation, volumes, asked for in this build), in insertion order.
-    entries: Vec<(u64, Slicing, PrintVolumes, bool)>,
+    /// In insertion order.
+    entries: Vec<Entry>,
     /// Meshes sliced (not found) since the last `start_build`.
     sliced: usize,
+}
+
+/// One mesh sliced with one slicing.
+#[derive(Debug)]
+struct Entry {
+    /// The mesh's content hash.
+    mesh: u64,
+    /// The slicing, the print orientation in it.
+    slicing: Slicing,
+    /// The sliced print, for cutting designs' voids from.
+    raster: Arc<PrintRaster>,
+    /// Its volumes before a void is cut.
+    volumes: PrintVolumes,
+    /// Asked for in this build.
+    used: bool,
 }
 
 impl PrintCache {
@@ -36,32 +54,58 @@ impl PrintCache {
         if project.print.model == MassModel::Uniform {
             return component_print(project, mesh, &mass_properties(mesh), to_print);
         }
-        let key = (content_hash(mesh), slicing(&project.print, to_print));
-        if let Some(entry) = self
-            .entries
-            .iter_mut()
-            .find(|entry| (entry.0, entry.1) == key)
-        {
-            entry.3 = true;
-            return entry.2;
+        let (hash, slicing) = (content_hash(mesh), slicing(&project.print, to_print));
+        if let Some(entry) = self.find(hash, &slicing) {
+            entry.used = true;
+            return entry.volumes;
         }
-        let volumes = component_print(project, mesh, &mass_properties(mesh), to_print);
+        // The same slicing `component_print` does, kept whole.
+        let raster = PrintRaster::new(mesh, &slicing);
+        let volumes = raster.volumes();
         self.sliced += 1;
-        self.entries.push((key.0, key.1, volumes, true));
+        self.entries.push(Entry {
+            mesh: hash,
+            slicing,
+            raster: Arc::new(raster),
+            volumes,
+            used: true,
+        });
         volumes
+    }
+
+    /// The sliced print of `mesh` printed turned by `to_print` with `project`'s settings, when
+    /// [`volumes`](Self::volumes) sliced it (only under the `fdm` model).
+    pub fn raster(
+        &mut self,
+        project: &Project,
+        mesh: &TriMesh,
+        to_print: Rotation3<f64>,
+    ) -> Option<Arc<PrintRaster>> {
+        if project.print.model == MassModel::Uniform {
+            return None;
+        }
+        let (hash, slicing) = (content_hash(mesh), slicing(&project.print, to_print));
+        self.find(hash, &slicing).map(|entry| entry.raster.clone())
+    }
+
+    /// The entry of this mesh and slicing.
+    fn find(&mut self, mesh: u64, slicing: &Slicing) -> Option<&mut Entry> {
+        self.entries
+            .iter_mut()
+            .find(|entry| entry.mesh == mesh && entry.slicing == *slicing)
     }
 
     /// Marks the start of a build: [`prune`](Self::prune) keeps only what is asked for from now.
     pub fn start_build(&mut self) {
         self.sliced = 0;
         for entry in &mut self.entries {
-            entry.3 = false;
+            entry.used = false;
         }
     }
 
     /// Drops every entry not asked for since the last [`start_build`](Self::start_build).
     pub fn prune(&mut self) {
-        self.entries.retain(|entry| entry.3);
+        self.entries.retain(|entry| entry.used);
     }
 
     /// Meshes sliced, not found in the cache, since the last [`start_build`](Self::start_build).
