@@ -31,9 +31,8 @@ pub use files::{is_change, referenced_files, touched, watch_key, watched_folders
 
 /// How long the file system must be quiet before a burst of events becomes one rebuild: long
 /// enough to cover an editor's temp-file-and-rename save or a tool writing several files (each
-/// takes a few milliseconds), short enough not to be felt: a goal edit's glTF is back within
-/// 100 ms of the save, this wait included. A burst that outlasts it starts a rebuild that its
-/// next event cancels.
+/// takes a few milliseconds), short enough not to be felt. A burst that outlasts it starts a
+/// rebuild that its next event cancels.
 pub const DEBOUNCE: Duration = Duration::from_millis(40);
 
 /// The exit status when Ctrl-C is pressed a second time while a rebuild runs: stop at once.
