@@ -117,7 +117,7 @@ pub fn choose(
                 facet,
                 rank: rank(&rotation),
                 stable: facet_margin(&hull.facets[facet], points, centre) > 0.0,
-                height: f64::NAN,
+                rotation,
             }
         })
         .collect();
@@ -139,26 +139,27 @@ pub fn choose(
     // from where the last one ended (a scan of every point per facet made this quadratic).
     let walk = HullWalk::new(hull);
     let mut start = (0, 0);
-    let steady: Vec<Candidate> = large
-        .iter()
+    // Each with the part's height on the bed.
+    let steady: Vec<(&Candidate, f64)> = large
+        .into_iter()
         .filter(|c| c.stable == any_stable)
         .map(|c| {
-            let rotation = facet_rotation(&hull.facets[c.facet], points);
-            let along = rotation.matrix().row(2).transpose();
+            let along = c.rotation.matrix().row(2).transpose();
             let height = walk
                 .extent(points, &along, &mut start)
                 .map_or(0.0, |(low, high)| high - low);
-            Candidate { height, ..**c }
+            (c, height)
         })
         .collect();
     let lowest = steady
         .iter()
-        .map(|c| c.height)
+        .map(|(_, height)| *height)
         .fold(f64::INFINITY, f64::min);
     let facing = |c: &Candidate| -hull.facets[c.facet].normal.dot(down);
     let best = steady
         .iter()
-        .filter(|c| c.height <= lowest + hull.tolerance)
+        .filter(|(_, height)| *height <= lowest + hull.tolerance)
+        .map(|(c, _)| *c)
         .min_by(|a, b| facing(a).total_cmp(&facing(b)))
         .expect("a hull has facets");
     let facet = &hull.facets[best.facet];
@@ -192,7 +193,6 @@ pub fn choose(
 }
 
 /// One facet as [`choose`] ranks it.
-#[derive(Clone, Copy)]
 struct Candidate {
     /// Index into the hull's facets.
     facet: usize,
@@ -200,8 +200,8 @@ struct Candidate {
     rank: Option<InsertionRank>,
     /// Whether the part stands on the facet by itself.
     stable: bool,
-    /// The part's height on the bed (measured only for the facets that reach that rule).
-    height: f64,
+    /// The rotation that puts the facet on the bed.
+    rotation: Rotation3<f64>,
 }
 
 /// `n` and the noun, plural unless `n` is 1.

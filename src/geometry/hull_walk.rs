@@ -51,9 +51,9 @@ impl HullWalk {
     /// The lowest and the highest of `direction · p` over the hull's vertices `p` (`points` are
     /// those the hull was made of): those of every point within the hull's tolerance, since a
     /// point that close to a facet need not be its corner, nor a vertex where a walk stops
-    /// exactly the lowest when its neighbours' values differ from its own by rounding. Each walk starting from the vertex `start` holds (an index
-    /// into the hull's vertices, updated to where the lowest walk ended). `None` for a hull
-    /// without vertices.
+    /// exactly the lowest when its neighbours' values differ from its own by rounding. The two
+    /// walks start from the vertices `start` holds (indices into the hull's vertices), and
+    /// `start` is set to where they ended. `None` for a hull without vertices.
     pub fn extent(
         &self,
         points: &[Point3<f64>],

@@ -94,7 +94,7 @@ pub fn run(
             starting(at(2));
             starts.push(warm.clone());
         }
-        let mut alone_starts = Vec::new();
+        let alone_from = starts.len();
         if one_left {
             let first = solves - alone_seeds;
             for (index, alone) in seeds.iter().filter(|s| !s.pinned).enumerate() {
@@ -105,7 +105,6 @@ pub fn run(
                     continue;
                 }
                 starting(at(first + index + 1));
-                alone_starts.push(start.clone());
                 starts.push(start);
             }
         }
@@ -119,7 +118,7 @@ pub fn run(
             }
         }
         // Down to one movable capsule, every seed is tried on its own at little cost.
-        for (start, tried) in alone_starts.into_iter().zip(reached) {
+        for (start, tried) in starts.split_off(alone_from).into_iter().zip(reached) {
             if start == current {
                 continue;
             }
