@@ -66,6 +66,10 @@ pub struct Budget {
     /// When set, the solve gives up at once: the solver sees a flat objective and returns within
     /// a few trivial evaluations, and its result means nothing.
     pub cancel: Cancel,
+    /// Stop, as when cancelled but keeping the best point, after this many evaluations in a row
+    /// that gain nothing worth having over the best point before them ([`worth_having`]);
+    /// `None`: run to the budget or the solver's own tolerances.
+    pub stall: Option<usize>,
 }
 
 impl Default for Budget {
@@ -74,6 +78,7 @@ impl Default for Budget {
             evaluations: 400,
             relative_tolerance: 1e-6,
             cancel: Cancel::new(),
+            stall: None,
         }
     }
 }
@@ -92,6 +97,9 @@ struct ConstraintCache {
 struct Tracker {
     evaluations: usize,
     best: Option<(Vec<f64>, f64, f64)>,
+    /// The value and violation of the last best point that was worth having over the one
+    /// before, and the evaluation that reached it.
+    mark: Option<((f64, f64), usize)>,
 }
 
 impl Tracker {
@@ -111,9 +119,48 @@ impl Tracker {
         };
         if better {
             self.best = Some((u.to_vec(), value, violation));
+            let worth = match self.mark {
+                None => true,
+                Some((mark, _)) => worth_having((value, violation), mark),
+            };
+            if worth {
+                self.mark = Some(((value, violation), self.evaluations));
+            }
         }
     }
+
+    /// Whether the last `window` evaluations gained nothing worth having.
+    fn stalled(&self, window: usize) -> bool {
+        let since = self.mark.map_or(0, |(_, at)| at);
+        self.evaluations - since >= window
+    }
 }
+
+/// The least fall of the objective (radians: 0.006°) that counts as a gain for
+/// [`Budget::stall`].
+const WORTH_HAVING: f64 = 1e-4;
+
+/// Whether a point with `(value, violation)` improves on `(other_value, other_violation)` by
+/// enough to go on looking: feasible where the other is not, an objective lower by
+/// [`WORTH_HAVING`] among feasible points, any smaller violation among infeasible ones (a design
+/// outside the constraints is of no use, so every step towards them counts).
+fn worth_having(
+    (value, violation): (f64, f64),
+    (other_value, other_violation): (f64, f64),
+) -> bool {
+    match (violation <= FEASIBLE, other_violation <= FEASIBLE) {
+        (true, true) => value < other_value - WORTH_HAVING,
+        (true, false) => true,
+        (false, true) => false,
+        (false, false) => violation < other_violation,
+    }
+}
+
+/// Evaluations per free unknown without a gain after which COBYLA's fallback stops.
+const COBYLA_STALL_PER_UNKNOWN: usize = 10;
+
+/// Evaluations without a gain after which COBYLA's fallback stops, beside those per unknown.
+const COBYLA_STALL_BASE: usize = 50;
 
 /// Whether a point with `(value, violation)` is preferred to one with `(other_value,
 /// other_violation)`: a feasible point to an infeasible one, then the lower objective among
@@ -157,7 +204,15 @@ pub fn solve(
     } else {
         x0
     };
-    let second = solve_by(objective, from, bounds, Method::Cobyla, &budget);
+    // Most fallbacks start where SLSQP has already done what COBYLA can; the rest of a full
+    // budget there costs COBYLA's own algebra (linear models of every constraint), not the
+    // objective. It stops once it has gone a while without a gain worth having.
+    let free = bounds.range.iter().filter(|(lo, hi)| lo < hi).count();
+    let fallback = Budget {
+        stall: Some(COBYLA_STALL_PER_UNKNOWN * free + COBYLA_STALL_BASE),
+        ..budget.clone()
+    };
+    let second = solve_by(objective, from, bounds, Method::Cobyla, &fallback);
     let evaluations = first.evaluations + second.evaluations;
     let better = preferred(
         (second.value, second.violation),
@@ -187,7 +242,19 @@ fn solve_by(
     budget: &Budget,
 ) -> Solve {
     let n = objective.layout().len();
-    let cancelled = || budget.cancel.is_cancelled();
+    let tracker = RefCell::new(Tracker {
+        evaluations: 0,
+        best: None,
+        mark: None,
+    });
+    // Cancelled, or (with a stall window) gone that long without a gain: the solver then sees a
+    // flat objective and stops.
+    let cancelled = || {
+        budget.cancel.is_cancelled()
+            || budget
+                .stall
+                .is_some_and(|window| tracker.borrow().stalled(window))
+    };
     let start: Vec<f64> = (0..n)
         .map(|i| {
             let (lo, hi) = bounds.range[i];
@@ -280,10 +347,6 @@ fn solve_by(
         }
         value / norms[k]
     };
-    let tracker = RefCell::new(Tracker {
-        evaluations: 0,
-        best: None,
-    });
     let record = |u: &[f64], value: f64| {
         constraints_at(u, gradients);
         let violation = cache

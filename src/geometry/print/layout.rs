@@ -100,15 +100,6 @@ impl Layout {
         }
     }
 
-    /// Thickness of layer `k`.
-    pub(super) fn thickness(&self, k: usize) -> f64 {
-        if k == 0 {
-            self.slicing.first_layer_height
-        } else {
-            self.slicing.layer_height
-        }
-    }
-
     /// The print-frame point at the centre of cell (`i`, `j`) and height `z`.
     pub(super) fn point_at(&self, i: usize, j: usize, z: f64) -> Point3<f64> {
         Point3::new(

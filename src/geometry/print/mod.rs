@@ -21,7 +21,7 @@
 //! frame. The result does not depend on the design and is computed once per component and print
 //! orientation.
 
-use nalgebra::{Point3, Rotation3, Vector3};
+use nalgebra::{Point3, Rotation3};
 
 use super::mass::MassProperties;
 use super::mesh::TriMesh;
@@ -30,6 +30,7 @@ mod cells;
 mod classes;
 mod distance;
 mod layout;
+mod tally;
 mod voids;
 mod window;
 
@@ -37,6 +38,7 @@ use crate::parallel::map_each;
 use cells::{CellBox, Overlay, Planes};
 use classes::Cell;
 use layout::Layout;
+use tally::Totals;
 pub use voids::Void;
 
 /// How the slicer prints, in the mesh's units.
@@ -114,9 +116,10 @@ pub fn print_volumes_with_voids(mesh: &TriMesh, slicing: &Slicing, voids: &[Void
 /// perimeters, and its cells' classes before a void is cut. Cutting voids re-classifies only
 /// the cells they can change: in the layers they cross and the solid layers above and below
 /// those, within the perimeters and the surface margin of the voids' box, and the regions the
-/// small-region rule joins to those ([`window`]). The cells are summed one by one in layer
-/// order from the first layer a cut changes, on the sums of the bare layers below it, so a cut
-/// gives the same bits as slicing the whole mesh with the voids again.
+/// small-region rule joins to those ([`window`]). The material is summed exactly, as counts of
+/// cells and sums of their indices ([`tally`]): a cut takes the cells it changes away from the
+/// bare sums and adds them back as they now are, and gives the same bits as slicing the whole
+/// mesh with the voids again.
 #[derive(Clone)]
 pub struct PrintRaster {
     to_print: Rotation3<f64>,
@@ -151,8 +154,8 @@ struct Layers {
     unsettled: Vec<Vec<Cell>>,
     /// Per layer, each cell's class.
     classes: Vec<Vec<Cell>>,
-    /// The solid and sparse sums of the layers below each layer (and of all of them, last).
-    below: Vec<Totals>,
+    /// The solid and sparse cells of every layer.
+    totals: Totals,
 }
 
 impl PrintRaster {
@@ -178,7 +181,7 @@ impl PrintRaster {
     /// The mesh's solid and sparse volumes before a void is cut.
     pub fn volumes(&self) -> PrintVolumes {
         match &self.layers {
-            Some(layers) => self.volumes_of(&layers.layout, &layers.below[layers.layout.layers]),
+            Some(layers) => self.volumes_of(&layers.layout, &layers.totals),
             None => empty_volumes(),
         }
     }
@@ -190,16 +193,15 @@ impl PrintRaster {
             return empty_volumes();
         };
         let voids = self.in_print_frame(voids);
-        let Some((first, window)) = layers.cut(&voids) else {
-            return self.volumes();
-        };
-        // Summed cell by cell in layer order, as the whole raster would be: the sums below the
-        // window are the bare layers', the rest is added again.
         let layout = &layers.layout;
-        let mut totals = layers.below[first];
-        for k in first..layout.layers {
-            let class = window.get(k - first).unwrap_or(&layers.classes[k]);
-            totals.add_layer(layout, k, class);
+        let mut totals = layers.totals;
+        for changed in layers.cut(&voids) {
+            let (k, bare) = (changed.layer, &layers.classes[changed.layer]);
+            for &(index, class) in &changed.cells {
+                let (i, j) = (index % layout.columns, index / layout.columns);
+                totals.add(-1, bare[index], i, j, k);
+                totals.add(1, class, i, j, k);
+            }
         }
         self.volumes_of(layout, &totals)
     }
@@ -218,38 +220,14 @@ impl PrintRaster {
 
     /// The volumes of `totals`, turned back to the rest frame.
     fn volumes_of(&self, layout: &Layout, totals: &Totals) -> PrintVolumes {
-        let fallback = layout.centre();
         let back = |region: Region| Region {
             centroid: self.to_print.inverse() * region.centroid,
             ..region
         };
+        let (solid, sparse) = totals.regions(layout);
         PrintVolumes {
-            solid: back(totals.solid.region(fallback)),
-            sparse: back(totals.sparse.region(fallback)),
-        }
-    }
-}
-
-/// The solid and the sparse sum of some layers.
-#[derive(Debug, Clone, Copy, Default)]
-struct Totals {
-    solid: Sum,
-    sparse: Sum,
-}
-
-impl Totals {
-    /// Adds layer `k`'s cells of `class`, one by one in the raster's order.
-    fn add_layer(&mut self, layout: &Layout, k: usize, class: &[Cell]) {
-        let z = layout.slice_height(k);
-        let cell_volume = layout.cell * layout.cell * layout.thickness(k);
-        for (j, row) in class.chunks(layout.columns).enumerate() {
-            for (i, kind) in row.iter().enumerate() {
-                match kind {
-                    Cell::Solid => self.solid.add(cell_volume, &layout.point_at(i, j, z)),
-                    Cell::Sparse => self.sparse.add(cell_volume, &layout.point_at(i, j, z)),
-                    Cell::Outside => {}
-                }
-            }
+            solid: back(solid),
+            sparse: back(sparse),
         }
     }
 }
@@ -275,20 +253,17 @@ impl Layers {
             classes::fill_small_regions(&layout, &mut class);
             class
         });
-        let mut below = Vec::with_capacity(layout.layers + 1);
         let mut totals = Totals::default();
         for (k, class) in classes.iter().enumerate() {
-            below.push(totals);
             totals.add_layer(&layout, k, class);
         }
-        below.push(totals);
         Layers {
             layout,
             inside,
             near,
             unsettled,
             classes,
-            below,
+            totals,
         }
     }
 }
@@ -321,32 +296,6 @@ fn exact_axes(rotation: &Rotation3<f64>) -> Rotation3<f64> {
         }
     });
     Rotation3::from_matrix_unchecked(matrix)
-}
-
-/// A running sum of volumes at points.
-#[derive(Debug, Clone, Copy, Default)]
-struct Sum {
-    volume: f64,
-    moment: Vector3<f64>,
-}
-
-impl Sum {
-    fn add(&mut self, volume: f64, at: &Point3<f64>) {
-        self.volume += volume;
-        self.moment += at.coords * volume;
-    }
-
-    fn region(&self, fallback: Point3<f64>) -> Region {
-        let centroid = if self.volume > 0.0 {
-            Point3::from(self.moment / self.volume)
-        } else {
-            fallback
-        };
-        Region {
-            volume: self.volume,
-            centroid,
-        }
-    }
 }
 
 #[cfg(test)]
@@ -412,7 +361,7 @@ mod tests {
         let whole = CellBox::whole(layout);
         let (inside, near) = layers.cut_planes(&voids, 0..=layout.layers - 1, &whole);
         let cut = Layers::classified(layout.clone(), inside.layers, near.layers);
-        raster.volumes_of(layout, &cut.below[layout.layers])
+        raster.volumes_of(layout, &cut.totals)
     }
 
     #[test]

@@ -29,10 +29,23 @@ enum Verdict {
     Large,
 }
 
+/// The cells of one layer whose class a cut changes.
+pub(super) struct Changed {
+    /// The layer.
+    pub(super) layer: usize,
+    /// Each changed cell's index in the layer and its class with the voids cut; no cell twice.
+    pub(super) cells: Vec<(usize, Cell)>,
+}
+
 impl Layers {
-    /// The classes of the layers `voids` (print frame) can change, from the first of them on,
-    /// with the voids cut; `None` when they cross no layer or miss the raster.
-    pub(super) fn cut(&self, voids: &[Void]) -> Option<(usize, Vec<Vec<Cell>>)> {
+    /// The cells whose class cutting `voids` (print frame) changes, per layer; none when the
+    /// voids cross no layer or miss the raster.
+    pub(super) fn cut(&self, voids: &[Void]) -> Vec<Changed> {
+        self.cut_window(voids).unwrap_or_default()
+    }
+
+    /// [`Layers::cut`], `None` for no change.
+    fn cut_window(&self, voids: &[Void]) -> Option<Vec<Changed>> {
         let layout = &self.layout;
         let crossed: Vec<usize> = (0..layout.layers)
             .filter(|&k| {
@@ -65,10 +78,10 @@ impl Layers {
         let window = reach(layout, first, last);
         let low = *window.start();
         let unsettled = classes::classify(layout, inside, near, &area, &valid, window);
-        let classes = map_each(unsettled.len(), |offset| {
-            self.settle(low + offset, &valid, &unsettled[offset])
-        });
-        Some((low, classes))
+        Some(map_each(unsettled.len(), |offset| Changed {
+            layer: low + offset,
+            cells: self.settle(low + offset, &valid, &unsettled[offset]),
+        }))
     }
 
     /// Over `area`, in the layers `crossed`: the inside cells with `voids`' cells taken out, and
@@ -107,10 +120,10 @@ impl Layers {
         (planes(inside), planes(near))
     }
 
-    /// Layer `k`'s classes with those of `valid`'s cells before the small-region rule replaced
-    /// by `unsettled` (in `valid`'s order): the rule applied to every sparse region that
-    /// reaches `valid` or its edge.
-    fn settle(&self, k: usize, valid: &CellBox, unsettled: &[Cell]) -> Vec<Cell> {
+    /// The cells of layer `k` whose class changes when those of `valid`'s cells before the
+    /// small-region rule are replaced by `unsettled` (in `valid`'s order), with their new
+    /// class: the rule applied to every sparse region that reaches `valid` or its edge.
+    fn settle(&self, k: usize, valid: &CellBox, unsettled: &[Cell]) -> Vec<(usize, Cell)> {
         let layout = &self.layout;
         let columns = layout.columns;
         let (bare_unsettled, bare) = (&self.unsettled[k], &self.classes[k]);
@@ -177,15 +190,21 @@ impl Layers {
             Verdict::Large => Cell::Sparse,
             Verdict::Unseen | Verdict::Queued => unreached,
         };
-        let mut classes = bare.clone();
+        let mut changed = Vec::new();
+        let mut set = |index: usize, to: Cell| {
+            if to != bare[index] {
+                changed.push((index, to));
+            }
+        };
         for (i, j) in valid.cells() {
             let index = j * columns + i;
-            classes[index] = class(index, before_rule(index));
+            set(index, class(index, before_rule(index)));
         }
+        // Each settled cell lies outside `valid`, and a flood or a walk settles it once.
         for index in settled {
-            classes[index] = class(index, bare[index]);
+            set(index, class(index, bare[index]));
         }
-        classes
+        changed
     }
 }
 
