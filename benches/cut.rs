@@ -31,7 +31,10 @@ fn cut(c: &mut Criterion) {
     let mesh = load_mesh(&path, &MeshSelector::Whole).expect("the example T");
     let down = Vector3::new(0.6, 0.0, -0.8);
     let to_print = Rotation3::rotation_between(&down, &-Vector3::z()).expect("a rotation");
-    let raster = PrintRaster::new(&mesh, &slicing(&Print::defaults(Units::Millimetre), to_print));
+    let raster = PrintRaster::new(
+        &mesh,
+        &slicing(&Print::defaults(Units::Millimetre), to_print),
+    );
     // The example's five capsules, the large one alone too.
     let one = vec![void([15.6, 0.0, 28.8], [-15.4, 0.0, 30.5], 8.2)];
     let five = vec![

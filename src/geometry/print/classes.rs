@@ -4,7 +4,7 @@
 use std::ops::RangeInclusive;
 
 use super::cells::{CellBox, Overlay, Planes};
-use super::distance::squared_distance;
+use super::distance::squared_distance_within;
 use super::layout::Layout;
 use crate::parallel::map_each;
 
@@ -114,7 +114,7 @@ fn surface(layout: &Layout, area: &CellBox, fill: &[bool], next: Option<&[bool]>
     if reach <= 0.0 || !exposed.iter().any(|&e| e) {
         return exposed;
     }
-    let distance = squared_distance(&exposed, area.width(), area.height());
+    let distance = squared_distance_within(&exposed, area.width(), area.height(), reach);
     distance
         .iter()
         .zip(fill)

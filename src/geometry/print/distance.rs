@@ -1,5 +1,7 @@
 //! The exact Euclidean distance transform of a raster.
 
+use std::ops::Range;
+
 /// Squared distance (in cells) from every cell centre to the nearest marked cell centre, exact
 /// (Felzenszwalb and Huttenlocher's two passes of lower envelopes of parabolas); `INFINITY`
 /// without marked cells.
@@ -24,6 +26,56 @@ pub(super) fn squared_distance(marked: &[bool], columns: usize, rows: usize) -> 
         row.copy_from_slice(&pass.out);
     }
     grid
+}
+
+/// [`squared_distance`] for every cell within `reach` cells of a marked cell; `INFINITY` for
+/// the cells farther than that. Only the box of the marked cells grown by the reach is
+/// transformed: every marked cell lies in it, so each distance there is exact.
+pub(super) fn squared_distance_within(
+    marked: &[bool],
+    columns: usize,
+    rows: usize,
+    reach: f64,
+) -> Vec<f64> {
+    let mut distance = vec![f64::INFINITY; marked.len()];
+    let Some((i, j)) = marked_box(marked, columns) else {
+        return distance;
+    };
+    let grow = if reach.is_finite() {
+        reach.max(0.0).ceil() as usize + 1
+    } else {
+        columns.max(rows)
+    };
+    let i = i.start.saturating_sub(grow)..(i.end + grow).min(columns);
+    let j = j.start.saturating_sub(grow)..(j.end + grow).min(rows);
+    let (width, height) = (i.len(), j.len());
+    let mut held = Vec::with_capacity(width * height);
+    for row in j.clone() {
+        held.extend_from_slice(&marked[row * columns + i.start..row * columns + i.end]);
+    }
+    let near = squared_distance(&held, width, height);
+    for (row, line) in j.zip(near.chunks(width)) {
+        distance[row * columns + i.start..row * columns + i.end].copy_from_slice(line);
+    }
+    distance
+}
+
+/// The columns and rows (half-open) of the smallest box holding every marked cell; `None`
+/// without one.
+fn marked_box(marked: &[bool], columns: usize) -> Option<(Range<usize>, Range<usize>)> {
+    let mut found: Option<(Range<usize>, Range<usize>)> = None;
+    for (row, line) in marked.chunks(columns).enumerate() {
+        let (Some(first), Some(last)) =
+            (line.iter().position(|&m| m), line.iter().rposition(|&m| m))
+        else {
+            continue;
+        };
+        found = Some(match found {
+            None => (first..last + 1, row..row + 1),
+            Some((i, j)) => (i.start.min(first)..i.end.max(last + 1), j.start..row + 1),
+        });
+    }
+    found
 }
 
 /// One pass of [`squared_distance`], its buffers kept between lines.

@@ -4,7 +4,7 @@
 use nalgebra::Point3;
 
 use super::cells::CellBox;
-use super::distance::squared_distance;
+use super::distance::squared_distance_within;
 use super::layout::{Layout, U, UP, V};
 use crate::geometry::distance::point_segment_distance;
 
@@ -43,7 +43,7 @@ impl Layout {
             if !void.crosses(z) {
                 continue;
             }
-            let cover = self.cover(void).and_then(|cover| cover.within(area));
+            let cover = self.cover_at(void, z).and_then(|cover| cover.within(area));
             let Some(cover) = cover else {
                 continue;
             };
@@ -79,45 +79,40 @@ impl Layout {
         })
     }
 
+    /// The cells whose centres can lie in `void`'s cross-section at height `z`: the box, seen
+    /// from above, of the part of the void between `z − radius` and `z + radius`, grown by a
+    /// cell against rounding; `None` when it holds no cell.
+    pub(super) fn cover_at(&self, void: &Void, z: f64) -> Option<CellBox> {
+        let (r, a, b) = (void.radius, void.from, void.to);
+        let rise = b[UP] - a[UP];
+        let (t0, t1) = if rise != 0.0 {
+            let (low, high) = ((z - r - a[UP]) / rise, (z + r - a[UP]) / rise);
+            (low.min(high).max(0.0), low.max(high).min(1.0))
+        } else {
+            (0.0, 1.0)
+        };
+        if t0.is_nan() || t1.is_nan() || t0 > t1 {
+            return None;
+        }
+        let part = Void {
+            from: a + (b - a) * t0,
+            to: a + (b - a) * t1,
+            radius: r,
+        };
+        self.cover(&part).map(|cover| cover.grown(1, self))
+    }
+
     /// The cells of `area` within the perimeter thickness of a hole's outline: of a cell of
     /// `hole` (the void cells of a layer that lie inside the mesh, over `area`), measured from
     /// the hole's edge, half a cell past its outermost cell centres. Exact for the cells of
     /// `area` when `area` holds every hole cell.
     pub(super) fn near_hole(&self, hole: &[bool], area: &CellBox) -> Vec<bool> {
         let reach = self.slicing.perimeter_thickness / self.cell + 0.5;
+        let distance = squared_distance_within(hole, area.width(), area.height(), reach);
         let mut near = vec![false; hole.len()];
-        // The distances that matter lie within the reach of the hole's box.
-        let Some(held) = holding(hole, area) else {
-            return near;
-        };
-        let around = held.grown(reach.ceil() as usize + 1, self).within(area);
-        let Some(around) = around else {
-            return near;
-        };
-        let marked: Vec<bool> = around
-            .cells()
-            .map(|(i, j)| area.local(i, j).is_some_and(|a| hole[a]))
-            .collect();
-        let distance = squared_distance(&marked, around.width(), around.height());
-        for ((i, j), (d, &h)) in around.cells().zip(distance.iter().zip(&marked)) {
-            if !h && *d < reach * reach {
-                if let Some(a) = area.local(i, j) {
-                    near[a] = true;
-                }
-            }
+        for ((near, &d), &h) in near.iter_mut().zip(&distance).zip(hole) {
+            *near = !h && d < reach * reach;
         }
         near
     }
-}
-
-/// The smallest box holding every marked cell of `cells` (over `area`); `None` without one.
-fn holding(cells: &[bool], area: &CellBox) -> Option<CellBox> {
-    area.cells()
-        .zip(cells)
-        .filter(|(_, &marked)| marked)
-        .map(|((i, j), _)| CellBox {
-            i: i..i + 1,
-            j: j..j + 1,
-        })
-        .reduce(|a, b| a.union(&b))
 }

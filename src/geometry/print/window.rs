@@ -97,9 +97,12 @@ impl Layers {
         let cut: Vec<(Vec<bool>, Vec<bool>)> = map_each(crossed.count(), |offset| {
             let k = first + offset;
             let bare = |layer: &[bool]| -> Vec<bool> {
-                area.cells()
-                    .map(|(i, j)| layer[j * layout.columns + i])
-                    .collect()
+                let mut cells = Vec::with_capacity(area.len());
+                for j in area.j.clone() {
+                    let row = j * layout.columns;
+                    cells.extend_from_slice(&layer[row + area.i.start..row + area.i.end]);
+                }
+                cells
             };
             let (bare_inside, bare_near) = (bare(&self.inside[k]), bare(&self.near[k]));
             let mut hole = layout.in_voids(k, voids, area);
