@@ -179,6 +179,7 @@ fn optimize_options(
             },
             capsules: args.capsules,
             exhaustive: args.exhaustive,
+            judge_warm_start: false,
             warm_start: None,
         }),
         ..input_options(inputs)

@@ -2,10 +2,11 @@
 //! one workspace (grid and skeleton cache) for the whole session, printing a short summary of
 //! each build.
 //!
-//! After an edit that leaves the meshes alone, a rebuild first optimizes from the last design
-//! (a warm start) and writes that at once; it then runs the same full search `build` runs and
+//! After an edit that leaves the meshes alone, a rebuild first judges the last design as it is
+//! with the edited project and writes that at once; when it misses a goal, it then optimizes
+//! from it (a warm start) and writes that; last it runs the same full search `build` runs and
 //! writes its result, so once the session is quiet the outputs are exactly `build`'s. A newer
-//! save cancels either step.
+//! save cancels any step.
 
 use std::collections::BTreeSet;
 use std::fmt::Write;
@@ -16,7 +17,9 @@ use super::{
     compile_file, file_name, progress, say, MessageFormat, NotCompiled, EXIT_INVALID, EXIT_MET,
 };
 use crate::cancel::Cancel;
-use crate::compile::{write_outputs, Compilation, CompileOptions, WarmStart, Workspace};
+use crate::compile::{
+    write_outputs, Compilation, CompileOptions, DesignSource, WarmStart, Workspace,
+};
 use crate::optimize::{Built, PrecomputeCache};
 use crate::spec::{parse_project_with, read_source};
 use crate::watch::{self, differences, list, referenced_files, shown, Snapshot};
@@ -80,9 +83,22 @@ struct Last {
     design: WarmStart,
 }
 
+/// What one step of a rebuild starts from.
+#[derive(Debug, Clone)]
+enum Start {
+    /// The last design, judged as it is with no search.
+    Judge(WarmStart),
+    /// A search from the last design.
+    Warm(WarmStart),
+    /// The full search, as `build` runs it.
+    Full,
+}
+
 /// How one step of a rebuild ended.
 #[derive(Debug, PartialEq, Eq)]
 enum Step {
+    /// The last design judged and written, meeting every goal or not: a search is still to run.
+    Judged { meets_goals: bool },
     /// Built from the last design and written: the full search is still to run.
     WarmStarted,
     /// Built and written.
@@ -106,21 +122,36 @@ impl Session<'_> {
                 &format!("\nchanged: {}; rebuilding {name}\n", list(&changed)),
             );
         }
-        let warm = self.last.as_ref().map(|last| last.design.clone());
-        if self.step(warm) == Step::WarmStarted {
-            // The early result is written; the full search, as `build` runs it, follows.
-            self.step(None);
+        // The last design judged at once, then (when it misses a goal) a search from it, then
+        // the full search as `build` runs it; each written as it is reached.
+        let mut start = match &self.last {
+            Some(last) => Start::Judge(last.design.clone()),
+            None => Start::Full,
+        };
+        loop {
+            start = match self.step(start) {
+                Step::Judged { meets_goals: true } | Step::WarmStarted => Start::Full,
+                Step::Judged { meets_goals: false } => match &self.last {
+                    Some(last) => Start::Warm(last.design.clone()),
+                    None => Start::Full,
+                },
+                Step::Done | Step::Stopped => break,
+            };
         }
         self.files.clone()
     }
 
-    /// Compiles (from `warm`, when given), writes, prints a summary against the last good build
-    /// and becomes the last good build.
-    fn step(&mut self, warm: Option<WarmStart>) -> Step {
+    /// Compiles from `start`, writes, prints a summary against the last good build and becomes
+    /// the last good build.
+    fn step(&mut self, start: Start) -> Step {
         let name = file_name(self.path);
         let mut options = self.options.clone();
         if let Some(optimize) = &mut options.optimize {
-            optimize.warm_start = warm;
+            (optimize.warm_start, optimize.judge_warm_start) = match start {
+                Start::Judge(last) => (Some(last), true),
+                Start::Warm(last) => (Some(last), false),
+                Start::Full => (None, false),
+            };
         }
         self.workspace.start_build();
         let start = Instant::now();
@@ -145,7 +176,7 @@ impl Session<'_> {
             }
         };
         // Only what this build used stays cached.
-        self.workspace.prune();
+        self.workspace.prune(&compilation.source);
         self.files = referenced_files(
             self.path,
             Some(&compilation.project),
@@ -170,6 +201,17 @@ impl Session<'_> {
             .optimization
             .as_ref()
             .is_some_and(|optimization| optimization.warm_started);
+        let judged = compilation.source == DesignSource::Earlier;
+        let meets_goals = compilation
+            .poses
+            .iter()
+            .all(|pose| pose.goals.iter().all(|goal| goal.met));
+        let early = match (judged, warm_started) {
+            (true, _) if meets_goals => Early::Judged,
+            (true, _) => Early::JudgedMissing,
+            (false, true) => Early::WarmStarted,
+            (false, false) => Early::Final,
+        };
         let snapshot = Snapshot::new(&compilation);
         say(
             self.format,
@@ -185,17 +227,17 @@ impl Session<'_> {
                 write_seconds,
                 written: &written.written,
                 removed: &written.removed,
-                warm_started,
+                early,
             }),
         );
         self.last = Some(Last {
             snapshot,
             design: WarmStart::new(&compilation.meshes, compilation.design),
         });
-        if warm_started {
-            Step::WarmStarted
-        } else {
-            Step::Done
+        match early {
+            Early::Judged | Early::JudgedMissing => Step::Judged { meets_goals },
+            Early::WarmStarted => Step::WarmStarted,
+            Early::Final => Step::Done,
         }
     }
 
@@ -230,8 +272,21 @@ struct SummaryInput<'a> {
     written: &'a [PathBuf],
     /// Outputs of the last build this one no longer writes, removed.
     removed: &'a [PathBuf],
+    /// Which result of the rebuild this is.
+    early: Early,
+}
+
+/// Which result of a rebuild a build is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Early {
+    /// The last design judged, meeting every goal: the full search follows.
+    Judged,
+    /// The last design judged, missing a goal: a search from it follows, then the full search.
+    JudgedMissing,
     /// Optimized from the last design: the full search follows.
-    warm_started: bool,
+    WarmStarted,
+    /// The full search's result (or the first build's).
+    Final,
 }
 
 /// The few lines printed after a good build.
@@ -239,10 +294,10 @@ fn summary(input: &SummaryInput) -> String {
     let mut out = String::new();
     let snapshot = input.snapshot;
     let (met, total) = snapshot.goals_met();
-    let from = if input.warm_started {
-        " (from the last design)"
-    } else {
-        ""
+    let from = match input.early {
+        Early::Judged | Early::JudgedMissing => " (the last design, judged)",
+        Early::WarmStarted => " (from the last design)",
+        Early::Final => "",
     };
     let _ = write!(
         out,
@@ -277,7 +332,9 @@ fn summary(input: &SummaryInput) -> String {
     let _ = writeln!(out, "  meshes: {meshes}");
     let optimization = input.compilation.optimization.as_ref();
     let built = input.built;
-    let precompute = if optimization.is_none() {
+    let precompute = if matches!(input.early, Early::Judged | Early::JudgedMissing) {
+        "not needed (the last design is judged as it is)".to_string()
+    } else if optimization.is_none() {
         "not needed (the design is not optimized)".to_string()
     } else {
         let mut parts = Vec::new();
@@ -337,8 +394,14 @@ fn summary(input: &SummaryInput) -> String {
             removed.join(", ")
         );
     }
-    if input.warm_started {
-        out.push_str("; now the full search, as `build` runs it");
+    match input.early {
+        Early::Judged | Early::WarmStarted => {
+            out.push_str("; now the full search, as `build` runs it")
+        }
+        Early::JudgedMissing => {
+            out.push_str("; now a search from it, then the full search as `build` runs it")
+        }
+        Early::Final => {}
     }
     out.push('\n');
     out

@@ -89,6 +89,9 @@ pub enum DesignSource {
     SolutionFile(PathBuf),
     /// The optimizer, just now.
     Optimized,
+    /// The design of the last build, judged again as it is with the project as it now is
+    /// (watch mode's first answer to an edit, before a search).
+    Earlier,
 }
 
 /// How to compile, beyond what the project file says.
@@ -323,11 +326,19 @@ pub fn compile_with(
                 problems.extend(limits);
                 return Err(Failure::Invalid(problems));
             }
-            let (design, mut optimization) =
-                optimize_design(&project, settings, &meshes, &parts, &print, run, workspace)
-                    .ok_or(Failure::Cancelled)?;
-            problems.append(&mut optimization.warnings);
-            (design, DesignSource::Optimized, Some(optimization))
+            let earlier = run
+                .warm_start
+                .as_ref()
+                .filter(|warm| run.judge_warm_start && warm.fits(&meshes));
+            if let Some(earlier) = earlier {
+                (earlier.design.clone(), DesignSource::Earlier, None)
+            } else {
+                let (design, mut optimization) =
+                    optimize_design(&project, settings, &meshes, &parts, &print, run, workspace)
+                        .ok_or(Failure::Cancelled)?;
+                problems.append(&mut optimization.warnings);
+                (design, DesignSource::Optimized, Some(optimization))
+            }
         }
         (Some(_), None) => {
             let path = output_path(&project.output.solution, options.out_dir.as_deref());

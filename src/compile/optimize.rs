@@ -34,6 +34,9 @@ pub struct OptimizeOptions {
     /// Start from this earlier design instead of the skeleton seeds, when the meshes are the
     /// ones it was made for (watch mode, after an edit that left the geometry alone).
     pub warm_start: Option<WarmStart>,
+    /// Judge the warm start as it is, with no search, when it fits the meshes: watch mode's
+    /// first answer to an edit (the design is then [`DesignSource::Earlier`](super::DesignSource)).
+    pub judge_warm_start: bool,
 }
 
 /// An earlier design of the same project and the meshes it was made for.

@@ -104,7 +104,12 @@ fn encode_outputs(
         (output_path(&output.report, out_dir), report.into_bytes()),
     ];
     targets.extend(print_files(compilation, path, out_dir)?);
-    if compilation.source == DesignSource::Optimized {
+    // A design judged again is the last build's, whose solution file is this build's output
+    // too: left out, the output set would remove it.
+    if matches!(
+        compilation.source,
+        DesignSource::Optimized | DesignSource::Earlier
+    ) {
         let name = path
             .file_name()
             .map(|name| name.to_string_lossy().into_owned())

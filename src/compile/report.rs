@@ -468,6 +468,7 @@ impl<'a> Report<'a> {
                 DesignSource::Written => "written",
                 DesignSource::SolutionFile(_) => "solution",
                 DesignSource::Optimized => "optimized",
+                DesignSource::Earlier => "earlier",
             },
             optimization: compilation.optimization.as_ref(),
             solid_goals_lost: &compilation.solid_goals_lost,

@@ -5,6 +5,7 @@ use std::sync::{Mutex, PoisonError};
 
 use super::mesh_cache::MeshCache;
 use super::print_cache::PrintCache;
+use super::DesignSource;
 use crate::cancel::Cancel;
 use crate::diagnostic::Problem;
 use crate::optimize::{PrecomputeCache, Round, MAX_EXPLANATION_SOLVES};
@@ -46,10 +47,14 @@ impl Workspace {
     }
 
     /// Drops from every cache what the build since [`start_build`](Self::start_build) did not
-    /// use: call it after a good build, so a long session holds one version of each mesh.
-    pub fn prune(&mut self) {
+    /// use: call it after a good build, so a long session holds one version of each mesh. A
+    /// build whose design was judged without a search ([`DesignSource::Earlier`]) asks for no
+    /// grid or skeleton, so those are kept for the search that follows it.
+    pub fn prune(&mut self, source: &DesignSource) {
         self.meshes.prune();
-        self.cache.prune();
+        if *source != DesignSource::Earlier {
+            self.cache.prune();
+        }
         self.prints.prune();
     }
 
