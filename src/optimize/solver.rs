@@ -498,3 +498,51 @@ fn solve_by(
         converged,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tracker() -> Tracker {
+        Tracker {
+            evaluations: 0,
+            best: None,
+            mark: None,
+        }
+    }
+
+    #[test]
+    fn a_run_stalls_after_a_window_of_gains_too_small_to_matter() {
+        let mut creeping = tracker();
+        for k in 0..100 {
+            // Feasible, each point 1e-6 lower: better every time, never by enough.
+            creeping.record(&[k as f64], 1.0 - 1e-6 * k as f64, 0.0);
+        }
+        assert!(creeping.stalled(99));
+        assert!(!creeping.stalled(101));
+        // The best point is still the last, lowest one.
+        assert_eq!(creeping.best.as_ref().map(|b| b.1), Some(1.0 - 1e-6 * 99.0));
+
+        let mut falling = tracker();
+        for k in 0..100 {
+            falling.record(&[k as f64], 1.0 - 1e-3 * k as f64, 0.0);
+        }
+        assert!(!falling.stalled(2));
+    }
+
+    #[test]
+    fn a_run_outside_the_constraints_goes_on_while_the_violation_falls() {
+        let mut nearing = tracker();
+        for k in 0..100 {
+            nearing.record(&[k as f64], 5.0, 1e-3 / (k + 1) as f64);
+        }
+        assert!(!nearing.stalled(2));
+        // Then feasible, and nothing better after.
+        nearing.record(&[100.0], 6.0, 0.0);
+        for k in 0..10 {
+            nearing.record(&[k as f64], 7.0, 0.0);
+        }
+        assert!(nearing.stalled(10));
+        assert!(!nearing.stalled(11));
+    }
+}
