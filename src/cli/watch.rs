@@ -94,19 +94,6 @@ enum Start {
     Full,
 }
 
-/// How one step of a rebuild ended.
-#[derive(Debug, PartialEq, Eq)]
-enum Step {
-    /// The last design judged and written, meeting every goal or not: a search is still to run.
-    Judged { meets_goals: bool },
-    /// Built from the last design and written: the full search is still to run.
-    WarmStarted,
-    /// Built and written.
-    Done,
-    /// Nothing written: invalid, cancelled or not writable (already said).
-    Stopped,
-}
-
 impl Session<'_> {
     /// Builds after `changed` changed (nothing: the first build) unless `cancel` is set first;
     /// returns the files to watch.
@@ -130,20 +117,21 @@ impl Session<'_> {
         };
         loop {
             start = match self.step(start) {
-                Step::Judged { meets_goals: true } | Step::WarmStarted => Start::Full,
-                Step::Judged { meets_goals: false } => match &self.last {
+                Some(Early::Judged | Early::WarmStarted) => Start::Full,
+                Some(Early::JudgedMissing) => match &self.last {
                     Some(last) => Start::Warm(last.design.clone()),
                     None => Start::Full,
                 },
-                Step::Done | Step::Stopped => break,
+                Some(Early::Final) | None => break,
             };
         }
         self.files.clone()
     }
 
     /// Compiles from `start`, writes, prints a summary against the last good build and becomes
-    /// the last good build.
-    fn step(&mut self, start: Start) -> Step {
+    /// the last good build; which result of the rebuild it wrote, `None` when it wrote nothing
+    /// (invalid, cancelled or not writable: already said).
+    fn step(&mut self, start: Start) -> Option<Early> {
         let name = file_name(self.path);
         let mut options = self.options.clone();
         if let Some(optimize) = &mut options.optimize {
@@ -165,14 +153,14 @@ impl Session<'_> {
                     &format!("{name} is invalid: the last good outputs are left as they were\n"),
                 );
                 self.follow_parsed();
-                return Step::Stopped;
+                return None;
             }
             Err(NotCompiled::Cancelled) => {
                 say(
                     self.format,
                     "cancelled: the last good outputs are left as they were\n",
                 );
-                return Step::Stopped;
+                return None;
             }
         };
         // Only what this build used stays cached.
@@ -193,7 +181,7 @@ impl Session<'_> {
                         "{name} built but not written: the last good outputs are left as they were\n"
                     ),
                 );
-                return Step::Stopped;
+                return None;
             }
         };
         let write_seconds = write_start.elapsed().as_secs_f64();
@@ -201,18 +189,15 @@ impl Session<'_> {
             .optimization
             .as_ref()
             .is_some_and(|optimization| optimization.warm_started);
+        let snapshot = Snapshot::new(&compilation);
+        let (met, goals) = snapshot.goals_met();
         let judged = compilation.source == DesignSource::Earlier;
-        let meets_goals = compilation
-            .poses
-            .iter()
-            .all(|pose| pose.goals.iter().all(|goal| goal.met));
         let early = match (judged, warm_started) {
-            (true, _) if meets_goals => Early::Judged,
+            (true, _) if met == goals => Early::Judged,
             (true, _) => Early::JudgedMissing,
             (false, true) => Early::WarmStarted,
             (false, false) => Early::Final,
         };
-        let snapshot = Snapshot::new(&compilation);
         say(
             self.format,
             &summary(&SummaryInput {
@@ -234,11 +219,7 @@ impl Session<'_> {
             snapshot,
             design: WarmStart::new(&compilation.meshes, compilation.design),
         });
-        match early {
-            Early::Judged | Early::JudgedMissing => Step::Judged { meets_goals },
-            Early::WarmStarted => Step::WarmStarted,
-            Early::Final => Step::Done,
-        }
+        Some(early)
     }
 
     /// Follows the files the project names if it can be parsed (before the first build, after
@@ -276,7 +257,7 @@ struct SummaryInput<'a> {
     early: Early,
 }
 
-/// Which result of a rebuild a build is.
+/// Which result of a rebuild a build is, and so what follows it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Early {
     /// The last design judged, meeting every goal: the full search follows.

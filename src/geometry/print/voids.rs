@@ -109,10 +109,10 @@ impl Layout {
     pub(super) fn near_hole(&self, hole: &[bool], area: &CellBox) -> Vec<bool> {
         let reach = self.slicing.perimeter_thickness / self.cell + 0.5;
         let distance = squared_distance_within(hole, area.width(), area.height(), reach);
-        let mut near = vec![false; hole.len()];
-        for ((near, &d), &h) in near.iter_mut().zip(&distance).zip(hole) {
-            *near = !h && d < reach * reach;
-        }
-        near
+        distance
+            .iter()
+            .zip(hole)
+            .map(|(&d, &h)| !h && d < reach * reach)
+            .collect()
     }
 }
