@@ -135,22 +135,31 @@ pub fn choose(
         .filter(|c| hull.facets[c.facet].area >= (1.0 - AREA_TIE) * largest)
         .collect();
     let any_stable = large.iter().any(|c| c.stable);
-    // The height only of the facets still in the running, each by a walk over the hull's edges
-    // from where the last one ended (a scan of every point per facet made this quadratic).
+    // The height only of the facets still in the running, each by walks over the hull's edges
+    // (a scan of every point per facet made this quadratic): the low end from a corner of the
+    // facet itself, which is on the bed, the high end from where the last walk ended, the facets
+    // taken in an order that keeps successive directions close, so each walk is short.
     let walk = HullWalk::new(hull);
-    let mut start = (0, 0);
-    // Each with the part's height on the bed.
-    let steady: Vec<(&Candidate, f64)> = large
+    let candidates: Vec<&Candidate> = large
         .into_iter()
         .filter(|c| c.stable == any_stable)
-        .map(|c| {
-            let along = c.rotation.matrix().row(2).transpose();
-            let height = walk
-                .extent(points, &along, &mut start)
-                .map_or(0.0, |(low, high)| high - low);
-            (c, height)
-        })
         .collect();
+    let mut heights = vec![0.0; candidates.len()];
+    let mut order: Vec<usize> = (0..candidates.len()).collect();
+    order.sort_by_key(|&k| direction_key(&hull.facets[candidates[k].facet].normal));
+    let mut high = 0;
+    for k in order {
+        let facet = &hull.facets[candidates[k].facet];
+        let along = candidates[k].rotation.matrix().row(2).transpose();
+        let low = facet.corners.first().and_then(|&c| walk.vertex(c));
+        let mut start = (low.unwrap_or(0), high);
+        heights[k] = walk
+            .extent(points, &along, &mut start)
+            .map_or(0.0, |(low, high)| high - low);
+        high = start.1;
+    }
+    // Each with the part's height on the bed.
+    let steady: Vec<(&Candidate, f64)> = candidates.into_iter().zip(heights).collect();
     let lowest = steady
         .iter()
         .map(|(_, height)| *height)
@@ -244,6 +253,19 @@ fn facet_rotation(facet: &HullFacet, points: &[Point3<f64>]) -> Rotation3<f64> {
     let edge = tilt * longest;
     let spin = Rotation3::from_axis_angle(&Vector3::z_axis(), -edge.y.atan2(edge.x));
     spin * tilt
+}
+
+/// A key that sorts unit vectors along a space-filling curve (Morton order of their components),
+/// so that vectors close in the order are mostly close in direction.
+fn direction_key(direction: &Vector3<f64>) -> u64 {
+    let quantised = direction.map(|x| (((x.clamp(-1.0, 1.0) + 1.0) / 2.0) * 1023.0) as u64);
+    let mut key = 0;
+    for bit in (0..10).rev() {
+        for axis in 0..3 {
+            key = (key << 1) | ((quantised[axis] >> bit) & 1);
+        }
+    }
+    key
 }
 
 /// The extent of `points` along the print frame's z under `to_print`: the part's height on the

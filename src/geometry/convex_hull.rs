@@ -12,8 +12,8 @@
 //!   ten times the rounding of coordinates stored as 32-bit floats (`6e-8` relative), so a face
 //!   exported from a modeller stays one facet while the smallest real bump does not.
 
-use std::collections::{BTreeSet, HashMap};
-use std::hash::{BuildHasherDefault, Hasher};
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
 
 use nalgebra::{Point3, Vector3};
 
@@ -83,53 +83,32 @@ fn extent(points: &[Point3<f64>], indices: &[usize]) -> f64 {
 /// A triangle of the hull under construction, counter-clockwise seen from outside.
 struct Face {
     corners: [usize; 3],
+    /// The face across each edge: `neighbours[k]` shares the edge from `corners[k]` to
+    /// `corners[(k + 1) % 3]` (walked the other way).
+    neighbours: [usize; 3],
     /// Unit outward normal (zero for a degenerate triangle, which then sees no point).
     normal: Vector3<f64>,
     offset: f64,
     /// The points outside this face that no other face claimed first.
     outside: Vec<usize>,
     alive: bool,
+    /// Whether the face is in the queue of faces with outside points.
+    queued: bool,
     /// The last point whose visible set this face was found in.
     seen_by: Option<usize>,
 }
 
-/// A hasher for pairs of point indices: a multiply and a rotation per word. The edge map is the
-/// hull's busiest structure, and its keys are small integers no input chooses to collide (the
-/// standard hasher's resistance to chosen keys costs several times more here).
-#[derive(Default)]
-struct EdgeHasher(u64);
+/// Marks a neighbour not linked yet (only while a cone is being made).
+const UNLINKED: usize = usize::MAX;
 
-impl Hasher for EdgeHasher {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-
-    fn write(&mut self, bytes: &[u8]) {
-        for &byte in bytes {
-            self.write_u64(u64::from(byte));
-        }
-    }
-
-    fn write_u64(&mut self, word: u64) {
-        self.0 = (self.0.rotate_left(5) ^ word).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
-    }
-
-    fn write_usize(&mut self, word: usize) {
-        self.write_u64(word as u64);
-    }
-}
-
-/// Each directed edge (its two corners) of the hull under construction, to its triangle.
-type Edges = HashMap<(usize, usize), usize, BuildHasherDefault<EdgeHasher>>;
-
-/// Quickhull's state: triangles, and each directed edge's triangle.
+/// Quickhull's state: triangles, each knowing its three neighbours.
 struct Quickhull<'a> {
     points: &'a [Point3<f64>],
     faces: Vec<Face>,
-    edges: Edges,
-    /// The live faces with points outside them, so the next one is found without a scan over
-    /// every face ever made (which made the hull quadratic in its vertex count).
-    pending: BTreeSet<usize>,
+    /// The faces with points outside them, lowest index first, so the next one is found without
+    /// a scan over every face ever made (which made the hull quadratic in its vertex count).
+    /// A face that died while queued is skipped when it comes up.
+    pending: BinaryHeap<Reverse<usize>>,
     /// A point counts as outside a face when farther than this above it.
     epsilon: f64,
 }
@@ -177,8 +156,7 @@ impl<'a> Quickhull<'a> {
         let mut hull = Quickhull {
             points,
             faces: Vec::new(),
-            edges: Edges::default(),
-            pending: BTreeSet::new(),
+            pending: BinaryHeap::new(),
             epsilon,
         };
         let centre = Point3::from((p(a).coords + p(b).coords + p(c).coords + p(d).coords) / 4.0);
@@ -186,6 +164,16 @@ impl<'a> Quickhull<'a> {
             let [x, y, z] = corners;
             let outward = (p(y) - p(x)).cross(&(p(z) - p(x))).dot(&(p(x) - centre)) > 0.0;
             hull.add_face(if outward { [x, y, z] } else { [x, z, y] });
+        }
+        // Each edge of the tetrahedron to the other face that has it, walked the other way.
+        for f in 0..4 {
+            for k in 0..3 {
+                let corners = hull.faces[f].corners;
+                let (from, to) = (corners[k], corners[(k + 1) % 3]);
+                hull.faces[f].neighbours[k] = (0..4)
+                    .find(|&g| g != f && hull.edge_slot(g, to, from).is_some())
+                    .expect("a tetrahedron's faces share every edge");
+            }
         }
         let others: Vec<usize> = finite
             .iter()
@@ -202,6 +190,13 @@ impl<'a> Quickhull<'a> {
         face.normal.dot(&self.points[i].coords) - face.offset
     }
 
+    /// The slot `k` of face `f` whose edge runs from `from` to `to`.
+    fn edge_slot(&self, f: usize, from: usize, to: usize) -> Option<usize> {
+        let corners = self.faces[f].corners;
+        (0..3).find(|&k| corners[k] == from && corners[(k + 1) % 3] == to)
+    }
+
+    /// A new face with its neighbours not linked yet.
     fn add_face(&mut self, corners: [usize; 3]) -> usize {
         let [a, b, c] = corners.map(|i| self.points[i]);
         let cross = (b - a).cross(&(c - a));
@@ -214,16 +209,23 @@ impl<'a> Quickhull<'a> {
         let index = self.faces.len();
         self.faces.push(Face {
             corners,
+            neighbours: [UNLINKED; 3],
             normal,
             offset: normal.dot(&a.coords),
             outside: Vec::new(),
             alive: true,
+            queued: false,
             seen_by: None,
         });
-        for k in 0..3 {
-            self.edges.insert((corners[k], corners[(k + 1) % 3]), index);
-        }
         index
+    }
+
+    /// Puts face `f` in the queue unless it is there.
+    fn enqueue(&mut self, f: usize) {
+        if !self.faces[f].queued {
+            self.faces[f].queued = true;
+            self.pending.push(Reverse(f));
+        }
     }
 
     /// Gives each of `points` to the first of `faces` it is farthest outside of; points outside
@@ -239,29 +241,31 @@ impl<'a> Quickhull<'a> {
             }
             if let Some((f, _)) = best {
                 self.faces[f].outside.push(i);
-                self.pending.insert(f);
+                self.enqueue(f);
             }
         }
     }
 
     /// Adds outside points until none is left: the farthest outside the first face (in the order
     /// faces were made) that has any. O(n log n) for points spread over the hull: each step finds
-    /// that face in the pending set, not by a scan.
+    /// that face in the queue, not by a scan.
     fn run(&mut self) {
-        while let Some(f) = self.pending.pop_first() {
+        while let Some(Reverse(f)) = self.pending.pop() {
+            self.faces[f].queued = false;
             if !self.faces[f].alive || self.faces[f].outside.is_empty() {
                 continue;
             }
             let outside = &self.faces[f].outside;
-            let mut k = 0;
-            for (j, &i) in outside.iter().enumerate() {
-                if self.distance(f, i) > self.distance(f, outside[k]) {
-                    k = j;
+            let (mut k, mut farthest) = (0, self.distance(f, outside[0]));
+            for (j, &i) in outside.iter().enumerate().skip(1) {
+                let distance = self.distance(f, i);
+                if distance > farthest {
+                    (k, farthest) = (j, distance);
                 }
             }
             let apex = self.faces[f].outside.swap_remove(k);
             if !self.faces[f].outside.is_empty() {
-                self.pending.insert(f);
+                self.enqueue(f);
             }
             self.add_point(f, apex);
         }
@@ -273,29 +277,33 @@ impl<'a> Quickhull<'a> {
     fn add_point(&mut self, first: usize, apex: usize) {
         let mut visible = vec![first];
         self.faces[first].seen_by = Some(apex);
-        let mut horizon: Vec<(usize, usize)> = Vec::new();
+        // Each edge of the horizon, from `a` to `b` on a visible face, with the face beyond it.
+        let mut horizon: Vec<(usize, usize, usize)> = Vec::new();
         let mut k = 0;
         while k < visible.len() {
-            let corners = self.faces[visible[k]].corners;
+            let face = &self.faces[visible[k]];
+            let (corners, neighbours) = (face.corners, face.neighbours);
             k += 1;
             for e in 0..3 {
                 let (a, b) = (corners[e], corners[(e + 1) % 3]);
-                let Some(&neighbour) = self.edges.get(&(b, a)) else {
-                    continue;
-                };
+                let neighbour = neighbours[e];
                 if self.distance(neighbour, apex) > self.epsilon {
                     if self.faces[neighbour].seen_by != Some(apex) {
                         self.faces[neighbour].seen_by = Some(apex);
                         visible.push(neighbour);
                     }
                 } else {
-                    horizon.push((a, b));
+                    horizon.push((a, b, neighbour));
                 }
             }
         }
-        let mut starts: Vec<usize> = horizon.iter().map(|&(a, _)| a).collect();
+        let mut starts: Vec<(usize, usize)> = horizon
+            .iter()
+            .enumerate()
+            .map(|(k, &(a, _, _))| (a, k))
+            .collect();
         starts.sort_unstable();
-        starts.dedup();
+        starts.dedup_by_key(|&mut (a, _)| a);
         if starts.len() != horizon.len() || horizon.len() < 3 {
             return;
         }
@@ -304,16 +312,29 @@ impl<'a> Quickhull<'a> {
             let face = &mut self.faces[f];
             face.alive = false;
             orphans.append(&mut face.outside);
-            self.pending.remove(&f);
-            let corners = face.corners;
-            for e in 0..3 {
-                self.edges.remove(&(corners[e], corners[(e + 1) % 3]));
-            }
         }
         let cone: Vec<usize> = horizon
             .iter()
-            .map(|&(a, b)| self.add_face([a, b, apex]))
+            .map(|&(a, b, _)| self.add_face([a, b, apex]))
             .collect();
+        // Link each cone face to the face beyond its horizon edge, and to the cone faces on
+        // either side: the one starting where it ends, and the one ending where it starts.
+        let next = |b: usize| {
+            let at = starts
+                .binary_search_by_key(&b, |&(a, _)| a)
+                .expect("the horizon is one loop");
+            starts[at].1
+        };
+        for (k, &(a, b, beyond)) in horizon.iter().enumerate() {
+            let after = cone[next(b)];
+            self.faces[cone[k]].neighbours[0] = beyond;
+            self.faces[cone[k]].neighbours[1] = after;
+            self.faces[after].neighbours[2] = cone[k];
+            let slot = self
+                .edge_slot(beyond, b, a)
+                .expect("the face beyond the horizon has its edge");
+            self.faces[beyond].neighbours[slot] = cone[k];
+        }
         self.assign(&orphans, &cone);
     }
 
@@ -321,18 +342,18 @@ impl<'a> Quickhull<'a> {
     /// the triangles reachable across edges whose corners are within `tolerance` of its first
     /// triangle's plane.
     fn facets(&self, tolerance: f64) -> ConvexHull {
-        let live: Vec<usize> = (0..self.faces.len())
-            .filter(|&f| self.faces[f].alive)
-            .collect();
         let area = |f: usize| {
             let [a, b, c] = self.faces[f].corners.map(|i| self.points[i]);
             (b - a).cross(&(c - a)).norm() / 2.0
         };
-        let mut order = live.clone();
-        order.sort_by(|x, y| area(*y).total_cmp(&area(*x)).then(x.cmp(y)));
+        let mut order: Vec<(f64, usize)> = (0..self.faces.len())
+            .filter(|&f| self.faces[f].alive)
+            .map(|f| (area(f), f))
+            .collect();
+        order.sort_unstable_by(|x, y| y.0.total_cmp(&x.0).then(x.1.cmp(&y.1)));
         let mut taken = vec![false; self.faces.len()];
         let mut facets = Vec::new();
-        for &seed in &order {
+        for &(_, seed) in &order {
             if taken[seed] {
                 continue;
             }
@@ -349,15 +370,12 @@ impl<'a> Quickhull<'a> {
             let mut group = vec![seed];
             let mut k = 0;
             while k < group.len() {
-                let corners = self.faces[group[k]].corners;
+                let neighbours = self.faces[group[k]].neighbours;
                 k += 1;
-                for e in 0..3 {
-                    let twin = (corners[(e + 1) % 3], corners[e]);
-                    if let Some(&neighbour) = self.edges.get(&twin) {
-                        if !taken[neighbour] && on_plane(neighbour) {
-                            taken[neighbour] = true;
-                            group.push(neighbour);
-                        }
+                for neighbour in neighbours {
+                    if !taken[neighbour] && on_plane(neighbour) {
+                        taken[neighbour] = true;
+                        group.push(neighbour);
                     }
                 }
             }
@@ -549,6 +567,38 @@ mod tests {
         assert_valid(&hull, &points);
         assert_eq!(hull.vertices.len(), 400);
         assert_eq!(convex_hull(&points), Some(hull));
+    }
+
+    #[test]
+    fn every_live_face_and_its_neighbours_share_their_edges() {
+        let points: Vec<Point3<f64>> = (0..300)
+            .map(|i| {
+                let z = 1.0 - 2.0 * (f64::from(i) + 0.5) / 300.0;
+                let r = (1.0 - z * z).sqrt();
+                let phi = f64::from(i) * 2.399_963_229_728_653;
+                Point3::new(r * phi.cos(), 2.0 * r * phi.sin(), z)
+            })
+            // And points inside, which are no corners.
+            .chain(cube_points().into_iter().map(|p| p * 0.2))
+            .collect();
+        let finite: Vec<usize> = (0..points.len()).collect();
+        let mut hull = Quickhull::start(&points, &finite, 1e-12).unwrap();
+        hull.run();
+        let live: Vec<usize> = (0..hull.faces.len())
+            .filter(|&f| hull.faces[f].alive)
+            .collect();
+        // A closed triangulated surface of V vertices has 2V − 4 triangles.
+        assert_eq!(live.len(), 2 * 300 - 4);
+        for &f in &live {
+            let face = &hull.faces[f];
+            for k in 0..3 {
+                let g = face.neighbours[k];
+                assert!(hull.faces[g].alive, "face {f} links a dead face");
+                let (from, to) = (face.corners[k], face.corners[(k + 1) % 3]);
+                let slot = hull.edge_slot(g, to, from).expect("the shared edge");
+                assert_eq!(hull.faces[g].neighbours[slot], f);
+            }
+        }
     }
 
     #[test]

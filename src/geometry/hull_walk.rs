@@ -48,6 +48,12 @@ impl HullWalk {
         }
     }
 
+    /// The index among the walk's vertices of the hull's vertex `point` (an index into the points
+    /// the hull was made of), to start a walk from; `None` when `point` is not a hull vertex.
+    pub fn vertex(&self, point: usize) -> Option<usize> {
+        self.vertices.binary_search(&point).ok()
+    }
+
     /// The lowest and the highest of `direction · p` over the hull's vertices `p` (`points` are
     /// those the hull was made of): those of every point within the hull's tolerance, since a
     /// point that close to a facet need not be its corner, nor a vertex where a walk stops
