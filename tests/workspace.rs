@@ -4,6 +4,7 @@
 
 mod edit_support;
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
@@ -339,4 +340,112 @@ fn with_one_capsule_asked_the_explanation_names_each_goal_one_capsule_cannot_mee
         let optimization = single.optimization.as_ref().unwrap();
         assert!(!optimization.meets_goals, "{pose} met by one capsule alone");
     }
+}
+
+/// The T with one capsule placed by hand, no search: `INFILL` is replaced to change the print.
+const PLACED: &str = r#"
+infill INFILL
+component "T" mesh="meshes/t_shape.obj"
+pose "upright" { stand }
+capsule "heavy" component="T" radius=3 {
+    from 5 0 12
+    to 15 0 12
+}
+"#;
+
+/// The print files under `folder` (STL, 3MF, the sheet and its pictures), by path.
+fn print_files_under(folder: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
+    walkdir(folder)
+        .into_iter()
+        .filter(|path| {
+            path.extension()
+                .is_some_and(|e| ["stl", "3mf", "md", "svg"].iter().any(|x| e == *x))
+        })
+        .map(|path| {
+            let bytes = std::fs::read(&path).unwrap();
+            (path, bytes)
+        })
+        .collect()
+}
+
+/// The paths of the files whose bytes differ between `a` and `b`, or that only one has.
+fn differing(a: &BTreeMap<PathBuf, Vec<u8>>, b: &BTreeMap<PathBuf, Vec<u8>>) -> Vec<PathBuf> {
+    a.keys()
+        .chain(b.keys())
+        .filter(|path| a.get(*path) != b.get(*path))
+        .cloned()
+        .collect()
+}
+
+fn walkdir(folder: &Path) -> Vec<PathBuf> {
+    let mut found = Vec::new();
+    for entry in std::fs::read_dir(folder).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            found.extend(walkdir(&path));
+        } else {
+            found.push(path);
+        }
+    }
+    found
+}
+
+#[test]
+fn print_files_are_encoded_again_only_when_what_they_show_changed() {
+    let source = PLACED.replace("INFILL", "0.2");
+    let (folder, path) = t_project(&source);
+    let out = folder.path().join("out");
+    let mut workspace = Workspace::new();
+    let compile = |source: &str, workspace: &mut Workspace| {
+        workspace.start_build();
+        compile_with(source, &path, &CompileOptions::default(), workspace).unwrap()
+    };
+    let write = |compilation: &Compilation, workspace: &mut Workspace| {
+        ballast::compile::write_outputs_with(
+            compilation,
+            &path,
+            Some(&out),
+            &mut workspace.print_files,
+        )
+        .unwrap();
+        print_files_under(&out)
+    };
+
+    let first = compile(&source, &mut workspace);
+    let written = write(&first, &mut workspace);
+    assert_eq!(workspace.print_files.encoded(), 1);
+    assert_eq!(written.len(), 4, "{:?}", written.keys());
+
+    // The same design and settings again (a goal-only edit judging the last design): the
+    // cached print files, the same bytes as a build that encodes them afresh.
+    let again = compile(
+        &source.replace("{ stand }", "{ stand margin=1 }"),
+        &mut workspace,
+    );
+    let rewritten = write(&again, &mut workspace);
+    assert_eq!(workspace.print_files.encoded(), 1);
+    assert_eq!(differing(&rewritten, &written), Vec::<PathBuf>::new());
+    ballast::compile::write_outputs(&again, &path, Some(&out)).unwrap();
+    assert_eq!(
+        differing(&print_files_under(&out), &written),
+        Vec::<PathBuf>::new()
+    );
+
+    // Another infill changes the 3MF's settings: encoded again, as a fresh build encodes it.
+    let denser = PLACED.replace("INFILL", "0.3");
+    let changed = compile(&denser, &mut workspace);
+    let cached = write(&changed, &mut workspace);
+    assert_eq!(workspace.print_files.encoded(), 2);
+    let changed_files = differing(&cached, &written);
+    assert!(
+        changed_files
+            .iter()
+            .any(|p| p.extension().is_some_and(|e| e == "3mf")),
+        "{changed_files:?}"
+    );
+    ballast::compile::write_outputs(&changed, &path, Some(&out)).unwrap();
+    assert_eq!(
+        differing(&print_files_under(&out), &cached),
+        Vec::<PathBuf>::new()
+    );
 }

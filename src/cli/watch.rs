@@ -18,7 +18,7 @@ use super::{
 };
 use crate::cancel::Cancel;
 use crate::compile::{
-    write_outputs, Compilation, CompileOptions, DesignSource, WarmStart, Workspace,
+    write_outputs_with, Compilation, CompileOptions, DesignSource, WarmStart, Workspace,
 };
 use crate::optimize::{Built, PrecomputeCache};
 use crate::spec::{parse_project_with, read_source};
@@ -171,7 +171,12 @@ impl Session<'_> {
             &options.read_policy(self.path),
         );
         let write_start = Instant::now();
-        let written = match write_outputs(&compilation, self.path, options.out_dir.as_deref()) {
+        let written = match write_outputs_with(
+            &compilation,
+            self.path,
+            options.out_dir.as_deref(),
+            &mut self.workspace.print_files,
+        ) {
             Ok(written) => written,
             Err(message) => {
                 eprintln!("error: {message}");

@@ -60,7 +60,10 @@ pub use output_paths::{
     check_output_paths, input_files, output_targets, OutputTarget, WriteOptions, DUPLICATE_OUTPUT,
     OUTSIDE_PROJECT, OVERWRITES_INPUT,
 };
-pub use outputs::{finish_interrupted_outputs, journal_path, write_outputs, WrittenOutputs};
+pub use outputs::{
+    finish_interrupted_outputs, journal_path, write_outputs, write_outputs_with, PrintFileCache,
+    WrittenOutputs,
+};
 pub use print_cache::PrintCache;
 pub use print_files::{bed_parts, print_settings};
 pub use report::{Report, REPORT_FORMAT};

@@ -13,7 +13,9 @@ use super::{
     DesignSource, Report,
 };
 use crate::emit::output_set::same_file;
-use crate::emit::print_files::{file_name, write_prusa_3mf, write_sheet, write_stl};
+use crate::emit::print_files::{
+    file_name, write_prusa_3mf, write_sheet, write_stl, BedPart, PrintSettings,
+};
 use crate::emit::{finish_interrupted, replace_set, write_glb};
 use crate::geometry::{MeshLimits, ReadPolicy};
 
@@ -39,7 +41,19 @@ pub fn write_outputs(
     path: &Path,
     out_dir: Option<&Path>,
 ) -> Result<WrittenOutputs, String> {
-    let targets = encode_outputs(compilation, path, out_dir)?;
+    write_outputs_with(compilation, path, out_dir, &mut PrintFileCache::default())
+}
+
+/// [`write_outputs`], taking the print files from `cache` when they were last encoded from the
+/// same parts, settings and names (watch mode judging an unchanged design), and keeping this
+/// build's there. The files written are the same bytes either way.
+pub fn write_outputs_with(
+    compilation: &Compilation,
+    path: &Path,
+    out_dir: Option<&Path>,
+    cache: &mut PrintFileCache,
+) -> Result<WrittenOutputs, String> {
+    let targets = encode_outputs(compilation, path, out_dir, cache)?;
     // Every buffer counts as an input here, wherever it is: refusing to overwrite one more file
     // is safe.
     let anywhere = ReadPolicy {
@@ -94,7 +108,8 @@ fn encode_outputs(
     compilation: &Compilation,
     path: &Path,
     out_dir: Option<&Path>,
-) -> Result<Vec<(PathBuf, Vec<u8>)>, String> {
+    cache: &mut PrintFileCache,
+) -> Result<Vec<Encoded>, String> {
     let glb = write_glb(&compilation.scene())
         .map_err(|error| format!("cannot encode the glTF file: {error}"))?;
     let report = Report::new(compilation, path).to_json();
@@ -103,7 +118,7 @@ fn encode_outputs(
         (output_path(&output.gltf, out_dir), glb),
         (output_path(&output.report, out_dir), report.into_bytes()),
     ];
-    targets.extend(print_files(compilation, path, out_dir)?);
+    targets.extend(print_files(compilation, path, out_dir, cache)?);
     // A design judged again is the last build's, whose solution file is this build's output
     // too: left out, the output set would remove it.
     if matches!(
@@ -132,23 +147,87 @@ fn encode_outputs(
     Ok(targets)
 }
 
+/// The print files last encoded in one process, with what they were encoded from, so a build
+/// with the same parts, settings and names (in watch mode, a goal-only edit judging the last
+/// design) takes their bytes instead of encoding the 3MF, the STL files and the sheet again: on a
+/// 240k-triangle part that is most of the time from a save to its outputs.
+#[derive(Debug, Default)]
+pub struct PrintFileCache {
+    /// The last inputs and the files encoded from them.
+    last: Option<(PrintFileInputs, Vec<Encoded>)>,
+    /// Sets of print files encoded (not taken from the cache) since it was made.
+    encoded: usize,
+}
+
+impl PrintFileCache {
+    /// Sets of print files encoded, not taken from the cache, since it was made.
+    pub fn encoded(&self) -> usize {
+        self.encoded
+    }
+}
+
+/// An output's path and its bytes.
+type Encoded = (PathBuf, Vec<u8>);
+
+/// Everything the print files are a function of.
+#[derive(Debug, PartialEq)]
+struct PrintFileInputs {
+    parts: Vec<BedPart>,
+    settings: PrintSettings,
+    /// The project file's name, the sheet's title.
+    title: String,
+    /// Where the STL files, the 3MF and the sheet go.
+    paths: [PathBuf; 3],
+}
+
 /// The print files of `compilation`, encoded: each component's STL in the `stl` folder, the
-/// PrusaSlicer project, the insertion sheet and its pictures beside it.
+/// PrusaSlicer project, the insertion sheet and its pictures beside it; from `cache` when it holds
+/// them for the same inputs.
 fn print_files(
     compilation: &Compilation,
     path: &Path,
     out_dir: Option<&Path>,
-) -> Result<Vec<(PathBuf, Vec<u8>)>, String> {
+    cache: &mut PrintFileCache,
+) -> Result<Vec<Encoded>, String> {
     let output = &compilation.project.output;
-    let parts = bed_parts(
-        &compilation.project,
-        &compilation.meshes,
-        &compilation.design,
-        &compilation.print_plan,
-    );
-    let settings = print_settings(&compilation.project, &compilation.design);
-    let folder = output_path(&output.stl, out_dir);
-    let mut targets: Vec<(PathBuf, Vec<u8>)> = parts
+    let inputs = PrintFileInputs {
+        parts: bed_parts(
+            &compilation.project,
+            &compilation.meshes,
+            &compilation.design,
+            &compilation.print_plan,
+        ),
+        settings: print_settings(&compilation.project, &compilation.design),
+        title: path
+            .file_name()
+            .map(|name| name.to_string_lossy().into_owned())
+            .unwrap_or_default(),
+        paths: [
+            output_path(&output.stl, out_dir),
+            output_path(&output.prusa, out_dir),
+            output_path(&output.sheet, out_dir),
+        ],
+    };
+    if let Some((last, files)) = &cache.last {
+        if *last == inputs {
+            return Ok(files.clone());
+        }
+    }
+    let files = encode_print_files(&inputs)?;
+    cache.encoded += 1;
+    cache.last = Some((inputs, files.clone()));
+    Ok(files)
+}
+
+/// The print files of `inputs`, encoded.
+fn encode_print_files(inputs: &PrintFileInputs) -> Result<Vec<Encoded>, String> {
+    let PrintFileInputs {
+        parts,
+        settings,
+        title,
+        paths: [folder, prusa_path, sheet_path],
+    } = inputs;
+    let mut targets: Vec<Encoded> = parts
         .iter()
         .map(|part| {
             (
@@ -157,24 +236,19 @@ fn print_files(
             )
         })
         .collect();
-    let prusa = write_prusa_3mf(&parts, &settings)
+    let prusa = write_prusa_3mf(parts, settings)
         .map_err(|error| format!("cannot encode the PrusaSlicer project: {error}"))?;
-    targets.push((output_path(&output.prusa, out_dir), prusa));
-    let sheet_path = output_path(&output.sheet, out_dir);
+    targets.push((prusa_path.clone(), prusa));
     let stem = sheet_path.file_stem().map_or_else(
         || "insertion".into(),
         |stem| stem.to_string_lossy().into_owned(),
     );
-    let title = path
-        .file_name()
-        .map(|name| name.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let sheet = write_sheet(&title, &parts, &settings, &stem);
+    let sheet = write_sheet(title, parts, settings, &stem);
     let pictures = sheet_path
         .parent()
         .map(Path::to_path_buf)
         .unwrap_or_default();
-    targets.push((sheet_path, sheet.markdown.into_bytes()));
+    targets.push((sheet_path.clone(), sheet.markdown.into_bytes()));
     for (name, svg) in sheet.pictures {
         targets.push((pictures.join(name), svg.into_bytes()));
     }

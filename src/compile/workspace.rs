@@ -4,6 +4,7 @@
 use std::sync::{Mutex, PoisonError};
 
 use super::mesh_cache::MeshCache;
+use super::outputs::PrintFileCache;
 use super::print_cache::PrintCache;
 use super::DesignSource;
 use crate::cancel::Cancel;
@@ -20,6 +21,8 @@ pub struct Workspace {
     pub cache: PrecomputeCache,
     /// Print volumes already computed.
     pub prints: PrintCache,
+    /// The print files last written, for [`write_outputs_with`](super::write_outputs_with).
+    pub print_files: PrintFileCache,
     /// Set from another thread to stop the build in flight (watch mode: a newer save).
     pub cancel: Cancel,
     /// Told as each long stage starts; silent when `None`.
