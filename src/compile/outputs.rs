@@ -41,7 +41,8 @@ pub fn write_outputs(
     path: &Path,
     out_dir: Option<&Path>,
 ) -> Result<WrittenOutputs, String> {
-    write_outputs_with(compilation, path, out_dir, &mut PrintFileCache::default())
+    let targets = encode_outputs(compilation, path, out_dir, None)?;
+    replace_outputs(compilation, path, out_dir, targets)
 }
 
 /// [`write_outputs`], taking the print files from `cache` when they were last encoded from the
@@ -53,7 +54,17 @@ pub fn write_outputs_with(
     out_dir: Option<&Path>,
     cache: &mut PrintFileCache,
 ) -> Result<WrittenOutputs, String> {
-    let targets = encode_outputs(compilation, path, out_dir, cache)?;
+    let targets = encode_outputs(compilation, path, out_dir, Some(cache))?;
+    replace_outputs(compilation, path, out_dir, targets)
+}
+
+/// Replaces the outputs with `targets` as one set (see [`write_outputs`]).
+fn replace_outputs(
+    compilation: &Compilation,
+    path: &Path,
+    out_dir: Option<&Path>,
+    targets: Vec<Encoded>,
+) -> Result<WrittenOutputs, String> {
     // Every buffer counts as an input here, wherever it is: refusing to overwrite one more file
     // is safe.
     let anywhere = ReadPolicy {
@@ -108,7 +119,7 @@ fn encode_outputs(
     compilation: &Compilation,
     path: &Path,
     out_dir: Option<&Path>,
-    cache: &mut PrintFileCache,
+    cache: Option<&mut PrintFileCache>,
 ) -> Result<Vec<Encoded>, String> {
     let glb = write_glb(&compilation.scene())
         .map_err(|error| format!("cannot encode the glTF file: {error}"))?;
@@ -182,12 +193,12 @@ struct PrintFileInputs {
 
 /// The print files of `compilation`, encoded: each component's STL in the `stl` folder, the
 /// PrusaSlicer project, the insertion sheet and its pictures beside it; from `cache` when it holds
-/// them for the same inputs.
+/// them for the same inputs, and kept there (without a cache, nothing is copied to keep).
 fn print_files(
     compilation: &Compilation,
     path: &Path,
     out_dir: Option<&Path>,
-    cache: &mut PrintFileCache,
+    cache: Option<&mut PrintFileCache>,
 ) -> Result<Vec<Encoded>, String> {
     let output = &compilation.project.output;
     let inputs = PrintFileInputs {
@@ -207,6 +218,9 @@ fn print_files(
             output_path(&output.prusa, out_dir),
             output_path(&output.sheet, out_dir),
         ],
+    };
+    let Some(cache) = cache else {
+        return encode_print_files(&inputs);
     };
     if let Some((last, files)) = &cache.last {
         if *last == inputs {

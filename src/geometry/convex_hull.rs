@@ -552,16 +552,20 @@ mod tests {
         assert!((hull.facets[0].normal - expected).norm() < 1e-12);
     }
 
+    /// `n` points spread over the unit sphere by the golden angle, deterministically.
+    fn spiral(n: u32) -> impl Iterator<Item = Point3<f64>> {
+        (0..n).map(move |i| {
+            let z = 1.0 - 2.0 * (f64::from(i) + 0.5) / f64::from(n);
+            let r = (1.0 - z * z).sqrt();
+            let phi = f64::from(i) * 2.399_963_229_728_653;
+            Point3::new(r * phi.cos(), r * phi.sin(), z)
+        })
+    }
+
     #[test]
     fn points_on_a_sphere_are_all_vertices() {
-        // A deterministic spread of points on a sphere (golden-angle spiral).
-        let points: Vec<Point3<f64>> = (0..400)
-            .map(|i| {
-                let z = 1.0 - 2.0 * (f64::from(i) + 0.5) / 400.0;
-                let r = (1.0 - z * z).sqrt();
-                let phi = f64::from(i) * 2.399_963_229_728_653;
-                Point3::new(r * phi.cos() + 10.0, r * phi.sin(), z)
-            })
+        let points: Vec<Point3<f64>> = spiral(400)
+            .map(|p| Point3::new(p.x + 10.0, p.y, p.z))
             .collect();
         let hull = convex_hull(&points).unwrap();
         assert_valid(&hull, &points);
@@ -571,13 +575,8 @@ mod tests {
 
     #[test]
     fn every_live_face_and_its_neighbours_share_their_edges() {
-        let points: Vec<Point3<f64>> = (0..300)
-            .map(|i| {
-                let z = 1.0 - 2.0 * (f64::from(i) + 0.5) / 300.0;
-                let r = (1.0 - z * z).sqrt();
-                let phi = f64::from(i) * 2.399_963_229_728_653;
-                Point3::new(r * phi.cos(), 2.0 * r * phi.sin(), z)
-            })
+        let points: Vec<Point3<f64>> = spiral(300)
+            .map(|p| Point3::new(p.x, 2.0 * p.y, p.z))
             // And points inside, which are no corners.
             .chain(cube_points().into_iter().map(|p| p * 0.2))
             .collect();
