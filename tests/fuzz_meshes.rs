@@ -1,4 +1,5 @@
-//! A mutation fuzzer for the mesh loaders (OBJ, glTF, GLB) and the mesh checks, on stable Rust.
+//! A mutation fuzzer for the mesh loaders (OBJ, STL, 3MF, glTF, GLB) and the mesh checks, on
+//! stable Rust.
 //!
 //! Starts from seed files (the regression cases of tests/mesh_inputs.rs, the test meshes) and
 //! mutates them: bytes flipped, inserted, deleted and duplicated, numbers swapped for extreme
@@ -75,6 +76,17 @@ const TOKENS: &[&str] = &[
     "\"matrix\": [0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0]",
     "data:application/octet-stream;base64,",
     "AAAA",
+    "solid ",
+    "endsolid\n",
+    "facet normal 0 0 1\nouter loop\n",
+    "vertex 1e38 0 0\n",
+    "endloop\nendfacet\n",
+    "<item objectid=\"1\"/>",
+    "<component objectid=\"1\"/>",
+    " transform=\"0 0 0 0 0 0 0 0 0 1e308 1e308 1e308\"",
+    " p:path=\"/3D/3dmodel.model\"",
+    "<vertex x=\"1\" y=\"nan\" z=\"0\"/>",
+    "<triangle v1=\"0\" v2=\"1\" v3=\"4294967296\"/>",
 ];
 
 const TETRAHEDRON_OBJ: &str =
@@ -134,6 +146,58 @@ fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
     out
 }
 
+/// The tetrahedron as an ASCII STL file.
+fn tetrahedron_stl() -> String {
+    let corners = [[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]];
+    let mut text = String::from("solid t\n");
+    for triangle in [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]] {
+        text += "facet normal 0 0 0\nouter loop\n";
+        for corner in triangle {
+            let [x, y, z]: [f64; 3] = corners[corner];
+            text += &format!("vertex {x} {y} {z}\n");
+        }
+        text += "endloop\nendfacet\n";
+    }
+    text + "endsolid t\n"
+}
+
+/// The tetrahedron as a binary STL file.
+fn tetrahedron_binary_stl() -> Vec<u8> {
+    let mut bytes = vec![0u8; 80];
+    bytes.extend(4u32.to_le_bytes());
+    let corners = [[0f32, 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]];
+    for triangle in [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]] {
+        bytes.extend([0u8; 12]);
+        for corner in triangle {
+            for c in corners[corner] {
+                bytes.extend(c.to_le_bytes());
+            }
+        }
+        bytes.extend([0u8; 2]);
+    }
+    bytes
+}
+
+/// The tetrahedron as a 3MF archive, its parts stored uncompressed (so that mutations reach the
+/// ZIP structure and the XML), placed by a build item through a component.
+fn tetrahedron_3mf() -> Vec<u8> {
+    use std::io::Write;
+    let model = r#"<?xml version="1.0" encoding="UTF-8"?>
+<model unit="millimeter" xmlns="http://schemas.microsoft.com/3dmanufacturing/core/2015/02">
+<resources><object id="1" type="model" name="m"><mesh><vertices>
+<vertex x="0" y="0" z="0"/><vertex x="1" y="0" z="0"/><vertex x="0" y="1" z="0"/><vertex x="0" y="0" z="1"/>
+</vertices><triangles><triangle v1="0" v2="2" v3="1"/><triangle v1="0" v2="1" v3="3"/>
+<triangle v1="0" v2="3" v3="2"/><triangle v1="1" v2="2" v3="3"/></triangles></mesh></object>
+<object id="2" name="t"><components><component objectid="1" transform="1 0 0 0 1 0 0 0 1 5 0 0"/></components></object>
+</resources><build><item objectid="2"/></build></model>"#;
+    let mut zip = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
+    let stored =
+        zip::write::SimpleFileOptions::default().compression_method(zip::CompressionMethod::Stored);
+    zip.start_file("3D/3dmodel.model", stored).unwrap();
+    zip.write_all(model.as_bytes()).unwrap();
+    zip.finish().unwrap().into_inner()
+}
+
 /// The seeds: (extension, bytes).
 fn seeds() -> Vec<Input> {
     use base64::Engine;
@@ -148,6 +212,9 @@ fn seeds() -> Vec<Input> {
         ("gltf", tetrahedron_json(&data_uri).into_bytes()),
         ("gltf", tetrahedron_json("\"uri\": \"t.bin\", ").into_bytes()),
         ("glb", glb(&tetrahedron_json(""), &tetrahedron_bin())),
+        ("stl", tetrahedron_stl().into_bytes()),
+        ("stl", tetrahedron_binary_stl()),
+        ("3mf", tetrahedron_3mf()),
         (
             "gltf",
             br#"{"asset":{"version":"2.0"},"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}]}"#

@@ -95,6 +95,7 @@ fn mesh_section(out: &mut String, compilation: &Compilation) {
             .map_or_else(String::new, |name| name.to_string_lossy().into_owned());
         let from = |source: FrameSource| match source {
             FrameSource::Gltf => " (glTF)",
+            FrameSource::ThreeMf => " (3MF)",
             FrameSource::Written | FrameSource::Project => "",
         };
         let mut read = vec![format!(

@@ -9,17 +9,21 @@ use super::load_files::{FileReader, MeshLimits, ReadPolicy};
 use super::load_gltf::OpenedGltf;
 use super::load_obj;
 use super::mesh::TriMesh;
+use super::{load_3mf, load_stl};
 
 /// Which part of a mesh file to load.
 ///
 /// A name selector is matched against the names the file's format has: OBJ object and group
-/// names (`o`/`g` lines), glTF node names and then glTF mesh names. The variant records which
+/// names (`o`/`g` lines), ASCII STL solid names, the names of the objects a 3MF file's build
+/// places, glTF node names and then glTF mesh names. The variant records which
 /// format the name was written for; either variant works on either format.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub enum MeshSelector {
-    /// Everything: all objects of an OBJ file, or every mesh instance of the glTF default scene.
+    /// Everything: all objects of an OBJ file, all solids of an STL file, every build item of a
+    /// 3MF file, or every mesh instance of the glTF default scene.
     Whole,
-    /// The OBJ object (or group) with this name; several objects with the name are merged.
+    /// The OBJ object (or group), STL solid or 3MF build item's object with this name; several
+    /// with the name are merged.
     ObjObject(String),
     /// The glTF node with this name (in its world frame), or else the glTF mesh with this name.
     GltfNode(String),
@@ -53,8 +57,9 @@ pub enum LoadError {
         #[source]
         source: std::io::Error,
     },
-    /// The extension is not one of `.obj`, `.gltf`, `.glb` (compared case-insensitively).
-    #[error("unsupported mesh format `{extension}` (expected .obj, .gltf or .glb)")]
+    /// The extension is not one of `.obj`, `.stl`, `.3mf`, `.gltf`, `.glb` (compared
+    /// case-insensitively).
+    #[error("unsupported mesh format `{extension}` (expected .obj, .stl, .3mf, .gltf or .glb)")]
     UnknownFormat {
         /// The file's extension without the dot (empty when there is none).
         extension: String,
@@ -62,6 +67,18 @@ pub enum LoadError {
     /// The OBJ text could not be parsed.
     #[error("malformed OBJ file: {message}")]
     Obj {
+        /// What is wrong.
+        message: String,
+    },
+    /// The STL file is neither a binary STL nor well-formed ASCII STL.
+    #[error("malformed STL file: {message}")]
+    Stl {
+        /// What is wrong.
+        message: String,
+    },
+    /// The 3MF archive, or a model part in it, could not be read.
+    #[error("malformed 3MF file: {message}")]
+    ThreeMf {
         /// What is wrong.
         message: String,
     },
@@ -151,8 +168,8 @@ fn available_note(available: &[String]) -> String {
     }
 }
 
-/// Loads a triangle mesh from an `.obj`, `.gltf` or `.glb` file (extension compared
-/// case-insensitively), reading files only inside the mesh's own folder (see
+/// Loads a triangle mesh from an `.obj`, `.stl`, `.3mf`, `.gltf` or `.glb` file (extension
+/// compared case-insensitively), reading files only inside the mesh's own folder (see
 /// [`load_mesh_with`], whose mesh this is).
 pub fn load_mesh(path: &Path, selector: &MeshSelector) -> Result<TriMesh, LoadError> {
     let folder = match path.parent() {
@@ -172,11 +189,13 @@ pub struct LoadedMesh {
     pub short_faces: Vec<usize>,
 }
 
-/// Loads a triangle mesh from an `.obj`, `.gltf` or `.glb` file (extension compared
-/// case-insensitively), reading only the files `policy` allows and within its limits.
+/// Loads a triangle mesh from an `.obj`, `.stl`, `.3mf`, `.gltf` or `.glb` file (extension
+/// compared case-insensitively), reading only the files `policy` allows and within its limits.
 ///
 /// The result is one [`TriMesh`] in the file's frame and units; for glTF, node transforms
-/// (world transforms, the product of the parents' local transforms) are applied. Vertices with
+/// (world transforms, the product of the parents' local transforms) are applied; for 3MF, the
+/// build and component transforms, and coordinates are scaled from the file's `unit` into
+/// millimetres. Vertices with
 /// bit-identical positions are merged (first occurrence kept, order preserved) so files that split
 /// vertices by normal or texture coordinate give a connected surface; `-0.0` and `0.0` count as
 /// equal. Nothing else is changed: degenerate or duplicate triangles are kept, for
@@ -204,13 +223,17 @@ pub struct MeshFile {
 enum Contents {
     /// An OBJ file's bytes (each part is parsed from them).
     Obj(Vec<u8>),
+    /// An STL file's solids.
+    Stl(Vec<load_stl::Solid>),
+    /// A 3MF package's model parts.
+    ThreeMf(Box<load_3mf::Package>),
     /// A glTF file's document, buffers and node hierarchy.
     Gltf(Box<OpenedGltf>),
 }
 
 impl MeshFile {
-    /// Reads the `.obj`, `.gltf` or `.glb` file at `path` (extension compared
-    /// case-insensitively), and parses a glTF file, reading only what `policy` allows
+    /// Reads the `.obj`, `.stl`, `.3mf`, `.gltf` or `.glb` file at `path` (extension compared
+    /// case-insensitively), and parses every format but OBJ, reading only what `policy` allows
     /// ([`load_mesh_with`]).
     pub fn open(path: &Path, policy: &ReadPolicy) -> Result<MeshFile, LoadError> {
         let extension = path
@@ -219,6 +242,8 @@ impl MeshFile {
             .unwrap_or_default();
         let format = match extension.to_ascii_lowercase().as_str() {
             "obj" => Format::Obj,
+            "stl" => Format::Stl,
+            "3mf" => Format::ThreeMf,
             "gltf" | "glb" => Format::Gltf,
             _ => return Err(LoadError::UnknownFormat { extension }),
         };
@@ -226,6 +251,10 @@ impl MeshFile {
         let bytes = reader.read(path)?;
         let contents = match format {
             Format::Obj => Contents::Obj(bytes),
+            Format::Stl => Contents::Stl(load_stl::parse_stl(&bytes, &policy.limits)?),
+            Format::ThreeMf => {
+                Contents::ThreeMf(Box::new(load_3mf::Package::open(&bytes, &policy.limits)?))
+            }
             Format::Gltf => {
                 let base = path.parent().unwrap_or_else(|| Path::new("."));
                 Contents::Gltf(Box::new(OpenedGltf::open(&bytes, base, &mut reader)?))
@@ -242,6 +271,8 @@ impl MeshFile {
     pub fn load(&self, selector: &MeshSelector) -> Result<LoadedMesh, LoadError> {
         let (raw, short_faces) = match &self.contents {
             Contents::Obj(bytes) => load_obj::parse_obj(bytes, selector, &self.limits)?,
+            Contents::Stl(solids) => (load_stl::select(solids, selector)?, Vec::new()),
+            Contents::ThreeMf(package) => (package.part(selector, &self.limits)?, Vec::new()),
             Contents::Gltf(opened) => (opened.part(selector)?, Vec::new()),
         };
         Ok(LoadedMesh {
@@ -275,6 +306,8 @@ pub(crate) fn check_vertices(count: usize, limits: &MeshLimits) -> Result<(), Lo
 
 enum Format {
     Obj,
+    Stl,
+    ThreeMf,
     Gltf,
 }
 

@@ -1,7 +1,7 @@
 //! Geometry: triangle meshes, loading, validation, mass properties and distance queries.
 //!
 //! - [`TriMesh`]: positions and counter-clockwise (seen from outside) triangles in one frame.
-//! - [`load_mesh`]: `.obj`, `.gltf` and `.glb` files, whole or one named part; the external
+//! - [`load_mesh`]: `.obj`, `.stl`, `.3mf`, `.gltf` and `.glb` files, whole or one named part; the external
 //!   buffer files a `.gltf` file reads, without loading them (`external_buffer_paths`).
 //!   [`load_mesh_with`] reads only what a [`ReadPolicy`] allows: regular files, inside a
 //!   folder, within [`MeshLimits`].
@@ -26,9 +26,11 @@ mod field;
 mod gltf_buffers;
 mod hull_walk;
 mod load;
+mod load_3mf;
 mod load_files;
 mod load_gltf;
 mod load_obj;
+mod load_stl;
 mod mass;
 mod mesh;
 pub(crate) mod polygon;

@@ -48,6 +48,8 @@ pub const DUPLICATE_NAME: &str = "ballast::duplicate_name";
 pub const UNKNOWN_COMPONENT: &str = "ballast::unknown_component";
 /// Two properties that exclude each other (`object=` and `node=`).
 pub const CONFLICTING_PROPERTIES: &str = "ballast::conflicting_properties";
+/// `mesh-units=` on a component whose mesh file states its own unit (3MF).
+pub const MESH_UNITS_STATED: &str = "ballast::mesh_units_stated";
 /// `down 0 0 0` in a pose: a direction of length zero.
 pub const ZERO_DOWN: &str = "ballast::pose::zero_down";
 /// `down` beside `rotate`, `translate` or `pivot` in one pose.

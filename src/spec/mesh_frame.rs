@@ -1,5 +1,5 @@
 //! How a component's mesh file coordinates become rest-frame coordinates: the mesh's unit and up
-//! axis (written, the glTF specification's, or the project's) and a scale factor.
+//! axis (written, the glTF specification's, 3MF's, or the project's) and a scale factor.
 
 use nalgebra::Rotation3;
 
@@ -29,6 +29,9 @@ pub enum FrameSource {
     Written,
     /// The glTF specification: metres, +Y up (the default for `.gltf` and `.glb` files).
     Gltf,
+    /// A 3MF file: +Z up, and millimetres once read (its own `unit` is applied as it is
+    /// read; the default for `.3mf` files).
+    ThreeMf,
     /// The project's own `units` and `up` (the default for OBJ files).
     Project,
 }
@@ -39,6 +42,7 @@ impl FrameSource {
         match self {
             FrameSource::Written => "written",
             FrameSource::Gltf => "gltf",
+            FrameSource::ThreeMf => "3mf",
             FrameSource::Project => "project",
         }
     }
@@ -63,6 +67,18 @@ impl MeshFrame {
             units_from: FrameSource::Gltf,
             up: Axis::Y,
             up_from: FrameSource::Gltf,
+            scale: 1.0,
+        }
+    }
+
+    /// The frame of a 3MF file once read: millimetres (the loader applies the file's `unit`),
+    /// +Z up (the build platform's normal), unscaled.
+    pub fn three_mf() -> MeshFrame {
+        MeshFrame {
+            units: Units::Millimetre,
+            units_from: FrameSource::ThreeMf,
+            up: Axis::Z,
+            up_from: FrameSource::ThreeMf,
             scale: 1.0,
         }
     }

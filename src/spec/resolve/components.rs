@@ -156,23 +156,33 @@ impl Resolver<'_> {
 
     /// How a component's mesh coordinates become rest-frame coordinates: `mesh-units=`,
     /// `mesh-up=` and `scale=` as written; unwritten, the glTF specification's metres and +Y up
-    /// for a `.gltf` or `.glb` file, the project's units and up axis for any other.
-    fn mesh_frame(&self, node: &Node, mesh: &Path) -> MeshFrame {
-        let is_gltf = mesh
+    /// for a `.gltf` or `.glb` file, millimetres (the file's own unit applied as it is read)
+    /// and +Z up for a `.3mf` file, the project's units and up axis for any other (OBJ, STL).
+    fn mesh_frame(&mut self, node: &Node, mesh: &Path) -> MeshFrame {
+        let extension = mesh
             .extension()
             .and_then(|extension| extension.to_str())
-            .is_some_and(|extension| {
-                extension.eq_ignore_ascii_case("gltf") || extension.eq_ignore_ascii_case("glb")
-            });
-        let mut frame = if is_gltf {
-            MeshFrame::gltf()
-        } else {
-            MeshFrame::project(self.units, self.up)
+            .unwrap_or_default()
+            .to_ascii_lowercase();
+        let mut frame = match extension.as_str() {
+            "gltf" | "glb" => MeshFrame::gltf(),
+            "3mf" => MeshFrame::three_mf(),
+            _ => MeshFrame::project(self.units, self.up),
         };
-        if let Some(units) = node
-            .text("mesh-units")
-            .and_then(|units| Units::from_keyword(&units.value))
-        {
+        let written = node.text("mesh-units");
+        if let (Some(written), FrameSource::ThreeMf) = (&written, frame.units_from) {
+            self.problems.push(
+                Problem::error(
+                    codes::MESH_UNITS_STATED,
+                    "a 3MF file states its own unit: `mesh-units=` cannot change it",
+                )
+                .with_label(written.span, "a unit for a file that has one")
+                .with_help(
+                    "remove `mesh-units=`: ballast reads the file in the unit its model states; \
+                     use `scale=` to print it at another size",
+                ),
+            );
+        } else if let Some(units) = written.and_then(|units| Units::from_keyword(&units.value)) {
             frame.units = units;
             frame.units_from = FrameSource::Written;
         }
