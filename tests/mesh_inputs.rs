@@ -307,3 +307,35 @@ fn the_command_line_confines_meshes_and_names_the_options_that_lift_the_limits()
     assert!(stderr.contains("ballast::mesh::too_large"), "{stderr}");
     assert!(unwrapped(&tiny).contains("--max-mesh-mbN"), "{stderr}");
 }
+
+#[test]
+fn components_that_share_a_refused_file_get_one_diagnostic_naming_them() {
+    let outer = tempfile::tempdir().unwrap();
+    let project = outer.path().join("project");
+    std::fs::create_dir(&project).unwrap();
+    std::fs::write(outer.path().join("t.obj"), TETRAHEDRON).unwrap();
+    let mut source = String::new();
+    for name in ["a", "b", "c", "d", "e"] {
+        source += &format!("component \"{name}\" mesh=\"../t.obj\"\n");
+    }
+    source += "component \"f\" mesh=\"missing.obj\"\npose \"up\" { stand }\n";
+    std::fs::write(project.join("model.kdl"), source).unwrap();
+    let refused = ballast(&["check", "model.kdl"], &project);
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert_eq!(refused.status.code(), Some(2), "{stderr}");
+    assert_eq!(
+        stderr.matches("ballast::mesh::outside_project").count(),
+        1,
+        "{stderr}"
+    );
+    assert!(
+        unwrapped(&refused).contains("components`a`,`b`,`c`and2more"),
+        "{stderr}"
+    );
+    // Another file's problem is its own diagnostic.
+    assert_eq!(
+        stderr.matches("ballast::mesh::not_found").count(),
+        1,
+        "{stderr}"
+    );
+}

@@ -24,21 +24,39 @@ pub fn load_components(
     policy: &ReadPolicy,
 ) -> (Option<Vec<TriMesh>>, Vec<Problem>) {
     let mut meshes = Vec::with_capacity(project.components.len());
-    let mut problems = Vec::new();
-    for component in &project.components {
+    // Each component's problems, in component order.
+    let mut found: Vec<Vec<Problem>> = vec![Vec::new(); project.components.len()];
+    // Loading failures, one per mesh file and error: the first component that met it, and every
+    // component that shares it. Its one diagnostic goes where the first component's would.
+    let mut failures: Vec<(&Path, String, usize, Vec<&Component>, LoadError)> = Vec::new();
+    for (index, component) in project.components.iter().enumerate() {
         match cache.load(&component.mesh.value, &component.selector, policy) {
             Ok((LoadedMesh { mesh, short_faces }, check)) => {
-                problems.extend(short_face_warning(component, &short_faces));
+                found[index].extend(short_face_warning(component, &short_faces));
                 let (mesh, check) = into_rest_frame(mesh, check, &component.frame, project);
-                let found = mesh_problems(component, &mesh, &check);
-                if found.iter().all(|problem| !problem.is_error()) {
+                let problems = mesh_problems(component, &mesh, &check);
+                if problems.iter().all(|problem| !problem.is_error()) {
                     meshes.push(mesh);
                 }
-                problems.extend(found);
+                found[index].extend(problems);
             }
-            Err(error) => problems.push(load_problem(component, &error, policy)),
+            Err(error) => {
+                let path = component.mesh.value.as_path();
+                let key = error.to_string();
+                match failures
+                    .iter_mut()
+                    .find(|(p, k, ..)| *p == path && *k == key)
+                {
+                    Some((.., sharing, _)) => sharing.push(component),
+                    None => failures.push((path, key, index, vec![component], error)),
+                }
+            }
         }
     }
+    for (_, _, first, sharing, error) in &failures {
+        found[*first].push(load_problem(sharing, error, policy));
+    }
+    let problems = found.into_iter().flatten().collect();
     let usable = meshes.len() == project.components.len();
     (usable.then_some(meshes), problems)
 }
@@ -71,14 +89,17 @@ fn into_rest_frame(
     (mesh, check)
 }
 
-fn load_problem(component: &Component, error: &LoadError, policy: &ReadPolicy) -> Problem {
-    let name = &component.name.value;
+/// The diagnostic for `error`, which loading the mesh of every one of `sharing` (at least one
+/// component, all reading one file) met: one diagnostic naming them all.
+fn load_problem(sharing: &[&Component], error: &LoadError, policy: &ReadPolicy) -> Problem {
+    let component = sharing[0];
+    let who = components_named(sharing);
     let span = component.mesh.span;
     let shown = display_path(&component.mesh.value);
-    match error {
+    let mut problem = match error {
         LoadError::NotFound { .. } => Problem::error(
             "ballast::mesh::not_found",
-            format!("mesh file `{shown}` of component `{name}` does not exist"),
+            format!("mesh file `{shown}` of {who} does not exist"),
         )
         .with_label(span, "no such file")
         .with_help("paths are relative to the folder of the project file"),
@@ -103,7 +124,7 @@ fn load_problem(component: &Component, error: &LoadError, policy: &ReadPolicy) -
         LoadError::Skinned { node } => Problem::error(
             "ballast::mesh::skinned",
             format!(
-                "the mesh of component `{name}` is node `{node}` of `{shown}`, a skinned mesh, \
+                "the mesh of {who} is node `{node}` of `{shown}`, a skinned mesh, \
                  which bends with its joints: skinned meshes are not read"
             ),
         )
@@ -115,7 +136,7 @@ fn load_problem(component: &Component, error: &LoadError, policy: &ReadPolicy) -
         LoadError::OutsideFolder { path, .. } => Problem::error(
             "ballast::mesh::outside_project",
             format!(
-                "the mesh of component `{name}` reads `{}`, which is outside the project's folder",
+                "the mesh of {who} reads `{}`, which is outside the project's folder",
                 relative(path, policy)
             ),
         )
@@ -127,7 +148,7 @@ fn load_problem(component: &Component, error: &LoadError, policy: &ReadPolicy) -
         LoadError::NotAFile { path } => Problem::error(
             "ballast::mesh::not_a_file",
             format!(
-                "the mesh of component `{name}` reads `{}`, which is not a regular file",
+                "the mesh of {who} reads `{}`, which is not a regular file",
                 relative(path, policy)
             ),
         )
@@ -139,7 +160,7 @@ fn load_problem(component: &Component, error: &LoadError, policy: &ReadPolicy) -
         LoadError::TooLarge { path, limit } => Problem::error(
             "ballast::mesh::too_large",
             format!(
-                "the mesh of component `{name}` is larger than the limit of {} MiB (at `{}`)",
+                "the mesh of {who} is larger than the limit of {} MiB (at `{}`)",
                 limit >> 20,
                 relative(path, policy)
             ),
@@ -151,7 +172,7 @@ fn load_problem(component: &Component, error: &LoadError, policy: &ReadPolicy) -
         ),
         LoadError::TooMany { what, limit } => Problem::error(
             "ballast::mesh::too_many_triangles",
-            format!("the mesh of component `{name}` has more than {limit} {what}"),
+            format!("the mesh of {who} has more than {limit} {what}"),
         )
         .with_label(span, "this mesh")
         .with_help(
@@ -161,7 +182,7 @@ fn load_problem(component: &Component, error: &LoadError, policy: &ReadPolicy) -
         LoadError::NonFinite { index } => Problem::error(
             "ballast::mesh::not_finite",
             format!(
-                "vertex {} of the mesh of component `{name}` has a coordinate that is infinite, \
+                "vertex {} of the mesh of {who} has a coordinate that is infinite, \
                  NaN or too large",
                 index + 1
             ),
@@ -170,11 +191,35 @@ fn load_problem(component: &Component, error: &LoadError, policy: &ReadPolicy) -
         .with_help("every coordinate must be a finite number"),
         other => Problem::error(
             "ballast::mesh::unreadable",
-            format!("cannot load the mesh of component `{name}`: {other}"),
+            format!("cannot load the mesh of {who}: {other}"),
         )
         .with_label(span, "this mesh"),
     }
-    .with_label(component.name.span, "component")
+    .with_label(component.name.span, "component");
+    for other in sharing.iter().skip(1).take(LISTED - 1) {
+        problem = problem.with_label(other.mesh.span, "the same file");
+    }
+    problem
+}
+
+/// "component `a`", or for several "components `a`, `b` and `c`" (past [`LISTED`] names, "and
+/// N more").
+fn components_named(components: &[&Component]) -> String {
+    let names: Vec<String> = components
+        .iter()
+        .map(|component| format!("`{}`", component.name.value))
+        .collect();
+    match names.as_slice() {
+        [one] => format!("component {one}"),
+        [first @ .., last] if names.len() <= LISTED => {
+            format!("components {} and {last}", first.join(", "))
+        }
+        _ => format!(
+            "components {} and {} more",
+            names[..LISTED].join(", "),
+            names.len() - LISTED
+        ),
+    }
 }
 
 /// A warning naming the OBJ faces with fewer than three vertices, which the mesh leaves out.
