@@ -118,6 +118,27 @@ pub enum Command {
         #[command(flatten)]
         optimize: OptimizeArgs,
     },
+    /// Write a starter project beside a mesh file (.obj, .stl, .3mf, .gltf, .glb): the mesh as
+    /// its one component, read in the unit its size suggests when the file states none, the
+    /// facets the solid model rests on stably as poses (the most stable active, the others
+    /// commented out) with a `stand` goal, and `optimize`.
+    ///
+    /// Exit status 0, or 2 when the mesh cannot be read or used (its diagnostics are printed and
+    /// nothing is written) or the project file exists (without `--force`).
+    New {
+        /// The mesh file.
+        mesh: PathBuf,
+        /// The project file to write (default: beside the mesh, its name with `.kdl`); it must
+        /// be in the mesh's folder or above it.
+        #[arg(short, long, value_name = "PROJECT")]
+        output: Option<PathBuf>,
+        /// Replace the project file when it exists.
+        #[arg(long)]
+        force: bool,
+        /// Where meshes may be read from, and how large they may be.
+        #[command(flatten)]
+        inputs: InputArgs,
+    },
     /// List the facets of the model's convex hull it rests on stably, most stable first, with
     /// each one's tilt margin, area and the `pose` lines to paste into the project.
     ///

@@ -9,6 +9,7 @@ mod args;
 mod build;
 mod check;
 mod diagnostics;
+mod new;
 mod optimization_table;
 mod poses;
 mod progress;
@@ -116,6 +117,12 @@ pub fn run() -> i32 {
             precompute_cache(&optimize),
             time_limit.map(std::time::Duration::from_secs_f64),
         ),
+        Command::New {
+            mesh,
+            output,
+            force,
+            inputs,
+        } => new::run(&mesh, output.as_deref(), force, &input_options(&inputs)),
         Command::Poses {
             project,
             inputs,

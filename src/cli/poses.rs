@@ -109,7 +109,7 @@ fn listing(
 }
 
 /// A direction as three numbers of six decimals, trailing zeros left out.
-fn direction(v: &[f64; 3]) -> String {
+pub(super) fn direction(v: &[f64; 3]) -> String {
     v.iter()
         .map(|x| {
             let text = format!("{x:.6}");

@@ -491,7 +491,8 @@ fn format_length(value: f64, units: Units) -> String {
     }
 }
 
-fn unit_name(units: Units) -> &'static str {
+/// The unit's name in a sentence, plural (`millimetres`).
+pub(super) fn unit_name(units: Units) -> &'static str {
     match units {
         Units::Millimetre => "millimetres",
         Units::Centimetre => "centimetres",
