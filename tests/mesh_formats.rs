@@ -452,3 +452,42 @@ fn mesh_units_on_a_3mf_is_an_error_naming_the_files_own_unit() {
         .unwrap_or_else(|| panic!("{problems:#?}"));
     assert!(problem.message.contains("3MF"), "{}", problem.message);
 }
+
+#[test]
+fn triangles_with_two_corners_at_one_point_are_left_out_with_a_warning() {
+    let folder = tempfile::tempdir().unwrap();
+    let mut t = t_shape();
+    let clean = t.clone();
+    // Two triangles an exporter left behind: two corners at one point, once and twice over.
+    t.triangles.insert(3, [0, 0, 1]);
+    t.triangles.push([2, 2, 2]);
+    fs::write(folder.path().join("t.stl"), binary_stl(&t)).unwrap();
+    let loaded = ballast::geometry::load_mesh_with(
+        &folder.path().join("t.stl"),
+        &MeshSelector::Whole,
+        &ballast::geometry::ReadPolicy::within(folder.path()),
+    )
+    .unwrap();
+    assert_eq!(loaded.collapsed_triangles, [3, t.triangles.len() - 1]);
+    assert_eq!(loaded.mesh.triangles.len(), clean.triangles.len());
+    assert_same_solid(&loaded.mesh, &clean, |c| c);
+    let source = project("t.stl");
+    let path = folder.path().join("t.kdl");
+    fs::write(&path, &source).unwrap();
+    let compiled = compile(&source, &path).unwrap_or_else(|p| panic!("{p:#?}"));
+    let warning = compiled
+        .warnings
+        .iter()
+        .find(|w| w.code == "ballast::mesh::collapsed")
+        .expect("a warning");
+    assert!(
+        warning.message.contains("2 triangles"),
+        "{}",
+        warning.message
+    );
+    assert!(
+        warning.message.contains("triangle 4 of the file"),
+        "{}",
+        warning.message
+    );
+}

@@ -31,8 +31,16 @@ pub fn load_components(
     let mut failures: Vec<(&Path, String, usize, Vec<&Component>, LoadError)> = Vec::new();
     for (index, component) in project.components.iter().enumerate() {
         match cache.load(&component.mesh.value, &component.selector, policy) {
-            Ok((LoadedMesh { mesh, short_faces }, check)) => {
+            Ok((
+                LoadedMesh {
+                    mesh,
+                    short_faces,
+                    collapsed_triangles,
+                },
+                check,
+            )) => {
                 found[index].extend(short_face_warning(component, &short_faces));
+                found[index].extend(collapsed_warning(component, &collapsed_triangles));
                 let (mesh, check) = into_rest_frame(mesh, check, &component.frame, project);
                 let problems = mesh_problems(component, &mesh, &check);
                 if problems.iter().all(|problem| !problem.is_error()) {
@@ -238,6 +246,27 @@ fn short_face_warning(component: &Component, lines: &[usize]) -> Option<Problem>
         )
         .with_label(component.mesh.span, "this mesh")
         .with_help("a face needs three or more vertices; delete these lines or fix their indices"),
+    )
+}
+
+/// A warning counting the triangles with two corners at one point, which the mesh leaves out.
+fn collapsed_warning(component: &Component, triangles: &[usize]) -> Option<Problem> {
+    let first = triangles.first()?;
+    let count = triangles.len();
+    Some(
+        Problem::warning(
+            "ballast::mesh::collapsed",
+            format!(
+                "the mesh of component `{}` has {count} triangle{} with two corners at one point \
+                 (the first is triangle {} of the file), left out: they enclose nothing, so the \
+                 volume is unchanged",
+                component.name.value,
+                if count == 1 { "" } else { "s" },
+                first + 1
+            ),
+        )
+        .with_label(component.mesh.span, "this mesh")
+        .with_help("nothing to do; a mesh editor's merge by distance removes them from the file"),
     )
 }
 
