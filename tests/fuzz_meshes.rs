@@ -1,5 +1,5 @@
-//! A mutation fuzzer for the mesh loaders (OBJ, STL, 3MF, glTF, GLB) and the mesh checks, on
-//! stable Rust.
+//! A mutation fuzzer for the mesh loaders (OBJ, STL, 3MF, PLY, glTF, GLB) and the mesh checks,
+//! on stable Rust.
 //!
 //! Starts from seed files (the regression cases of tests/mesh_inputs.rs, the test meshes) and
 //! mutates them: bytes flipped, inserted, deleted and duplicated, numbers swapped for extreme
@@ -87,6 +87,10 @@ const TOKENS: &[&str] = &[
     " p:path=\"/3D/3dmodel.model\"",
     "<vertex x=\"1\" y=\"nan\" z=\"0\"/>",
     "<triangle v1=\"0\" v2=\"1\" v3=\"4294967296\"/>",
+    "element vertex 4294967295\n",
+    "property list uchar int vertex_indices\n",
+    "format binary_little_endian 1.0\n",
+    "end_header\n",
 ];
 
 const TETRAHEDRON_OBJ: &str =
@@ -144,6 +148,32 @@ fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
     out.extend(b"BIN\0");
     out.extend(&bin);
     out
+}
+
+/// The tetrahedron as an ASCII PLY file, with a property the reader skips.
+const TETRAHEDRON_PLY: &str = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\n\
+    property float y\nproperty float z\nproperty uchar red\nelement face 4\n\
+    property list uchar int vertex_indices\nend_header\n0 0 0 1\n1 0 0 1\n0 1 0 1\n0 0 1 1\n\
+    3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+
+/// The tetrahedron as a big-endian binary PLY file.
+fn tetrahedron_binary_ply() -> Vec<u8> {
+    let mut bytes = b"ply\nformat binary_big_endian 1.0\nelement vertex 4\nproperty double x\n\
+        property double y\nproperty double z\nelement face 4\n\
+        property list uchar ushort vertex_indices\nend_header\n"
+        .to_vec();
+    for p in [[0f64, 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]] {
+        for c in p {
+            bytes.extend(c.to_be_bytes());
+        }
+    }
+    for face in [[0u16, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]] {
+        bytes.push(3);
+        for i in face {
+            bytes.extend(i.to_be_bytes());
+        }
+    }
+    bytes
 }
 
 /// The tetrahedron as an ASCII STL file.
@@ -215,6 +245,8 @@ fn seeds() -> Vec<Input> {
         ("stl", tetrahedron_stl().into_bytes()),
         ("stl", tetrahedron_binary_stl()),
         ("3mf", tetrahedron_3mf()),
+        ("ply", TETRAHEDRON_PLY.as_bytes().to_vec()),
+        ("ply", tetrahedron_binary_ply()),
         (
             "gltf",
             br#"{"asset":{"version":"2.0"},"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}]}"#

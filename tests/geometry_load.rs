@@ -295,7 +295,7 @@ fn directory_is_not_a_file() {
 
 #[test]
 fn unknown_extension_is_rejected() {
-    for (name, ext) in [("part.ply", "ply"), ("part", ""), ("part.obj.bak", "bak")] {
+    for (name, ext) in [("part.dxf", "dxf"), ("part", ""), ("part.obj.bak", "bak")] {
         match load_mesh(Path::new(name), &MeshSelector::Whole) {
             Err(LoadError::UnknownFormat { extension }) => assert_eq!(extension, ext),
             other => panic!("{name}: expected UnknownFormat, got {other:?}"),

@@ -491,3 +491,64 @@ fn triangles_with_two_corners_at_one_point_are_left_out_with_a_warning() {
         warning.message
     );
 }
+
+/// `mesh` as a PLY file: ASCII, or binary little-endian with float coordinates, with a normal
+/// per vertex and a colour per face that the reader skips.
+fn ply(mesh: &TriMesh, binary: bool) -> Vec<u8> {
+    let format = if binary {
+        "binary_little_endian"
+    } else {
+        "ascii"
+    };
+    let mut bytes = format!(
+        "ply\nformat {format} 1.0\ncomment exported by a scanner\nelement vertex {}\n\
+         property float x\nproperty float y\nproperty float z\nproperty float nx\n\
+         property float ny\nproperty float nz\nelement face {}\n\
+         property list uchar int vertex_indices\nproperty uchar red\nend_header\n",
+        mesh.positions.len(),
+        mesh.triangles.len()
+    )
+    .into_bytes();
+    for p in &mesh.positions {
+        let values = [p.x as f32, p.y as f32, p.z as f32, 0.0, 0.0, 1.0];
+        if binary {
+            values
+                .iter()
+                .for_each(|v| bytes.extend_from_slice(&v.to_le_bytes()));
+        } else {
+            let line: Vec<String> = values.iter().map(|v| v.to_string()).collect();
+            bytes.extend_from_slice(format!("{}\n", line.join(" ")).as_bytes());
+        }
+    }
+    for t in &mesh.triangles {
+        if binary {
+            bytes.push(3);
+            t.iter()
+                .for_each(|&i| bytes.extend_from_slice(&(i as i32).to_le_bytes()));
+            bytes.push(200);
+        } else {
+            bytes.extend_from_slice(format!("3 {} {} {} 200\n", t[0], t[1], t[2]).as_bytes());
+        }
+    }
+    bytes
+}
+
+#[test]
+fn ascii_and_binary_ply_give_the_obj_solid() {
+    let folder = tempfile::tempdir().unwrap();
+    let t = t_shape();
+    for binary in [false, true] {
+        let read = load(
+            folder.path(),
+            "t.ply",
+            &ply(&t, binary),
+            &MeshSelector::Whole,
+        );
+        assert_same_solid(&read, &t, |c| c);
+    }
+    let path = folder.path().join("t.ply");
+    assert!(matches!(
+        load_mesh(&path, &MeshSelector::ObjObject("T".into())),
+        Err(LoadError::UnknownPart { .. })
+    ));
+}

@@ -118,7 +118,7 @@ pub enum Command {
         #[command(flatten)]
         optimize: OptimizeArgs,
     },
-    /// Write a starter project beside a mesh file (.obj, .stl, .3mf, .gltf, .glb): the mesh as
+    /// Write a starter project beside a mesh file (.obj, .stl, .3mf, .ply, .gltf, .glb): the mesh as
     /// its one component, read in the unit its size suggests when the file states none, the
     /// facets the solid model rests on stably as poses (the most stable active, the others
     /// commented out) with a `stand` goal, and `optimize`.

@@ -9,7 +9,7 @@ use super::load_files::{FileReader, MeshLimits, ReadPolicy};
 use super::load_gltf::OpenedGltf;
 use super::load_obj;
 use super::mesh::TriMesh;
-use super::{load_3mf, load_stl};
+use super::{load_3mf, load_ply, load_stl};
 
 /// Which part of a mesh file to load.
 ///
@@ -57,9 +57,11 @@ pub enum LoadError {
         #[source]
         source: std::io::Error,
     },
-    /// The extension is not one of `.obj`, `.stl`, `.3mf`, `.gltf`, `.glb` (compared
+    /// The extension is not one of `.obj`, `.stl`, `.3mf`, `.ply`, `.gltf`, `.glb` (compared
     /// case-insensitively).
-    #[error("unsupported mesh format `{extension}` (expected .obj, .stl, .3mf, .gltf or .glb)")]
+    #[error(
+        "unsupported mesh format `{extension}` (expected .obj, .stl, .3mf, .ply, .gltf or .glb)"
+    )]
     UnknownFormat {
         /// The file's extension without the dot (empty when there is none).
         extension: String,
@@ -73,6 +75,12 @@ pub enum LoadError {
     /// The STL file is neither a binary STL nor well-formed ASCII STL.
     #[error("malformed STL file: {message}")]
     Stl {
+        /// What is wrong.
+        message: String,
+    },
+    /// The PLY header or body could not be read.
+    #[error("malformed PLY file: {message}")]
+    Ply {
         /// What is wrong.
         message: String,
     },
@@ -168,7 +176,7 @@ fn available_note(available: &[String]) -> String {
     }
 }
 
-/// Loads a triangle mesh from an `.obj`, `.stl`, `.3mf`, `.gltf` or `.glb` file (extension
+/// Loads a triangle mesh from an `.obj`, `.stl`, `.3mf`, `.ply`, `.gltf` or `.glb` file (extension
 /// compared case-insensitively), reading files only inside the mesh's own folder (see
 /// [`load_mesh_with`], whose mesh this is).
 pub fn load_mesh(path: &Path, selector: &MeshSelector) -> Result<TriMesh, LoadError> {
@@ -193,7 +201,7 @@ pub struct LoadedMesh {
     pub collapsed_triangles: Vec<usize>,
 }
 
-/// Loads a triangle mesh from an `.obj`, `.stl`, `.3mf`, `.gltf` or `.glb` file (extension
+/// Loads a triangle mesh from an `.obj`, `.stl`, `.3mf`, `.ply`, `.gltf` or `.glb` file (extension
 /// compared case-insensitively), reading only the files `policy` allows and within its limits.
 ///
 /// The result is one [`TriMesh`] in the file's frame and units; for glTF, node transforms
@@ -233,6 +241,8 @@ enum Contents {
     Obj(Vec<u8>),
     /// An STL file's solids.
     Stl(Vec<load_stl::Solid>),
+    /// A PLY file's bytes (parsed for each load: a PLY file is one part).
+    Ply(Vec<u8>),
     /// A 3MF package's model parts.
     ThreeMf(Box<load_3mf::Package>),
     /// A glTF file's document, buffers and node hierarchy.
@@ -240,9 +250,9 @@ enum Contents {
 }
 
 impl MeshFile {
-    /// Reads the `.obj`, `.stl`, `.3mf`, `.gltf` or `.glb` file at `path` (extension compared
-    /// case-insensitively), and parses every format but OBJ, reading only what `policy` allows
-    /// ([`load_mesh_with`]).
+    /// Reads the `.obj`, `.stl`, `.3mf`, `.ply`, `.gltf` or `.glb` file at `path` (extension
+    /// compared case-insensitively), and parses STL, 3MF and glTF (OBJ and PLY are parsed per
+    /// part), reading only what `policy` allows ([`load_mesh_with`]).
     pub fn open(path: &Path, policy: &ReadPolicy) -> Result<MeshFile, LoadError> {
         let extension = path
             .extension()
@@ -252,6 +262,7 @@ impl MeshFile {
             "obj" => Format::Obj,
             "stl" => Format::Stl,
             "3mf" => Format::ThreeMf,
+            "ply" => Format::Ply,
             "gltf" | "glb" => Format::Gltf,
             _ => return Err(LoadError::UnknownFormat { extension }),
         };
@@ -260,6 +271,7 @@ impl MeshFile {
         let contents = match format {
             Format::Obj => Contents::Obj(bytes),
             Format::Stl => Contents::Stl(load_stl::parse_stl(&bytes, &policy.limits)?),
+            Format::Ply => Contents::Ply(bytes),
             Format::ThreeMf => {
                 Contents::ThreeMf(Box::new(load_3mf::Package::open(&bytes, &policy.limits)?))
             }
@@ -281,6 +293,15 @@ impl MeshFile {
             Contents::Obj(bytes) => load_obj::parse_obj(bytes, selector, &self.limits)?,
             Contents::Stl(solids) => (load_stl::select(solids, selector)?, Vec::new()),
             Contents::ThreeMf(package) => (package.part(selector, &self.limits)?, Vec::new()),
+            Contents::Ply(bytes) => {
+                if let Some(name) = selector.part_name() {
+                    return Err(LoadError::UnknownPart {
+                        name: name.to_string(),
+                        available: Vec::new(),
+                    });
+                }
+                (load_ply::parse_ply(bytes, &self.limits)?, Vec::new())
+            }
             Contents::Gltf(opened) => (opened.part(selector)?, Vec::new()),
         };
         let (mesh, collapsed_triangles) = drop_collapsed(finish(raw)?);
@@ -320,6 +341,7 @@ pub(crate) fn check_vertices(count: usize, limits: &MeshLimits) -> Result<(), Lo
 enum Format {
     Obj,
     Stl,
+    Ply,
     ThreeMf,
     Gltf,
 }

@@ -1,8 +1,9 @@
 //! Geometry: triangle meshes, loading, validation, mass properties and distance queries.
 //!
 //! - [`TriMesh`]: positions and counter-clockwise (seen from outside) triangles in one frame.
-//! - [`load_mesh`]: `.obj`, `.stl`, `.3mf`, `.gltf` and `.glb` files, whole or one named part; the external
-//!   buffer files a `.gltf` file reads, without loading them (`external_buffer_paths`).
+//! - [`load_mesh`]: `.obj`, `.stl`, `.3mf`, `.ply`, `.gltf` and `.glb` files, whole or one
+//!   named part; the external buffer files a `.gltf` file reads, without loading them
+//!   (`external_buffer_paths`).
 //!   [`load_mesh_with`] reads only what a [`ReadPolicy`] allows: regular files, inside a
 //!   folder, within [`MeshLimits`].
 //! - [`read_rig`]: a glTF file as a rig: its nodes' rest transforms, its scenes' mesh nodes and
@@ -30,6 +31,7 @@ mod load_3mf;
 mod load_files;
 mod load_gltf;
 mod load_obj;
+mod load_ply;
 mod load_stl;
 mod mass;
 mod mesh;
