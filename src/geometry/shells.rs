@@ -102,8 +102,12 @@ fn crossings(mesh: &TriMesh, boxes: &[Aabb], budget: &mut usize, out: &mut Vec<[
         return true;
     }
     let cell = cell_size(boxes);
-    let index = |x: f64| (x / cell).floor() as i64;
-    let mut entries: Vec<([i64; 3], u32)> = Vec::new();
+    // Cell indices in 32 bits keep an entry at 16 bytes (the sort of 8 entries a triangle is
+    // most of this check's time on a large mesh). A mesh whose extent spans more than 2³¹
+    // cells has its far cells saturate into one: more pairs share a cell, each still tested
+    // for overlap, so only the work (counted against the budget) grows.
+    let index = |x: f64| (x / cell).floor() as i32;
+    let mut entries: Vec<([i32; 3], u32)> = Vec::new();
     for (t, b) in boxes.iter().enumerate() {
         let (lo, hi) = (b.lo.map(index), b.hi.map(index));
         for i in lo.x..=hi.x {
