@@ -32,8 +32,15 @@ pub(super) struct Layout {
     pub(super) rows: usize,
 }
 
-/// A slice segment in raster coordinates (u, v).
-pub(super) type Segment = [(f64, f64); 2];
+/// A slice segment in raster coordinates (u, v), and which way it turns the winding number.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Segment {
+    /// Its ends, in the order its triangle's edges meet the slice plane.
+    pub(super) ends: [(f64, f64); 2],
+    /// What crossing it towards +u adds to the winding number: +1 into the solid its triangle
+    /// bounds, −1 out of it.
+    pub(super) winding: i8,
+}
 
 impl Layout {
     pub(super) fn new(mesh: &TriMesh, slicing: &Slicing) -> Option<Layout> {
@@ -157,18 +164,35 @@ impl Layout {
 
     /// The segment where the plane at height `z` cuts a triangle: points at or above `z`
     /// count as above, so a plane through a vertex cuts consistently across neighbours.
+    ///
+    /// Its winding: of a triangle seen counter-clockwise from outside, one edge rises through
+    /// the plane and one falls; from the rising edge's point to the falling edge's, the solid
+    /// lies on the right, so moving towards +u leaves it where the falling point is lower in v.
     pub(super) fn cut(&self, corners: &[Vector3<f64>; 3], z: f64) -> Option<Segment> {
         let up = UP;
         let mut points = Vec::with_capacity(2);
+        let (mut rising, mut falling) = (None, None);
         for e in 0..3 {
             let (p, q) = (corners[e], corners[(e + 1) % 3]);
             if (p[up] >= z) != (q[up] >= z) {
                 let t = (z - p[up]) / (q[up] - p[up]);
                 let x = p + (q - p) * t;
-                points.push((x[U], x[V]));
+                let point = (x[U], x[V]);
+                points.push(point);
+                if q[up] >= z {
+                    rising = Some(point);
+                } else {
+                    falling = Some(point);
+                }
             }
         }
-        (points.len() == 2).then(|| [points[0], points[1]])
+        let (Some(rising), Some(falling)) = (rising, falling) else {
+            return None;
+        };
+        (points.len() == 2).then(|| Segment {
+            ends: [points[0], points[1]],
+            winding: if falling.1 < rising.1 { -1 } else { 1 },
+        })
     }
 
     /// Row `j`'s cell centre, along v.
@@ -176,10 +200,14 @@ impl Layout {
         self.origin.1 + (j as f64 + 0.5) * self.cell
     }
 
-    /// The cells whose centres lie inside the slice (even-odd rule on each row).
+    /// The cells whose centres lie inside the slice: where the winding number of its segments
+    /// is positive, row by row. For a closed, outward-oriented surface that does not cross
+    /// itself this is the even-odd rule; where surfaces cross or shells overlap, it is their
+    /// union, as a slicer prints it.
     pub(super) fn inside(&self, segments: &[Segment]) -> Vec<bool> {
-        let mut crossings: Vec<Vec<f64>> = vec![Vec::new(); self.rows];
-        for &[(u0, v0), (u1, v1)] in segments {
+        let mut crossings: Vec<Vec<(f64, i8)>> = vec![Vec::new(); self.rows];
+        for segment in segments {
+            let [(u0, v0), (u1, v1)] = segment.ends;
             let (low, high) = (v0.min(v1), v0.max(v1));
             let first = ((low - self.origin.1) / self.cell - 0.5).ceil().max(0.0) as usize;
             for (j, row) in crossings.iter_mut().enumerate().skip(first) {
@@ -188,18 +216,30 @@ impl Layout {
                     break;
                 }
                 if (v0 >= v) != (v1 >= v) {
-                    row.push(u0 + (v - v0) * (u1 - u0) / (v1 - v0));
+                    row.push((u0 + (v - v0) * (u1 - u0) / (v1 - v0), segment.winding));
                 }
             }
         }
         let mut inside = vec![false; self.columns * self.rows];
+        let mut spans = Vec::new();
         for (j, row) in crossings.iter_mut().enumerate() {
-            row.sort_by(f64::total_cmp);
-            for pair in row.chunks_exact(2) {
-                let start = ((pair[0] - self.origin.0) / self.cell - 0.5)
-                    .ceil()
-                    .max(0.0);
-                let end = ((pair[1] - self.origin.0) / self.cell - 0.5).floor();
+            row.sort_by(|a, b| a.0.total_cmp(&b.0));
+            // The spans of positive winding number, from where it turns positive to where it
+            // falls back.
+            spans.clear();
+            let (mut winding, mut from) = (0i32, 0.0);
+            for &(u, turn) in row.iter() {
+                let before = winding;
+                winding += i32::from(turn);
+                if before <= 0 && winding > 0 {
+                    from = u;
+                } else if before > 0 && winding <= 0 {
+                    spans.push((from, u));
+                }
+            }
+            for &(low, high) in &spans {
+                let start = ((low - self.origin.0) / self.cell - 0.5).ceil().max(0.0);
+                let end = ((high - self.origin.0) / self.cell - 0.5).floor();
                 if end < start {
                     continue;
                 }
@@ -228,7 +268,8 @@ impl Layout {
             let last = ((high + t - origin) / self.cell - 0.5).floor();
             (last >= 0.0).then(|| first..(last as usize + 1).min(count))
         };
-        for &[(u0, v0), (u1, v1)] in segments {
+        for segment in segments {
+            let [(u0, v0), (u1, v1)] = segment.ends;
             let columns = span(u0.min(u1), u0.max(u1), self.origin.0, self.columns);
             let rows = span(v0.min(v1), v0.max(v1), self.origin.1, self.rows);
             let (Some(columns), Some(rows)) = (columns, rows) else {

@@ -3,8 +3,9 @@
 //! The mesh is turned into its print frame (+z up, away from the bed) and cut into layers along
 //! z, as a slicer does: the first layer
 //! `first_layer_height` thick, the others `layer_height`, each sliced at its mid-height. Every
-//! slice is rasterised on a square grid (a cell is inside when its centre is, by the even-odd
-//! rule on the slice's segments) and each inside cell is classified:
+//! slice is rasterised on a square grid (a cell is inside when its centre is, by a positive
+//! winding number of the slice's segments: the even-odd rule for a surface that does not cross
+//! itself, the union of overlapping shells) and each inside cell is classified:
 //! - **perimeter**: within `perimeter_thickness` (horizontally) of the slice outline;
 //! - **top or bottom**: the same column is outside the mesh in one of the `top_layers` layers
 //!   above, or the `bottom_layers` below (the solid layers under every top surface and over
@@ -343,6 +344,50 @@ mod tests {
         mesh.positions.extend(upper.positions);
         mesh.triangles.extend(upper.triangles);
         mesh
+    }
+
+    #[test]
+    fn overlapping_shells_slice_to_the_inside_of_their_union() {
+        // Two 20 mm cubes overlapping by half, as two closed shells, and the 30 mm box they
+        // make together: every layer has the same inside cells (the even-odd rule would empty
+        // the overlap).
+        let mut overlapping = box_at([0.0; 3], [20.0; 3], 0);
+        let other = box_at([10.0, 0.0, 0.0], [30.0, 20.0, 20.0], 8);
+        overlapping.positions.extend(other.positions);
+        overlapping.triangles.extend(other.triangles);
+        let union = box_at([0.0; 3], [30.0, 20.0, 20.0], 0);
+        let slicing = Slicing {
+            to_print: Rotation3::identity(),
+            perimeter_thickness: 0.9,
+            layer_height: 0.3,
+            first_layer_height: 0.2,
+            top_layers: 5,
+            bottom_layers: 3,
+            min_sparse_area: 8.0,
+            surface_margin: 1.5,
+        };
+        let layout = Layout::new(&union, &slicing).unwrap();
+        assert_eq!(
+            Layout::new(&overlapping, &slicing).unwrap().columns,
+            layout.columns
+        );
+        let (split, whole) = (layout.slice(&overlapping), layout.slice(&union));
+        for (k, (split, whole)) in split.iter().zip(&whole).enumerate() {
+            let inside = layout.inside(split);
+            assert_eq!(inside, layout.inside(whole), "layer {k}");
+            assert!(inside.iter().filter(|&&c| c).count() > layout.columns * layout.rows / 2);
+        }
+        // A cavity (an inward shell inside the box) stays empty.
+        let mut hollow = union.clone();
+        let mut cavity = box_at([5.0, 5.0, 5.0], [25.0, 15.0, 15.0], 8);
+        for t in &mut cavity.triangles {
+            t.swap(1, 2);
+        }
+        hollow.positions.extend(cavity.positions);
+        hollow.triangles.extend(cavity.triangles);
+        let middle = layout.inside(&layout.slice(&hollow)[30]);
+        let centre = (layout.rows / 2) * layout.columns + layout.columns / 2;
+        assert!(!middle[centre] && middle[layout.columns * 2 + 2]);
     }
 
     fn void(from: [f64; 3], to: [f64; 3], radius: f64) -> Void {
