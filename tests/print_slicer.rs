@@ -164,6 +164,50 @@ fn a_box_weighs_what_prusaslicer_deposits() {
 }
 
 #[test]
+fn overlapping_shells_weigh_what_prusaslicer_deposits() {
+    if skip() {
+        return;
+    }
+    // Two boxes as two closed shells that overlap, the way a modeller leaves a figure's arm
+    // pushed into its body: PrusaSlicer prints their union, with perimeters along its outline
+    // only; so does the model.
+    let dir = tempfile::tempdir().unwrap();
+    let mut body = box_mesh(40.0, 30.0, 20.0);
+    let other = box_mesh(40.0, 30.0, 20.0);
+    let first = body.positions.len() as u32;
+    body.positions.extend(
+        other
+            .positions
+            .iter()
+            .map(|p| p + Vector3::new(20.0, 12.0, 0.0)),
+    );
+    body.triangles
+        .extend(other.triangles.iter().map(|t| t.map(|i| i + first)));
+    for infill in [0.15, 0.5] {
+        let gcode = sliced(
+            dir.path(),
+            "overlapping",
+            (&body, &body),
+            infill,
+            Rotation3::identity(),
+        );
+        compare(
+            &format!("overlapping boxes at {infill}"),
+            modelled(
+                &body,
+                &[],
+                infill,
+                Rotation3::identity(),
+                &PrintCorrection::default(),
+            ),
+            gcode,
+            0.05,
+            0.2,
+        );
+    }
+}
+
+#[test]
 fn a_capsule_void_weighs_what_prusaslicer_deposits() {
     if skip() {
         return;

@@ -40,6 +40,8 @@ pub(super) struct Segment {
     /// What crossing it towards +u adds to the winding number: +1 into the solid its triangle
     /// bounds, −1 out of it.
     pub(super) winding: i8,
+    /// What crossing it towards +v adds.
+    pub(super) column_winding: i8,
 }
 
 impl Layout {
@@ -192,6 +194,7 @@ impl Layout {
         (points.len() == 2).then(|| Segment {
             ends: [points[0], points[1]],
             winding: if falling.1 < rising.1 { -1 } else { 1 },
+            column_winding: if falling.0 < rising.0 { 1 } else { -1 },
         })
     }
 
@@ -200,13 +203,24 @@ impl Layout {
         self.origin.1 + (j as f64 + 0.5) * self.cell
     }
 
+    /// A layer's raster from its slice `segments`: the cells inside it, and those within the
+    /// perimeter thickness of its outline.
+    pub(super) fn rasterize(&self, segments: &[Segment]) -> (Vec<bool>, Vec<bool>) {
+        let (inside, mut marks) = self.inside(segments);
+        marks.extend(self.column_marks(segments));
+        let outline = outline(segments, marks);
+        (inside, self.near_outline(&outline))
+    }
+
     /// The cells whose centres lie inside the slice: where the winding number of its segments
     /// is positive, row by row. For a closed, outward-oriented surface that does not cross
     /// itself this is the even-odd rule; where surfaces cross or shells overlap, it is their
     /// union, as a slicer prints it.
-    pub(super) fn inside(&self, segments: &[Segment]) -> Vec<bool> {
-        let mut crossings: Vec<Vec<(f64, i8)>> = vec![Vec::new(); self.rows];
-        for segment in segments {
+    ///
+    /// Beside it, the [`Mark`]s of every crossing of a segment and a row.
+    pub(super) fn inside(&self, segments: &[Segment]) -> (Vec<bool>, Vec<Mark>) {
+        let mut crossings: Vec<Vec<(f64, i8, u32)>> = vec![Vec::new(); self.rows];
+        for (index, segment) in segments.iter().enumerate() {
             let [(u0, v0), (u1, v1)] = segment.ends;
             let (low, high) = (v0.min(v1), v0.max(v1));
             let first = ((low - self.origin.1) / self.cell - 0.5).ceil().max(0.0) as usize;
@@ -216,26 +230,39 @@ impl Layout {
                     break;
                 }
                 if (v0 >= v) != (v1 >= v) {
-                    row.push((u0 + (v - v0) * (u1 - u0) / (v1 - v0), segment.winding));
+                    let u = u0 + (v - v0) * (u1 - u0) / (v1 - v0);
+                    row.push((u, segment.winding, index as u32));
                 }
             }
         }
         let mut inside = vec![false; self.columns * self.rows];
+        let mut marks = Vec::new();
         let mut spans = Vec::new();
         for (j, row) in crossings.iter_mut().enumerate() {
             row.sort_by(|a, b| a.0.total_cmp(&b.0));
             // The spans of positive winding number, from where it turns positive to where it
-            // falls back.
+            // falls back; the crossings at one place taken together.
             spans.clear();
             let (mut winding, mut from) = (0i32, 0.0);
-            for &(u, turn) in row.iter() {
-                let before = winding;
-                winding += i32::from(turn);
+            for group in row.chunk_by(|a, b| a.0 == b.0) {
+                let (u, before) = (group[0].0, winding);
+                winding += group.iter().map(|c| i32::from(c.1)).sum::<i32>();
                 if before <= 0 && winding > 0 {
                     from = u;
                 } else if before > 0 && winding <= 0 {
                     spans.push((from, u));
                 }
+                let bounds = (before > 0) != (winding > 0);
+                let v = self.row_centre(j);
+                marks.extend(group.iter().map(|&(_, _, index)| {
+                    let [(_, v0), (_, v1)] = segments[index as usize].ends;
+                    Mark {
+                        segment: index,
+                        along: (v - v0) / (v1 - v0),
+                        bounds,
+                        by_row: true,
+                    }
+                }));
             }
             for &(low, high) in &spans {
                 let start = ((low - self.origin.0) / self.cell - 0.5).ceil().max(0.0);
@@ -252,7 +279,50 @@ impl Layout {
                 }
             }
         }
-        inside
+        (inside, marks)
+    }
+
+    /// The [`Mark`]s of every crossing of a segment and a column (the scan of [`Layout::inside`]
+    /// along v): what tells whether a segment that crosses no row, one along a row, bounds the
+    /// union.
+    fn column_marks(&self, segments: &[Segment]) -> Vec<Mark> {
+        let mut crossings: Vec<Vec<(f64, i8, u32)>> = vec![Vec::new(); self.columns];
+        for (index, segment) in segments.iter().enumerate() {
+            let [(u0, v0), (u1, v1)] = segment.ends;
+            let (low, high) = (u0.min(u1), u0.max(u1));
+            let first = ((low - self.origin.0) / self.cell - 0.5).ceil().max(0.0) as usize;
+            for (i, column) in crossings.iter_mut().enumerate().skip(first) {
+                let u = self.origin.0 + (i as f64 + 0.5) * self.cell;
+                if u > high {
+                    break;
+                }
+                if (u0 >= u) != (u1 >= u) {
+                    let v = v0 + (u - u0) * (v1 - v0) / (u1 - u0);
+                    column.push((v, segment.column_winding, index as u32));
+                }
+            }
+        }
+        let mut marks = Vec::new();
+        for (i, column) in crossings.iter_mut().enumerate() {
+            column.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let u = self.origin.0 + (i as f64 + 0.5) * self.cell;
+            let mut winding = 0i32;
+            for group in column.chunk_by(|a, b| a.0 == b.0) {
+                let before = winding;
+                winding += group.iter().map(|c| i32::from(c.1)).sum::<i32>();
+                let bounds = (before > 0) != (winding > 0);
+                marks.extend(group.iter().map(|&(_, _, index)| {
+                    let [(u0, _), (u1, _)] = segments[index as usize].ends;
+                    Mark {
+                        segment: index,
+                        along: (u - u0) / (u1 - u0),
+                        bounds,
+                        by_row: false,
+                    }
+                }));
+            }
+        }
+        marks
     }
 
     /// The cells within the perimeter thickness of a segment.
@@ -295,4 +365,87 @@ impl Layout {
         }
         near
     }
+}
+
+/// Where a segment crosses a row (or a column) of the raster, and whether the slice's union
+/// begins or ends there (the crossings at one place taken together, so that two shells that
+/// touch have no outline between them).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Mark {
+    segment: u32,
+    /// How far along the segment, from its first end (0) to its second (1).
+    along: f64,
+    bounds: bool,
+    /// Found on a row (else on a column).
+    by_row: bool,
+}
+
+/// The parts of `segments` on the outline of the slice's union, from `marks`. A segment is
+/// judged by its row crossings, or by its column crossings when it crosses no row (one along a
+/// row). One every crossing of which bounds the union, or that crosses neither, is outline
+/// whole (every segment of a mesh that does not cross itself); one none of whose crossings do
+/// is a wall hidden inside another shell, and left out; one that passes from outline to hidden
+/// keeps its outline part, to halfway between the crossings where it changes.
+fn outline(segments: &[Segment], mut marks: Vec<Mark>) -> Vec<Segment> {
+    let n = segments.len();
+    let mut by_row = vec![false; n];
+    for mark in &marks {
+        by_row[mark.segment as usize] |= mark.by_row;
+    }
+    marks.retain(|mark| mark.by_row == by_row[mark.segment as usize]);
+    let (mut crossed, mut bounding) = (vec![0u32; n], vec![0u32; n]);
+    for mark in &marks {
+        crossed[mark.segment as usize] += 1;
+        bounding[mark.segment as usize] += u32::from(mark.bounds);
+    }
+    let mut kept: Vec<Segment> = segments
+        .iter()
+        .enumerate()
+        .filter(|&(index, _)| bounding[index] == crossed[index])
+        .map(|(_, segment)| *segment)
+        .collect();
+    marks.retain(|mark| {
+        let index = mark.segment as usize;
+        bounding[index] > 0 && bounding[index] < crossed[index]
+    });
+    marks.sort_by(|a, b| a.segment.cmp(&b.segment).then(a.along.total_cmp(&b.along)));
+    for group in marks.chunk_by(|a, b| a.segment == b.segment) {
+        let segment = segments[group[0].segment as usize];
+        let [(u0, v0), (u1, v1)] = segment.ends;
+        let at = |t: f64| (u0 + t * (u1 - u0), v0 + t * (v1 - v0));
+        // Breakpoints along the segment, each with whether it bounds the union there.
+        let mut points: Vec<(f64, bool)> = Vec::with_capacity(group.len() + 2);
+        points.push((0.0, group[0].bounds));
+        points.extend(group.iter().map(|mark| (mark.along, mark.bounds)));
+        points.push((1.0, group[group.len() - 1].bounds));
+        let mut piece: Option<(f64, f64)> = None;
+        let mut emit = |(from, to): (f64, f64)| {
+            kept.push(Segment {
+                ends: [at(from), at(to)],
+                ..segment
+            })
+        };
+        for pair in points.windows(2) {
+            let ((a, on_a), (b, on_b)) = (pair[0], pair[1]);
+            let middle = (a + b) / 2.0;
+            let part = match (on_a, on_b) {
+                (true, true) => Some((a, b)),
+                (true, false) => Some((a, middle)),
+                (false, true) => Some((middle, b)),
+                (false, false) => None,
+            };
+            piece = match (piece, part) {
+                (Some((start, end)), Some((from, to))) if from <= end => Some((start, to)),
+                (Some(done), next) => {
+                    emit(done);
+                    next
+                }
+                (None, next) => next,
+            };
+        }
+        if let Some(done) = piece {
+            emit(done);
+        }
+    }
+    kept
 }

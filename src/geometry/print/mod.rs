@@ -172,8 +172,9 @@ impl PrintRaster {
             // classes, which read their neighbours' finished rasters: each step runs over the
             // layers on every core.
             let segments = layout.slice(&printed);
-            let inside = map_each(layout.layers, |k| layout.inside(&segments[k]));
-            let near = map_each(layout.layers, |k| layout.near_outline(&segments[k]));
+            let (inside, near) = map_each(layout.layers, |k| layout.rasterize(&segments[k]))
+                .into_iter()
+                .unzip();
             Layers::classified(layout, inside, near)
         });
         PrintRaster { to_print, layers }
@@ -347,10 +348,10 @@ mod tests {
     }
 
     #[test]
-    fn overlapping_shells_slice_to_the_inside_of_their_union() {
+    fn overlapping_shells_slice_to_their_union_and_its_outline() {
         // Two 20 mm cubes overlapping by half, as two closed shells, and the 30 mm box they
         // make together: every layer has the same inside cells (the even-odd rule would empty
-        // the overlap).
+        // the overlap) and the same perimeters.
         let mut overlapping = box_at([0.0; 3], [20.0; 3], 0);
         let other = box_at([10.0, 0.0, 0.0], [30.0, 20.0, 20.0], 8);
         overlapping.positions.extend(other.positions);
@@ -373,8 +374,11 @@ mod tests {
         );
         let (split, whole) = (layout.slice(&overlapping), layout.slice(&union));
         for (k, (split, whole)) in split.iter().zip(&whole).enumerate() {
-            let inside = layout.inside(split);
-            assert_eq!(inside, layout.inside(whole), "layer {k}");
+            let (inside, near) = layout.rasterize(split);
+            let (whole_inside, whole_near) = layout.rasterize(whole);
+            assert_eq!(inside, whole_inside, "layer {k}");
+            // Perimeters only along the union's outline, not along the walls inside it.
+            assert_eq!(near, whole_near, "layer {k}");
             assert!(inside.iter().filter(|&&c| c).count() > layout.columns * layout.rows / 2);
         }
         // A cavity (an inward shell inside the box) stays empty.
@@ -385,7 +389,7 @@ mod tests {
         }
         hollow.positions.extend(cavity.positions);
         hollow.triangles.extend(cavity.triangles);
-        let middle = layout.inside(&layout.slice(&hollow)[30]);
+        let (middle, _) = layout.rasterize(&layout.slice(&hollow)[30]);
         let centre = (layout.rows / 2) * layout.columns + layout.columns / 2;
         assert!(!middle[centre] && middle[layout.columns * 2 + 2]);
     }
