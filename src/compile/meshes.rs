@@ -249,6 +249,22 @@ fn short_face_warning(component: &Component, lines: &[usize]) -> Option<Problem>
     )
 }
 
+/// The most a mesh's shells may overlap, as a fraction of the solid (their union), for the mesh
+/// to be taken as their union with a warning: the closed-form volume and centre count the
+/// overlap twice and are then off by at most this much.
+const OVERLAP_ACCEPTED: f64 = 1e-3;
+
+/// `fraction` as a percentage, with two decimals or two significant digits, whichever shows
+/// more.
+fn percent(fraction: f64) -> String {
+    let value = fraction * 100.0;
+    if value <= 0.0 || !value.is_finite() {
+        return format!("{value} %");
+    }
+    let decimals = (1.0 - value.log10().floor()).clamp(2.0, 12.0) as usize;
+    format!("{value:.decimals$} %")
+}
+
 /// A warning counting the triangles with two corners at one point, which the mesh leaves out.
 fn collapsed_warning(component: &Component, triangles: &[usize]) -> Option<Problem> {
     let first = triangles.first()?;
@@ -342,23 +358,55 @@ fn solid_problems(component: &Component, mesh: &TriMesh, check: &MeshCheck) -> V
     }
     if let Some(&[a, b]) = check.crossing_triangles.first() {
         let count = check.crossing_triangles.len();
-        problems.push(
-            Problem::error(
-                "ballast::mesh::self_intersecting",
-                format!(
-                    "the mesh of component `{name}` intersects itself: {count} pair{} of triangles \
-                     cross, the first at {} and {}",
-                    if count == 1 { "" } else { "s" },
-                    format_triangle(mesh, a),
-                    format_triangle(mesh, b)
-                ),
-            )
-            .with_label(span, "this mesh")
-            .with_help(
-                "where surfaces cross, the volume and the mass are wrong: join overlapping \
-                 shells with a boolean union, or remove the fold, in a mesh editor",
-            ),
+        let crossing = format!(
+            "{count} pair{} of triangles cross, the first at {} and {}",
+            if count == 1 { "" } else { "s" },
+            format_triangle(mesh, a),
+            format_triangle(mesh, b)
         );
+        let share = check
+            .overlap
+            .filter(|overlap| overlap.union > 0.0)
+            .map(|overlap| overlap.volume / overlap.union);
+        match share {
+            Some(share) if share <= OVERLAP_ACCEPTED => problems.push(
+                Problem::warning(
+                    "ballast::mesh::crossing",
+                    format!(
+                        "the mesh of component `{name}` crosses itself: {crossing}; its shells \
+                         overlap by {} of the solid, which is their union, as a slicer prints it",
+                        percent(share)
+                    ),
+                )
+                .with_label(span, "this mesh")
+                .with_help(format!(
+                    "the print mass model slices the union; the closed-form volume (`print \
+                     model=\"uniform\"`, the fluid an `immerse` goal displaces) counts the \
+                     overlap twice, {} too much; a boolean union in a mesh editor removes it",
+                    percent(share)
+                )),
+            ),
+            _ => problems.push(
+                Problem::error(
+                    "ballast::mesh::self_intersecting",
+                    format!(
+                        "the mesh of component `{name}` intersects itself: {crossing}{}",
+                        share.map_or_else(String::new, |share| format!(
+                            "; its shells overlap by {} of the solid, more than the {} ballast \
+                             accepts",
+                            percent(share),
+                            percent(OVERLAP_ACCEPTED)
+                        ))
+                    ),
+                )
+                .with_label(span, "this mesh")
+                .with_help(
+                    "where shells overlap much, the closed-form volume and mass count the overlap \
+                     twice: join overlapping shells with a boolean union, or remove the fold, in \
+                     a mesh editor",
+                ),
+            ),
+        }
     }
     if let Some(fault) = check.shell_faults.first() {
         let count = check.shell_faults.len();

@@ -59,7 +59,8 @@ pub use load_files::{MeshLimits, ReadPolicy, DEFAULT_MAX_MESH_BYTES, DEFAULT_MAX
 pub use mass::{mass_properties, MassProperties};
 pub use mesh::TriMesh;
 pub use print::{
-    print_volumes, print_volumes_with_voids, PrintRaster, PrintVolumes, Region, Slicing, Void,
+    overlap, print_volumes, print_volumes_with_voids, Overlap, PrintRaster, PrintVolumes, Region,
+    Slicing, Void,
 };
 pub use print_correction::PrintCorrection;
 pub use rig::{read_rig, Rig, RigAnimation, RigNode, RigScene};

@@ -4,6 +4,7 @@ use std::collections::HashMap;
 
 use super::mass;
 use super::mesh::TriMesh;
+use super::print::{overlap, Overlap};
 use super::shells::{check_shells, ShellFault};
 
 /// What is wrong with a mesh as a printable solid. Edges are vertex index pairs `[min, max]`,
@@ -33,6 +34,9 @@ pub struct MeshCheck {
     /// The crossing and shell checks stopped at their work bound before the end (a mesh built to
     /// defeat them); what they found so far is listed.
     pub shells_unchecked: bool,
+    /// For a mesh whose triangles cross: how much its shells overlap, beside the volume of their
+    /// union ([`overlap`]).
+    pub overlap: Option<Overlap>,
 }
 
 impl MeshCheck {
@@ -120,6 +124,9 @@ pub fn check_mesh(mesh: &TriMesh) -> MeshCheck {
         check.crossing_triangles = shells.crossings;
         check.shell_faults = shells.faults;
         check.shells_unchecked = shells.incomplete;
+        if !check.crossing_triangles.is_empty() {
+            check.overlap = overlap(mesh);
+        }
     }
     check
 }

@@ -282,6 +282,44 @@ impl Layout {
         (inside, marks)
     }
 
+    /// Along every row of the slice, how long the winding number of `segments` is positive
+    /// and how much it is past 1 (each length times the winding number less 1): the union's
+    /// cross-section and its overlap, summed over the rows (times the row spacing, areas). Exact
+    /// along each row.
+    pub(super) fn winding_areas(&self, segments: &[Segment]) -> (f64, f64) {
+        let mut crossings: Vec<Vec<(f64, i8)>> = vec![Vec::new(); self.rows];
+        for segment in segments {
+            let [(u0, v0), (u1, v1)] = segment.ends;
+            let (low, high) = (v0.min(v1), v0.max(v1));
+            let first = ((low - self.origin.1) / self.cell - 0.5).ceil().max(0.0) as usize;
+            for (j, row) in crossings.iter_mut().enumerate().skip(first) {
+                let v = self.row_centre(j);
+                if v > high {
+                    break;
+                }
+                if (v0 >= v) != (v1 >= v) {
+                    row.push((u0 + (v - v0) * (u1 - u0) / (v1 - v0), segment.winding));
+                }
+            }
+        }
+        let (mut union, mut overlap) = (0.0, 0.0);
+        for row in &mut crossings {
+            row.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let mut winding = 0i32;
+            for pair in row.windows(2) {
+                winding += i32::from(pair[0].1);
+                let length = pair[1].0 - pair[0].0;
+                if winding > 0 {
+                    union += length;
+                }
+                if winding > 1 {
+                    overlap += length * f64::from(winding - 1);
+                }
+            }
+        }
+        (union * self.cell, overlap * self.cell)
+    }
+
     /// The [`Mark`]s of every crossing of a segment and a column (the scan of [`Layout::inside`]
     /// along v): what tells whether a segment that crosses no row, one along a row, bounds the
     /// union.
