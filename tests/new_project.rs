@@ -143,3 +143,17 @@ fn a_mesh_that_cannot_be_used_writes_nothing() {
     assert_eq!(junk.status.code(), Some(2), "{}", text(&junk));
     assert!(!folder.path().join("junk.kdl").exists());
 }
+
+#[test]
+fn what_the_mesh_check_says_of_a_usable_mesh_is_said_at_once() {
+    let folder = tempfile::tempdir().unwrap();
+    let mut t = t_shape();
+    // A triangle an exporter left with two corners at one point.
+    t.triangles.push([0, 0, 1]);
+    fs::write(folder.path().join("tee.stl"), binary_stl(&t, 1.0)).unwrap();
+    let made = ballast(&["new", "tee.stl"], folder.path());
+    assert_eq!(made.status.code(), Some(0), "{}", text(&made));
+    let stderr = String::from_utf8_lossy(&made.stderr);
+    assert!(stderr.contains("ballast::mesh::collapsed"), "{stderr}");
+    assert!(folder.path().join("tee.kdl").exists());
+}

@@ -69,6 +69,15 @@ pub fn run(mesh: &Path, project: Option<&Path>, force: bool, options: &CompileOp
         }
         Err(Failure::Cancelled) => return EXIT_INVALID,
     };
+    // What the mesh check says of a usable mesh (repairs, crossings) is said now: the starter
+    // project's goals are not the user's yet, so the other warnings wait for the first build.
+    for warning in compilation
+        .warnings
+        .iter()
+        .filter(|w| w.code.starts_with("ballast::mesh::"))
+    {
+        eprintln!("warning: {} ({})", warning.message, warning.code);
+    }
     let bodies = compilation.bare_bodies();
     let facets = compilation
         .project
