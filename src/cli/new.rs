@@ -74,7 +74,7 @@ pub fn run(mesh: &Path, project: Option<&Path>, force: bool, options: &CompileOp
     for warning in compilation
         .warnings
         .iter()
-        .filter(|w| w.code.starts_with("ballast::mesh::"))
+        .filter(|w| w.code.split("::").nth(1) == Some("mesh"))
     {
         eprintln!("warning: {} ({})", warning.message, warning.code);
     }
