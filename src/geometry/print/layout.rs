@@ -219,27 +219,11 @@ impl Layout {
     ///
     /// Beside it, the [`Mark`]s of every crossing of a segment and a row.
     pub(super) fn inside(&self, segments: &[Segment]) -> (Vec<bool>, Vec<Mark>) {
-        let mut crossings: Vec<Vec<(f64, i8, u32)>> = vec![Vec::new(); self.rows];
-        for (index, segment) in segments.iter().enumerate() {
-            let [(u0, v0), (u1, v1)] = segment.ends;
-            let (low, high) = (v0.min(v1), v0.max(v1));
-            let first = ((low - self.origin.1) / self.cell - 0.5).ceil().max(0.0) as usize;
-            for (j, row) in crossings.iter_mut().enumerate().skip(first) {
-                let v = self.row_centre(j);
-                if v > high {
-                    break;
-                }
-                if (v0 >= v) != (v1 >= v) {
-                    let u = u0 + (v - v0) * (u1 - u0) / (v1 - v0);
-                    row.push((u, segment.winding, index as u32));
-                }
-            }
-        }
+        let crossings = self.row_crossings(segments);
         let mut inside = vec![false; self.columns * self.rows];
         let mut marks = Vec::new();
         let mut spans = Vec::new();
-        for (j, row) in crossings.iter_mut().enumerate() {
-            row.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for (j, row) in crossings.iter().enumerate() {
             // The spans of positive winding number, from where it turns positive to where it
             // falls back; the crossings at one place taken together.
             spans.clear();
@@ -282,13 +266,11 @@ impl Layout {
         (inside, marks)
     }
 
-    /// Along every row of the slice, how long the winding number of `segments` is positive
-    /// and how much it is past 1 (each length times the winding number less 1): the union's
-    /// cross-section and its overlap, summed over the rows (times the row spacing, areas). Exact
-    /// along each row.
-    pub(super) fn winding_areas(&self, segments: &[Segment]) -> (f64, f64) {
-        let mut crossings: Vec<Vec<(f64, i8)>> = vec![Vec::new(); self.rows];
-        for segment in segments {
+    /// Per row, where each segment crosses it: (u, the segment's turn of the winding number,
+    /// the segment's index), in order of u (segments in their order where u ties).
+    fn row_crossings(&self, segments: &[Segment]) -> Vec<Vec<(f64, i8, u32)>> {
+        let mut crossings: Vec<Vec<(f64, i8, u32)>> = vec![Vec::new(); self.rows];
+        for (index, segment) in segments.iter().enumerate() {
             let [(u0, v0), (u1, v1)] = segment.ends;
             let (low, high) = (v0.min(v1), v0.max(v1));
             let first = ((low - self.origin.1) / self.cell - 0.5).ceil().max(0.0) as usize;
@@ -298,13 +280,24 @@ impl Layout {
                     break;
                 }
                 if (v0 >= v) != (v1 >= v) {
-                    row.push((u0 + (v - v0) * (u1 - u0) / (v1 - v0), segment.winding));
+                    let u = u0 + (v - v0) * (u1 - u0) / (v1 - v0);
+                    row.push((u, segment.winding, index as u32));
                 }
             }
         }
-        let (mut union, mut overlap) = (0.0, 0.0);
         for row in &mut crossings {
             row.sort_by(|a, b| a.0.total_cmp(&b.0));
+        }
+        crossings
+    }
+
+    /// Along every row of the slice, how long the winding number of `segments` is positive
+    /// and how much it is past 1 (each length times the winding number less 1): the union's
+    /// cross-section and its overlap, summed over the rows (times the row spacing, areas). Exact
+    /// along each row.
+    pub(super) fn winding_areas(&self, segments: &[Segment]) -> (f64, f64) {
+        let (mut union, mut overlap) = (0.0, 0.0);
+        for row in &self.row_crossings(segments) {
             let mut winding = 0i32;
             for pair in row.windows(2) {
                 winding += i32::from(pair[0].1);
