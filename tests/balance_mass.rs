@@ -286,7 +286,11 @@ fn a_measured_body_has_its_voids_already_empty() {
         ),
     };
     let mesh = tall_box();
-    let bodies = [ballast::balance::ComponentBody::measured(&mesh, deposit)];
+    let bodies = [ballast::balance::ComponentBody::measured(
+        &mesh,
+        ballast::geometry::mass_properties(&mesh),
+        deposit,
+    )];
     let mut d = design(vec![capsule(
         0,
         Point3::new(10.0, 30.0, 20.0),

@@ -468,7 +468,10 @@ fn triangles_with_two_corners_at_one_point_are_left_out_with_a_warning() {
         &ballast::geometry::ReadPolicy::within(folder.path()),
     )
     .unwrap();
-    assert_eq!(loaded.collapsed_triangles, [3, t.triangles.len() - 1]);
+    assert_eq!(
+        loaded.repairs.collapsed_triangles,
+        [3, t.triangles.len() - 1]
+    );
     assert_eq!(loaded.mesh.triangles.len(), clean.triangles.len());
     assert_same_solid(&loaded.mesh, &clean, |c| c);
     let source = project("t.stl");

@@ -68,7 +68,8 @@ pub struct ComponentBody<'a> {
     /// The component's mesh, rest frame. Every position counts as a vertex that may touch the
     /// ground; triangle indices are never read.
     pub mesh: &'a TriMesh,
-    /// [`mass_properties`](crate::geometry::mass_properties) of `mesh`: the outer volume and its
+    /// The mass properties of the solid `mesh` bounds (the union of its shells,
+    /// [`MeshCheck::solid`](crate::geometry::MeshCheck::solid)): the outer volume and its
     /// centroid, rest frame.
     pub mass: MassProperties,
     /// The material of the printed mesh before capsules are cut: [`print_volumes`] under the
@@ -84,7 +85,8 @@ pub struct ComponentBody<'a> {
 impl<'a> ComponentBody<'a> {
     /// The body of `mesh`, with its mass properties and print volumes computed for `project`'s
     /// [`print`](crate::spec::model::Project::print) settings, printed with the project's `up`
-    /// axis up ([`up_to_print`]).
+    /// axis up ([`up_to_print`]). The mass properties are the closed form's: right for a mesh
+    /// whose shells do not overlap.
     ///
     /// # Panics
     /// If a triangle indexes past the positions (as [`mass_properties`](crate::geometry::mass_properties)
@@ -99,11 +101,12 @@ impl<'a> ComponentBody<'a> {
         }
     }
 
-    /// The body of `mesh` with its print volumes already computed (by [`component_print`]).
-    pub fn with_print(mesh: &'a TriMesh, print: PrintVolumes) -> Self {
+    /// The body of `mesh`, whose solid has the mass properties `mass`, with its print volumes
+    /// already computed (by [`component_print`]).
+    pub fn with_print(mesh: &'a TriMesh, mass: MassProperties, print: PrintVolumes) -> Self {
         ComponentBody {
             mesh,
-            mass: crate::geometry::mass_properties(mesh),
+            mass,
             print,
             voids_in_print: false,
         }
@@ -111,21 +114,21 @@ impl<'a> ComponentBody<'a> {
 
     /// The body of `mesh` whose material `print` has a design's voids cut from it already
     /// ([`PartPrints::cut`]): only the balls are added to it.
-    pub fn with_voids_cut(mesh: &'a TriMesh, print: PrintVolumes) -> Self {
+    pub fn with_voids_cut(mesh: &'a TriMesh, mass: MassProperties, print: PrintVolumes) -> Self {
         ComponentBody {
             voids_in_print: true,
-            ..ComponentBody::with_print(mesh, print)
+            ..ComponentBody::with_print(mesh, mass, print)
         }
     }
 
     /// The body of `mesh` printed as measured: `deposit` is all its material (volume, cubic
     /// project units, at the material's full density; centroid, rest frame), the capsule voids
     /// already empty in it. The outer volume, for buoyancy, and the vertices, for support, are
-    /// still `mesh`'s.
-    pub fn measured(mesh: &'a TriMesh, deposit: Region) -> Self {
+    /// still `mesh`'s (its solid's mass properties `mass`).
+    pub fn measured(mesh: &'a TriMesh, mass: MassProperties, deposit: Region) -> Self {
         ComponentBody {
             mesh,
-            mass: crate::geometry::mass_properties(mesh),
+            mass,
             print: PrintVolumes {
                 solid: deposit,
                 sparse: Region {

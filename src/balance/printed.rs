@@ -17,7 +17,9 @@ use nalgebra::Rotation3;
 use super::mass::{capsule_volume, Weighted};
 use super::{slicing, ComponentBody};
 use crate::design::Design;
-use crate::geometry::{PrintCorrection, PrintRaster, PrintVolumes, Region, TriMesh, Void};
+use crate::geometry::{
+    MassProperties, PrintCorrection, PrintRaster, PrintVolumes, Region, TriMesh, Void,
+};
 use crate::spec::model::{MassModel, Print};
 
 /// The voids `design`'s capsules in component `component` cut from it.
@@ -34,13 +36,18 @@ pub fn component_voids(design: &Design, component: usize) -> Vec<Void> {
         .collect()
 }
 
-/// The bodies of `meshes` whose material `printed` (one per mesh) has a design's voids cut from
-/// it already ([`PartPrints::cut`]).
-pub fn cut_bodies<'a>(meshes: &'a [TriMesh], printed: &[PrintVolumes]) -> Vec<ComponentBody<'a>> {
+/// The bodies of `meshes`, whose solids have the mass properties `solids`, whose material
+/// `printed` (one per mesh) has a design's voids cut from it already ([`PartPrints::cut`]).
+pub fn cut_bodies<'a>(
+    meshes: &'a [TriMesh],
+    solids: &[MassProperties],
+    printed: &[PrintVolumes],
+) -> Vec<ComponentBody<'a>> {
     meshes
         .iter()
+        .zip(solids)
         .zip(printed)
-        .map(|(mesh, print)| ComponentBody::with_voids_cut(mesh, *print))
+        .map(|((mesh, solid), print)| ComponentBody::with_voids_cut(mesh, *solid, *print))
         .collect()
 }
 
@@ -58,14 +65,18 @@ pub struct PartPrints {
     pub corrections: Vec<PrintCorrection>,
     /// The print settings and the mass model.
     pub print: Print,
+    /// Per component: the mass properties of its solid ([`ComponentBody::mass`]).
+    pub solids: Vec<MassProperties>,
     /// Per component, its layers, once sliced.
     rasters: Vec<OnceLock<Arc<PrintRaster>>>,
 }
 
 impl PartPrints {
-    /// What it takes to print components whose material before capsules are cut is `bare`
-    /// (with `corrections` in it), printed turned by `to_print`, with `print`.
+    /// What it takes to print components whose solids have the mass properties `solids`, whose
+    /// material before capsules are cut is `bare` (with `corrections` in it), printed turned by
+    /// `to_print`, with `print`.
     pub fn new(
+        solids: Vec<MassProperties>,
         bare: Vec<PrintVolumes>,
         to_print: Vec<Rotation3<f64>>,
         corrections: Vec<PrintCorrection>,
@@ -77,6 +88,7 @@ impl PartPrints {
             to_print,
             corrections,
             print,
+            solids,
             rasters,
         }
     }
@@ -116,15 +128,16 @@ impl PartPrints {
     /// The bodies of `meshes` with `design`'s voids cut from their material
     /// ([`ComponentBody::voids_in_print`]): what a pose of `design` weighs.
     pub fn bodies<'a>(&self, meshes: &'a [TriMesh], design: &Design) -> Vec<ComponentBody<'a>> {
-        cut_bodies(meshes, &self.cut(meshes, design))
+        cut_bodies(meshes, &self.solids, &self.cut(meshes, design))
     }
 
     /// The bodies of `meshes` before any capsule is cut, for the closed-form capsule term.
     pub fn bare_bodies<'a>(&self, meshes: &'a [TriMesh]) -> Vec<ComponentBody<'a>> {
         meshes
             .iter()
+            .zip(&self.solids)
             .zip(&self.bare)
-            .map(|(mesh, print)| ComponentBody::with_print(mesh, *print))
+            .map(|((mesh, solid), print)| ComponentBody::with_print(mesh, *solid, *print))
             .collect()
     }
 

@@ -8,22 +8,30 @@ use nalgebra::Point3;
 
 use super::design::round;
 use super::mesh_cache::MeshCache;
+use super::mesh_repairs::repair_problems;
 use crate::diagnostic::Problem;
-use crate::geometry::{LoadError, LoadedMesh, MeshCheck, ReadPolicy, TriMesh};
+use crate::geometry::{
+    LoadError, LoadedMesh, MassProperties, MeshCheck, ReadPolicy, Repairs, TriMesh,
+};
 use crate::spec::model::{Component, MeshFrame, Project};
 
 /// How many offending edges or triangles a diagnostic lists before it only counts the rest.
 const LISTED: usize = 3;
 
+/// Every component's mesh in the rest frame, and the mass properties of the solid it bounds.
+pub type LoadedComponents = (Vec<TriMesh>, Vec<MassProperties>);
+
 /// Loads and checks the mesh of every component, in order, through `cache`, reading only what
-/// `policy` allows. Returns the meshes when all of them are usable, and the problems found
+/// `policy` allows. Returns the meshes when all of them are usable, with the mass properties of
+/// the solid each bounds (the union of its shells, [`MeshCheck::solid`]), and the problems found
 /// (every component is tried, so all are reported at once), warnings included.
 pub fn load_components(
     project: &Project,
     cache: &mut MeshCache,
     policy: &ReadPolicy,
-) -> (Option<Vec<TriMesh>>, Vec<Problem>) {
+) -> (Option<LoadedComponents>, Vec<Problem>) {
     let mut meshes = Vec::with_capacity(project.components.len());
+    let mut solids = Vec::with_capacity(project.components.len());
     // Each component's problems, in component order.
     let mut found: Vec<Vec<Problem>> = vec![Vec::new(); project.components.len()];
     // Loading failures, one per mesh file and error: the first component that met it, and every
@@ -35,15 +43,20 @@ pub fn load_components(
                 LoadedMesh {
                     mesh,
                     short_faces,
-                    collapsed_triangles,
+                    mut repairs,
                 },
                 check,
             )) => {
                 found[index].extend(short_face_warning(component, &short_faces));
-                found[index].extend(collapsed_warning(component, &collapsed_triangles));
-                let (mesh, check) = into_rest_frame(mesh, check, &component.frame, project);
+                let (mesh, check) =
+                    into_rest_frame(mesh, check, &mut repairs, &component.frame, project);
+                let extent = mesh
+                    .bounding_box()
+                    .map_or(0.0, |(low, high)| (high - low).max());
+                found[index].extend(repair_problems(component, &repairs, project.wall, extent));
                 let problems = mesh_problems(component, &mesh, &check);
                 if problems.iter().all(|problem| !problem.is_error()) {
+                    solids.push(check.solid(&mesh));
                     meshes.push(mesh);
                 }
                 found[index].extend(problems);
@@ -66,15 +79,17 @@ pub fn load_components(
     }
     let problems = found.into_iter().flatten().collect();
     let usable = meshes.len() == project.components.len();
-    (usable.then_some(meshes), problems)
+    (usable.then_some((meshes, solids)), problems)
 }
 
-/// `mesh` (and its `check`) from its file's coordinates into the rest frame: turned from the
-/// mesh's up axis to the project's, then scaled into project units. Untouched when the frame is
-/// the identity, so a mesh in project units keeps its exact coordinates.
+/// `mesh` (and its `check`, and the holes its `repairs` capped) from its file's coordinates into
+/// the rest frame: turned from the mesh's up axis to the project's, then scaled into project
+/// units. Untouched when the frame is the identity, so a mesh in project units keeps its exact
+/// coordinates.
 fn into_rest_frame(
     mesh: TriMesh,
     mut check: MeshCheck,
+    repairs: &mut Repairs,
     frame: &MeshFrame,
     project: &Project,
 ) -> (TriMesh, MeshCheck) {
@@ -83,15 +98,20 @@ fn into_rest_frame(
     }
     let rotation = frame.rotation(project.up);
     let factor = frame.factor(project.units);
+    let to_rest = |p: &Point3<f64>| Point3::from(rotation * p.coords * factor);
     // A proper rotation and a positive factor keep every triangle's orientation, so the check's
     // edge and triangle lists still hold; only the volume scales.
     check.signed_volume *= factor * factor * factor;
+    if let Some(overlap) = &mut check.overlap {
+        overlap.union *= factor * factor * factor;
+        overlap.excess = overlap.excess.turned_and_scaled(&rotation, factor);
+    }
+    for hole in &mut repairs.holes {
+        hole.width *= factor;
+        hole.centre = to_rest(&hole.centre);
+    }
     let mesh = TriMesh {
-        positions: mesh
-            .positions
-            .iter()
-            .map(|p| Point3::from(rotation * p.coords * factor))
-            .collect(),
+        positions: mesh.positions.iter().map(to_rest).collect(),
         triangles: mesh.triangles,
     };
     (mesh, check)
@@ -249,11 +269,6 @@ fn short_face_warning(component: &Component, lines: &[usize]) -> Option<Problem>
     )
 }
 
-/// The most a mesh's shells may overlap, as a fraction of the solid (their union), for the mesh
-/// to be taken as their union with a warning: the closed-form volume and centre count the
-/// overlap twice and are then off by at most this much.
-const OVERLAP_ACCEPTED: f64 = 1e-3;
-
 /// `fraction` as a percentage, with two decimals or two significant digits, whichever shows
 /// more.
 fn percent(fraction: f64) -> String {
@@ -263,27 +278,6 @@ fn percent(fraction: f64) -> String {
     }
     let decimals = (1.0 - value.log10().floor()).clamp(2.0, 12.0) as usize;
     format!("{value:.decimals$} %")
-}
-
-/// A warning counting the triangles with two corners at one point, which the mesh leaves out.
-fn collapsed_warning(component: &Component, triangles: &[usize]) -> Option<Problem> {
-    let first = triangles.first()?;
-    let count = triangles.len();
-    Some(
-        Problem::warning(
-            "ballast::mesh::collapsed",
-            format!(
-                "the mesh of component `{}` has {count} triangle{} with two corners at one point \
-                 (the first is triangle {} of the file), left out: they enclose nothing, so the \
-                 volume is unchanged",
-                component.name.value,
-                if count == 1 { "" } else { "s" },
-                first + 1
-            ),
-        )
-        .with_label(component.mesh.span, "this mesh")
-        .with_help("nothing to do; a mesh editor's merge by distance removes them from the file"),
-    )
 }
 
 /// The problems that make `mesh` unusable as the solid of `component`.
@@ -315,7 +309,8 @@ fn mesh_problems(component: &Component, mesh: &TriMesh, check: &MeshCheck) -> Ve
     );
     edge_problem(
         "ballast::mesh::non_manifold",
-        "edges shared by more than two triangles",
+        "edges shared by more than two triangles that do not pair up (as many running along \
+         the edge as against it)",
         &check.non_manifold_edges,
         "split or repair the mesh so every edge borders exactly two triangles",
     );
@@ -344,16 +339,26 @@ fn solid_problems(component: &Component, mesh: &TriMesh, check: &MeshCheck) -> V
             .map(|&corner| format_point(mesh, corner))
             .collect();
         problems.push(
-            Problem::error(
+            Problem::warning(
                 "ballast::mesh::degenerate",
                 format!(
-                    "the mesh of component `{name}` has {count} degenerate triangle{} (zero area or a repeated vertex), the first at {}",
+                    "the mesh of component `{name}` has {count} triangle{} of zero area (three \
+                     corners on a line), the first at {}: kept, since {} nothing and close{} \
+                     the surface",
                     if count == 1 { "" } else { "s" },
-                    corners.join(", ")
+                    corners.join(", "),
+                    if count == 1 {
+                        "it encloses"
+                    } else {
+                        "they enclose"
+                    },
+                    if count == 1 { "s" } else { "" },
                 ),
             )
             .with_label(span, "this mesh")
-            .with_help("remove the degenerate triangles (merge by distance, then dissolve degenerate)"),
+            .with_help(
+                "nothing to do; a mesh editor's dissolve degenerate removes them from the file",
+            ),
         );
     }
     if let Some(&[a, b]) = check.crossing_triangles.first() {
@@ -367,9 +372,9 @@ fn solid_problems(component: &Component, mesh: &TriMesh, check: &MeshCheck) -> V
         let share = check
             .overlap
             .filter(|overlap| overlap.union > 0.0)
-            .map(|overlap| overlap.volume / overlap.union);
+            .map(|overlap| overlap.excess.volume / overlap.union);
         match share {
-            Some(share) if share <= OVERLAP_ACCEPTED => problems.push(
+            Some(share) => problems.push(
                 Problem::warning(
                     "ballast::mesh::crossing",
                     format!(
@@ -379,31 +384,20 @@ fn solid_problems(component: &Component, mesh: &TriMesh, check: &MeshCheck) -> V
                     ),
                 )
                 .with_label(span, "this mesh")
-                .with_help(format!(
-                    "the print mass model slices the union; the closed-form volume (`print \
-                     model=\"uniform\"`, the fluid an `immerse` goal displaces) counts the \
-                     overlap twice, {} too much; a boolean union in a mesh editor removes it",
-                    percent(share)
-                )),
+                .with_help(
+                    "the solid's volume, mass and balance are the union's (the overlap counted \
+                     once); a boolean union in a mesh editor makes the file say so too",
+                ),
             ),
-            _ => problems.push(
+            None => problems.push(
                 Problem::error(
                     "ballast::mesh::self_intersecting",
-                    format!(
-                        "the mesh of component `{name}` intersects itself: {crossing}{}",
-                        share.map_or_else(String::new, |share| format!(
-                            "; its shells overlap by {} of the solid, more than the {} ballast \
-                             accepts",
-                            percent(share),
-                            percent(OVERLAP_ACCEPTED)
-                        ))
-                    ),
+                    format!("the mesh of component `{name}` intersects itself: {crossing}"),
                 )
                 .with_label(span, "this mesh")
                 .with_help(
-                    "where shells overlap much, the closed-form volume and mass count the overlap \
-                     twice: join overlapping shells with a boolean union, or remove the fold, in \
-                     a mesh editor",
+                    "its overlap could not be measured: join overlapping shells with a boolean \
+                     union, or remove the fold, in a mesh editor",
                 ),
             ),
         }

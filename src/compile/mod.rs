@@ -19,6 +19,7 @@ mod down;
 mod insertion;
 mod limits;
 mod mesh_cache;
+mod mesh_repairs;
 mod meshes;
 mod optimization;
 mod optimize;
@@ -172,13 +173,14 @@ impl Compilation {
     /// The components' bodies with the design's voids cut from their material (`printed`): what
     /// every pose of the design weighs.
     pub fn bodies(&self) -> Vec<ComponentBody<'_>> {
-        cut_bodies(&self.meshes, &self.printed)
+        cut_bodies(&self.meshes, &self.mass, &self.printed)
     }
 
     /// What it takes to print each component's material for any design (for the optimizer).
     pub fn part_prints(&self) -> PartPrints {
         part_prints(
             &self.project,
+            self.mass.clone(),
             self.prints.clone(),
             &self.orientations,
             &self.corrections,
@@ -189,8 +191,9 @@ impl Compilation {
     pub fn bare_bodies(&self) -> Vec<ComponentBody<'_>> {
         self.meshes
             .iter()
+            .zip(&self.mass)
             .zip(&self.prints)
-            .map(|(mesh, print)| ComponentBody::with_print(mesh, *print))
+            .map(|((mesh, solid), print)| ComponentBody::with_print(mesh, *solid, *print))
             .collect()
     }
 
@@ -239,8 +242,9 @@ pub fn compile_with(
             &policy,
         ));
     }
-    let (meshes, mesh_problems) = load_components(&project, &mut workspace.meshes, &policy);
+    let (loaded, mesh_problems) = load_components(&project, &mut workspace.meshes, &policy);
     problems.extend(mesh_problems);
+    let (meshes, solids) = loaded.unzip();
     // The written capsules as they stand, for the ball-gap warnings and the capsules the print
     // orientation is chosen for; their problems come with the fabrication checks below, and the
     // ball-gap warnings after them, since a gap matters only for a capsule that is valid.
@@ -268,16 +272,18 @@ pub fn compile_with(
     // The print volumes, computed once: here for the `down` poses, which rest on the print-true
     // body, or else below, once the project is known to be valid.
     let mut corrected: Option<calibration::Corrected> = None;
-    if let (Some(meshes), Some(orientations)) = (
+    if let (Some(meshes), Some(solids), Some(orientations)) = (
         meshes
             .as_ref()
             .filter(|_| project.poses.iter().any(|pose| pose.down.is_some())),
+        &solids,
         &orientations,
     ) {
         let prints = &corrected
             .insert(corrected_volumes(
                 &project,
                 meshes,
+                solids,
                 orientations,
                 &corrections,
                 workspace,
@@ -285,8 +291,9 @@ pub fn compile_with(
             .prints;
         let bodies: Vec<ComponentBody> = meshes
             .iter()
+            .zip(solids)
             .zip(prints.iter())
-            .map(|(mesh, print)| ComponentBody::with_print(mesh, *print))
+            .map(|((mesh, solid), print)| ComponentBody::with_print(mesh, *solid, *print))
             .collect();
         problems.extend(down::place_down_poses(&mut project, &bodies));
     }
@@ -302,14 +309,23 @@ pub fn compile_with(
     );
     problems.extend(design_problems);
     problems.extend(ball_gaps);
-    let (meshes, orientations) = match (meshes, orientations) {
-        (Some(meshes), Some(orientations)) if !problems.iter().any(Problem::is_error) => {
-            (meshes, orientations)
+    let (meshes, solids, orientations) = match (meshes, solids, orientations) {
+        (Some(meshes), Some(solids), Some(orientations))
+            if !problems.iter().any(Problem::is_error) =>
+        {
+            (meshes, solids, orientations)
         }
         _ => return Err(Failure::Invalid(problems)),
     };
     let corrected = corrected.unwrap_or_else(|| {
-        corrected_volumes(&project, &meshes, &orientations, &corrections, workspace)
+        corrected_volumes(
+            &project,
+            &meshes,
+            &solids,
+            &orientations,
+            &corrections,
+            workspace,
+        )
     });
     problems.extend(corrected.refused);
     // A refused correction is in no material: neither in the bare prints nor in any cut.
@@ -320,7 +336,8 @@ pub fn compile_with(
         .zip(&orientations)
         .map(|(mesh, o)| workspace.prints.raster(&project, mesh, o.to_print))
         .collect();
-    let parts = part_prints(&project, prints, &orientations, &corrections).with_rasters(rasters);
+    let parts =
+        part_prints(&project, solids, prints, &orientations, &corrections).with_rasters(rasters);
     let print = print_setup(&project, &orientations);
     let (design, source, optimization) = match (&project.optimize, &options.optimize) {
         (None, _) => (written, DesignSource::Written, None),
@@ -360,8 +377,8 @@ pub fn compile_with(
         }
     };
     let printed = parts.cut(&meshes, &design);
-    let bodies = cut_bodies(&meshes, &printed);
-    let mass = bodies.iter().map(|body| body.mass).collect();
+    let bodies = cut_bodies(&meshes, &parts.solids, &printed);
+    let mass = parts.solids.clone();
     let poses: Vec<PoseEvaluation> = project
         .poses
         .iter()
@@ -404,15 +421,18 @@ pub fn compile_with(
     })
 }
 
-/// What it takes to print each component's material for any design: its `bare` print volumes
-/// (corrected), its print rotation and its calibration correction.
+/// What it takes to print each component's material for any design: its solid's mass
+/// properties, its `bare` print volumes (corrected), its print rotation and its calibration
+/// correction.
 fn part_prints(
     project: &Project,
+    solids: Vec<MassProperties>,
     bare: Vec<PrintVolumes>,
     orientations: &[Orientation],
     corrections: &[PrintCorrection],
 ) -> PartPrints {
     PartPrints::new(
+        solids,
         bare,
         orientations.iter().map(|o| o.to_print).collect(),
         corrections.to_vec(),
@@ -425,14 +445,16 @@ fn part_prints(
 fn corrected_volumes(
     project: &Project,
     meshes: &[TriMesh],
+    solids: &[MassProperties],
     orientations: &[Orientation],
     corrections: &[PrintCorrection],
     workspace: &mut Workspace,
 ) -> calibration::Corrected {
     let prints: Vec<PrintVolumes> = meshes
         .iter()
+        .zip(solids)
         .zip(orientations)
-        .map(|(mesh, o)| workspace.prints.volumes(project, mesh, o.to_print))
+        .map(|((mesh, solid), o)| workspace.prints.volumes(project, mesh, solid, o.to_print))
         .collect();
     calibration::corrected_prints(project, &prints, corrections)
 }

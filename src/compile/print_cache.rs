@@ -7,7 +7,7 @@ use std::sync::Arc;
 use nalgebra::Rotation3;
 
 use crate::balance::{component_print, slicing};
-use crate::geometry::{mass_properties, PrintRaster, PrintVolumes, Slicing, TriMesh};
+use crate::geometry::{MassProperties, PrintRaster, PrintVolumes, Slicing, TriMesh};
 use crate::optimize::content_hash;
 use crate::spec::model::{MassModel, Project};
 
@@ -42,17 +42,18 @@ impl PrintCache {
         PrintCache::default()
     }
 
-    /// `project`'s print volumes of `mesh` printed turned by `to_print`: from the cache under the
-    /// `fdm` model when this mesh was sliced with these settings and this orientation before,
-    /// else computed (and kept).
+    /// `project`'s print volumes of `mesh`, whose solid has the mass properties `solid`, printed
+    /// turned by `to_print`: from the cache under the `fdm` model when this mesh was sliced with
+    /// these settings and this orientation before, else computed (and kept).
     pub fn volumes(
         &mut self,
         project: &Project,
         mesh: &TriMesh,
+        solid: &MassProperties,
         to_print: Rotation3<f64>,
     ) -> PrintVolumes {
         if project.print.model == MassModel::Uniform {
-            return component_print(project, mesh, &mass_properties(mesh), to_print);
+            return component_print(project, mesh, solid, to_print);
         }
         let (hash, slicing) = (content_hash(mesh), slicing(&project.print, to_print));
         if let Some(entry) = self.find(hash, &slicing) {

@@ -9,6 +9,7 @@ use super::load_files::{FileReader, MeshLimits, ReadPolicy};
 use super::load_gltf::OpenedGltf;
 use super::load_obj;
 use super::mesh::TriMesh;
+use super::repair::{repair, Repairs};
 use super::{load_3mf, load_ply, load_stl};
 
 /// Which part of a mesh file to load.
@@ -195,10 +196,8 @@ pub struct LoadedMesh {
     /// The 1-based line numbers of the OBJ faces with fewer than three vertices, which are
     /// not part of the mesh (empty for other formats).
     pub short_faces: Vec<usize>,
-    /// The triangles (0-based, in the file's order) whose corners fall on fewer than three
-    /// points once equal positions are joined: no area, no volume, and no edge a neighbour
-    /// needs, so they are left out of the mesh.
-    pub collapsed_triangles: Vec<usize>,
+    /// What was repaired to make the mesh the solid a slicer prints ([`Repairs`]).
+    pub repairs: Repairs,
 }
 
 /// Loads a triangle mesh from an `.obj`, `.stl`, `.3mf`, `.ply`, `.gltf` or `.glb` file (extension
@@ -210,12 +209,12 @@ pub struct LoadedMesh {
 /// millimetres. Vertices with
 /// bit-identical positions are merged (first occurrence kept, order preserved) so files that split
 /// vertices by normal or texture coordinate give a connected surface; `-0.0` and `0.0` count as
-/// equal. A triangle whose corners then fall on fewer than three points (two corners at one
-/// position, as STL files and exporters that weld nothing leave) is left out and listed in
-/// [`LoadedMesh::collapsed_triangles`]: it has no area, and the two uses of its one real edge
-/// cancel, so leaving it out changes neither the volume nor whether the mesh is closed. Nothing
-/// else is changed: other zero-area triangles (three distinct corners on a line) and duplicate
-/// triangles are kept, for [`check_mesh`](super::check_mesh) to report.
+/// equal. Then the mesh is repaired as a slicer repairs it ([`Repairs`]): triangles with two
+/// corners at one position (as STL files and exporters that weld nothing leave) and repeated
+/// triangles are left out, flipped patches turned, holes capped, an inside-out mesh turned.
+/// Other zero-area triangles (three distinct corners on a line) are kept: they enclose nothing,
+/// and leaving them out would open the surface. What is still wrong is for
+/// [`check_mesh`](super::check_mesh) to report.
 ///
 /// Never panics, whatever the file holds, and never reads a file that is not regular, is
 /// outside `policy.within`, or does not fit in `policy.limits.max_bytes`.
@@ -304,14 +303,14 @@ impl MeshFile {
             }
             Contents::Gltf(opened) => (opened.part(selector)?, Vec::new()),
         };
-        let (mesh, collapsed_triangles) = drop_collapsed(finish(raw)?);
+        let (mesh, repairs) = repair(finish(raw)?);
         if mesh.triangles.is_empty() {
             return Err(LoadError::Empty);
         }
         Ok(LoadedMesh {
             mesh,
             short_faces,
-            collapsed_triangles,
+            repairs,
         })
     }
 }
@@ -399,21 +398,6 @@ fn weld(raw: RawMesh) -> TriMesh {
         positions,
         triangles,
     }
-}
-
-/// `mesh` without its triangles that repeat a vertex, and their indices.
-fn drop_collapsed(mut mesh: TriMesh) -> (TriMesh, Vec<usize>) {
-    let mut collapsed = Vec::new();
-    let mut index = 0;
-    mesh.triangles.retain(|&[a, b, c]| {
-        let keep = a != b && b != c && c != a;
-        if !keep {
-            collapsed.push(index);
-        }
-        index += 1;
-        keep
-    });
-    (mesh, collapsed)
 }
 
 /// Converts a vertex count to the `u32` index space, or reports it with `err`.

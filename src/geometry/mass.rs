@@ -1,6 +1,6 @@
 //! Volume, centroid and second moment of the solid bounded by a closed triangle mesh.
 
-use nalgebra::{Matrix3, Point3, Vector3};
+use nalgebra::{Matrix3, Point3, Rotation3, Vector3};
 
 use super::mesh::TriMesh;
 
@@ -62,22 +62,59 @@ pub(crate) fn integrate(
         second +=
             (a * a.transpose() + b * b.transpose() + c * c.transpose() + s * s.transpose()) * d;
     }
-    let volume = six_v / 6.0;
-    let first = first / 24.0;
-    let second = second / 120.0;
-    let r = reference.coords;
-    // Shift ∫x' x'ᵀ to the origin: x = x' + r.
-    let second_moment =
-        second + first * r.transpose() + r * first.transpose() + r * r.transpose() * volume;
-    let centroid = if volume != 0.0 {
-        reference + first / volume
-    } else {
-        reference
-    };
-    MassProperties {
-        volume,
-        centroid,
-        second_moment,
+    MassProperties::from_moments(reference, six_v / 6.0, first / 24.0, second / 120.0)
+}
+
+impl MassProperties {
+    /// The mass properties of a solid of `volume` whose first and second moments about
+    /// `reference` are `first` (`∫ (x − r) dV`) and `second` (`∫ (x − r)(x − r)ᵀ dV`).
+    pub(crate) fn from_moments(
+        reference: Point3<f64>,
+        volume: f64,
+        first: Vector3<f64>,
+        second: Matrix3<f64>,
+    ) -> MassProperties {
+        let r = reference.coords;
+        // Shift ∫x' x'ᵀ to the origin: x = x' + r.
+        let second_moment =
+            second + first * r.transpose() + r * first.transpose() + r * r.transpose() * volume;
+        let centroid = if volume != 0.0 {
+            reference + first / volume
+        } else {
+            reference
+        };
+        MassProperties {
+            volume,
+            centroid,
+            second_moment,
+        }
+    }
+
+    /// The solid less `part` of it (its volume and moments taken away): the union of a mesh's
+    /// shells is the mesh's mass properties less their overlap. The centroid stays where it was
+    /// when nothing is left.
+    pub fn less(&self, part: &MassProperties) -> MassProperties {
+        let volume = self.volume - part.volume;
+        let first = self.centroid.coords * self.volume - part.centroid.coords * part.volume;
+        MassProperties {
+            volume,
+            centroid: if volume != 0.0 {
+                Point3::from(first / volume)
+            } else {
+                self.centroid
+            },
+            second_moment: self.second_moment - part.second_moment,
+        }
+    }
+
+    /// The same solid turned by `rotation` about the origin and then scaled by `factor` (> 0).
+    pub fn turned_and_scaled(&self, rotation: &Rotation3<f64>, factor: f64) -> MassProperties {
+        let r = rotation.matrix();
+        MassProperties {
+            volume: self.volume * factor.powi(3),
+            centroid: Point3::from(rotation * self.centroid.coords * factor),
+            second_moment: r * self.second_moment * r.transpose() * factor.powi(5),
+        }
     }
 }
 

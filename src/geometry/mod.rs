@@ -8,6 +8,8 @@
 //!   folder, within [`MeshLimits`].
 //! - [`read_rig`]: a glTF file as a rig: its nodes' rest transforms, its scenes' mesh nodes and
 //!   its animations, sampled into node world transforms.
+//! - [`Repairs`]: what loading repairs, as a slicer does: repeated triangles, flipped patches,
+//!   holes, a mesh inside out.
 //! - [`check_mesh`]: holes, non-manifold and misoriented edges, degenerate triangles, inversion,
 //!   crossing triangles and misnested shells (a winding number other than 0 or 1).
 //! - [`convex_hull`]: the exact convex hull of points, its coplanar triangles merged into
@@ -38,6 +40,7 @@ mod mesh;
 pub(crate) mod polygon;
 mod print;
 mod print_correction;
+mod repair;
 mod rig;
 mod shells;
 mod skeleton;
@@ -63,6 +66,7 @@ pub use print::{
     Slicing, Void,
 };
 pub use print_correction::PrintCorrection;
+pub use repair::{Hole, Repairs};
 pub use rig::{read_rig, Rig, RigAnimation, RigNode, RigScene};
 pub use shells::ShellFault;
 pub use skeleton::{Skeleton, SkeletonSegment};

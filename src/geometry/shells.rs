@@ -43,9 +43,10 @@ const WORK_PER_TRIANGLE: usize = 256;
 const WORK_ALLOWANCE: usize = 1 << 22;
 
 /// Looks for crossing triangles, then for misnested shells. The mesh must be closed and oriented
-/// with every index in range (as [`check_mesh`](super::check_mesh) verifies first).
+/// with every index in range (as [`check_mesh`](super::check_mesh) verifies first). The
+/// `degenerate` triangles (zero area: they enclose nothing) are not tested for crossing.
 /// Deterministic.
-pub(crate) fn check_shells(mesh: &TriMesh) -> Shells {
+pub(crate) fn check_shells(mesh: &TriMesh, degenerate: &[u32]) -> Shells {
     let mut budget = mesh
         .triangles
         .len()
@@ -55,7 +56,11 @@ pub(crate) fn check_shells(mesh: &TriMesh) -> Shells {
     let boxes: Vec<Aabb> = (0..mesh.triangles.len())
         .map(|i| Aabb::of(&mesh.triangle(i)))
         .collect();
-    shells.incomplete = !crossings(mesh, &boxes, &mut budget, &mut shells.crossings);
+    let mut flat = vec![false; mesh.triangles.len()];
+    for &t in degenerate {
+        flat[t as usize] = true;
+    }
+    shells.incomplete = !crossings(mesh, &boxes, &flat, &mut budget, &mut shells.crossings);
     if shells.crossings.is_empty() && !shells.incomplete {
         shells.incomplete = !misnested(mesh, &boxes, &mut budget, &mut shells.faults);
     }
@@ -96,7 +101,13 @@ impl Aabb {
 const CELLS_PER_TRIANGLE: f64 = 8.0;
 
 /// Appends every crossing pair to `out`, sorted. False when the budget ran out first.
-fn crossings(mesh: &TriMesh, boxes: &[Aabb], budget: &mut usize, out: &mut Vec<[u32; 2]>) -> bool {
+fn crossings(
+    mesh: &TriMesh,
+    boxes: &[Aabb],
+    flat: &[bool],
+    budget: &mut usize,
+    out: &mut Vec<[u32; 2]>,
+) -> bool {
     let n = boxes.len();
     if n < 2 {
         return true;
@@ -108,7 +119,7 @@ fn crossings(mesh: &TriMesh, boxes: &[Aabb], budget: &mut usize, out: &mut Vec<[
     // for overlap, so only the work (counted against the budget) grows.
     let index = |x: f64| (x / cell).floor() as i32;
     let mut entries: Vec<([i32; 3], u32)> = Vec::new();
-    for (t, b) in boxes.iter().enumerate() {
+    for (t, b) in boxes.iter().enumerate().filter(|&(t, _)| !flat[t]) {
         let (lo, hi) = (b.lo.map(index), b.hi.map(index));
         for i in lo.x..=hi.x {
             for j in lo.y..=hi.y {

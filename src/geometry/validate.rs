@@ -2,7 +2,7 @@
 
 use std::collections::HashMap;
 
-use super::mass;
+use super::mass::{self, MassProperties};
 use super::mesh::TriMesh;
 use super::print::{overlap, Overlap};
 use super::shells::{check_shells, ShellFault};
@@ -13,20 +13,23 @@ use super::shells::{check_shells, ShellFault};
 pub struct MeshCheck {
     /// Undirected edges used by exactly one triangle (holes in the surface).
     pub boundary_edges: Vec<[u32; 2]>,
-    /// Undirected edges used by more than two triangles.
+    /// Undirected edges used by more than two triangles, not as often along the edge as against
+    /// it. (Where as many triangles run each way, as where two shells touch along an edge, the
+    /// uses pair up and the surface still encloses a solid: such edges are not listed.)
     pub non_manifold_edges: Vec<[u32; 2]>,
     /// Edges used by exactly two triangles, both in the same direction: the two triangles
     /// disagree about which side is outside.
     pub misoriented_edges: Vec<[u32; 2]>,
     /// Indices of triangles with (numerically) zero area, a repeated vertex index, or an index
     /// past the positions. Those with a repeated or out-of-range index are left out of the
-    /// edge lists and the volume.
+    /// edge lists and the volume; the others (three distinct corners on a line) enclose nothing
+    /// and close the surface like any other, but are left out of the crossing check.
     pub degenerate_triangles: Vec<u32>,
     /// Signed volume of the enclosed solid (units³); negative means inside out.
     pub signed_volume: f64,
     /// Pairs of triangles whose surfaces cross (an edge of one passes through the other from one
-    /// side to the other), ascending: the mesh intersects itself, or two of its shells overlap. Looked for
-    /// only in a closed, oriented mesh without degenerate triangles.
+    /// side to the other), ascending: the mesh intersects itself, or two of its shells overlap.
+    /// Looked for only in a closed, oriented mesh whose every index is in range.
     pub crossing_triangles: Vec<[u32; 2]>,
     /// Shells beside which the winding number is not 0 or 1: a shell inside another that faces
     /// the same way, or an inward shell inside nothing. Looked for only when no triangles cross.
@@ -40,7 +43,7 @@ pub struct MeshCheck {
 }
 
 impl MeshCheck {
-    /// Every edge is shared by exactly two triangles: no holes, no non-manifold edges.
+    /// Every edge's uses pair up: no holes, no non-manifold edges that leave the surface open.
     pub fn is_closed(&self) -> bool {
         self.boundary_edges.is_empty() && self.non_manifold_edges.is_empty()
     }
@@ -61,14 +64,25 @@ impl MeshCheck {
     pub fn is_solid(&self) -> bool {
         self.crossing_triangles.is_empty() && self.shell_faults.is_empty()
     }
+
+    /// The mass properties of the solid `mesh` (the mesh this check is of) bounds as a slicer
+    /// prints it: the union of its shells, their [`overlap`](Self::overlap) taken away from the
+    /// closed form.
+    pub fn solid(&self, mesh: &TriMesh) -> MassProperties {
+        let whole = mass::mass_properties(mesh);
+        match &self.overlap {
+            Some(overlap) => whole.less(&overlap.excess),
+            None => whole,
+        }
+    }
 }
 
 /// A triangle counts as zero-area when twice its area is at most this fraction of its longest
 /// edge squared (its smallest angle is below about 1e-12 radians).
 const DEGENERATE_RATIO: f64 = 1e-12;
 
-/// Checks the topology and orientation of `mesh`, and, when it is closed, oriented and without
-/// degenerate triangles, that its surface does not cross itself and its shells nest right.
+/// Checks the topology and orientation of `mesh`, and, when it is closed and oriented, that its
+/// surface does not cross itself and its shells nest right.
 /// Deterministic: edge and pair lists are sorted ascending, triangle lists are in mesh order.
 /// Never panics, even on out-of-range indices.
 pub fn check_mesh(mesh: &TriMesh) -> MeshCheck {
@@ -113,14 +127,16 @@ pub fn check_mesh(mesh: &TriMesh) -> MeshCheck {
             1 => check.boundary_edges.push(edge),
             2 if forward != 1 => check.misoriented_edges.push(edge),
             2 => {}
+            _ if forward == backward => {}
             _ => check.non_manifold_edges.push(edge),
         }
     }
     check.boundary_edges.sort_unstable();
     check.non_manifold_edges.sort_unstable();
     check.misoriented_edges.sort_unstable();
-    if check.is_closed() && check.is_oriented() && check.degenerate_triangles.is_empty() {
-        let shells = check_shells(mesh);
+    let indices_in_range = mesh.triangles.iter().flatten().all(|&v| (v as usize) < n);
+    if check.is_closed() && check.is_oriented() && indices_in_range {
+        let shells = check_shells(mesh, &check.degenerate_triangles);
         check.crossing_triangles = shells.crossings;
         check.shell_faults = shells.faults;
         check.shells_unchecked = shells.incomplete;

@@ -169,10 +169,12 @@ pub fn verify_gcode(
     let bodies: Vec<ComponentBody> = compilation
         .meshes
         .iter()
+        .zip(&compilation.mass)
         .zip(&components)
-        .map(|(mesh, component)| {
+        .map(|((mesh, solid), component)| {
             ComponentBody::measured(
                 mesh,
+                *solid,
                 Region {
                     volume: component.volume,
                     centroid: component.centroid.into(),

@@ -292,25 +292,42 @@ impl Layout {
     }
 
     /// Along every row of the slice, how long the winding number of `segments` is positive
-    /// and how much it is past 1 (each length times the winding number less 1): the union's
-    /// cross-section and its overlap, summed over the rows (times the row spacing, areas). Exact
-    /// along each row.
-    pub(super) fn winding_areas(&self, segments: &[Segment]) -> (f64, f64) {
-        let (mut union, mut overlap) = (0.0, 0.0);
-        for row in &self.row_crossings(segments) {
+    /// (summed, times the row spacing: the union's cross-section), and the moments of what the
+    /// winding number counts beyond the union, about `reference` (u, v): `∫ w′`, `∫ w′ u`,
+    /// `∫ w′ v`, `∫ w′ u²`, `∫ w′ v²`, `∫ w′ u v` over the slice, with `w′ = w − 1` where `w` is
+    /// positive and `w` where it is not. Exact along each row; each row stands for a strip one
+    /// cell wide.
+    pub(super) fn winding_areas(
+        &self,
+        segments: &[Segment],
+        reference: (f64, f64),
+    ) -> (f64, [f64; 6]) {
+        let mut union = 0.0;
+        let mut moments = [0.0; 6];
+        let strip = self.cell * self.cell / 12.0;
+        for (j, row) in self.row_crossings(segments).iter().enumerate() {
+            let v = self.row_centre(j) - reference.1;
             let mut winding = 0i32;
             for pair in row.windows(2) {
                 winding += i32::from(pair[0].1);
-                let length = pair[1].0 - pair[0].0;
+                let (a, b) = (pair[0].0 - reference.0, pair[1].0 - reference.0);
                 if winding > 0 {
-                    union += length;
+                    union += b - a;
                 }
-                if winding > 1 {
-                    overlap += length * f64::from(winding - 1);
+                if !(0..=1).contains(&winding) {
+                    let weight = f64::from(winding - i32::from(winding > 0));
+                    let length = weight * (b - a);
+                    let along = weight * (b * b - a * a) / 2.0;
+                    moments[0] += length;
+                    moments[1] += along;
+                    moments[2] += v * length;
+                    moments[3] += weight * (b * b * b - a * a * a) / 3.0;
+                    moments[4] += (v * v + strip) * length;
+                    moments[5] += v * along;
                 }
             }
         }
-        (union * self.cell, overlap * self.cell)
+        (union * self.cell, moments.map(|m| m * self.cell))
     }
 
     /// The [`Mark`]s of every crossing of a segment and a column (the scan of [`Layout::inside`]

@@ -22,7 +22,7 @@
 //! frame. The result does not depend on the design and is computed once per component and print
 //! orientation.
 
-use nalgebra::{Point3, Rotation3};
+use nalgebra::{Matrix3, Point3, Rotation3, Vector3};
 
 use super::mass::MassProperties;
 use super::mesh::TriMesh;
@@ -161,11 +161,15 @@ struct Layers {
 
 /// How much of a mesh's solid its shells cover twice or more: where the mesh crosses itself or
 /// two shells overlap, the sum of their volumes (what the divergence theorem gives) exceeds the
-/// volume of their union (what a slicer prints) by [`Overlap::volume`].
+/// volume of their union (what a slicer prints) by the overlap's volume, and their moments by
+/// its moments.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Overlap {
-    /// `∫ max(w − 1, 0) dV`, with `w` the winding number (units³).
-    pub volume: f64,
+    /// The overlap as a solid, each point weighted by how far the winding number `w` is past 1
+    /// (and by `w` where it is negative, inside an inward surface with nothing around it): volume
+    /// `∫ (w − [w > 0]) dV` (units³), its centroid and second moment. The union's mass
+    /// properties are the mesh's less these ([`MassProperties::less`]).
+    pub excess: MassProperties,
     /// The union's volume, `∫ [w > 0] dV` (units³).
     pub union: f64,
 }
@@ -192,13 +196,34 @@ pub fn overlap(mesh: &TriMesh) -> Option<Overlap> {
         surface_margin: 0.0,
     };
     let layout = Layout::new(mesh, &slicing)?;
+    let reference = nalgebra::center(&low, &high);
     let segments = layout.slice(mesh);
-    let areas = map_each(layout.layers, |k| layout.winding_areas(&segments[k]));
-    let (union, overlap) = areas
-        .iter()
-        .fold((0.0, 0.0), |(u, o), (a, b)| (u + a * step, o + b * step));
+    let slices = map_each(layout.layers, |k| {
+        layout.winding_areas(&segments[k], (reference.x, reference.y))
+    });
+    // Each slice stands for a layer one step thick around its plane.
+    let layer = step * step / 12.0;
+    let (mut union, mut volume) = (0.0, 0.0);
+    let (mut first, mut second) = (Vector3::zeros(), Matrix3::zeros());
+    for (k, (area, [m, mu, mv, muu, mvv, muv])) in slices.iter().enumerate() {
+        let z = layout.slice_height(k) - reference.z;
+        union += area * step;
+        volume += m * step;
+        first += Vector3::new(*mu, *mv, z * m) * step;
+        second += Matrix3::new(
+            *muu,
+            *muv,
+            z * mu,
+            *muv,
+            *mvv,
+            z * mv,
+            z * mu,
+            z * mv,
+            (z * z + layer) * m,
+        ) * step;
+    }
     Some(Overlap {
-        volume: overlap,
+        excess: MassProperties::from_moments(reference, volume, first, second),
         union,
     })
 }
@@ -451,7 +476,7 @@ mod tests {
         let half_step = 60.0 / 256.0 / 2.0;
         let common_faces = 2.0 * 20.0 * 20.0 + 2.0 * 20.0 * 18.0;
         assert!(
-            (measured.volume - 7200.0).abs() <= half_step * common_faces,
+            (measured.excess.volume - 7200.0).abs() <= half_step * common_faces,
             "{measured:?}"
         );
         let union_faces = (40.0 + 20.0 + 40.0 + 20.0) * 20.0 + 2.0 * 2040.0;
@@ -460,7 +485,7 @@ mod tests {
             "{measured:?}"
         );
         let one = overlap(&box_at([0.0; 3], [40.0, 30.0, 20.0], 0)).unwrap();
-        assert_eq!(one.volume, 0.0);
+        assert_eq!(one.excess.volume, 0.0);
         let box_faces = 2.0 * 40.0 * 20.0 + 2.0 * 40.0 * 30.0;
         assert!(
             (one.union - 24000.0).abs() <= 40.0 / 256.0 / 2.0 * box_faces,
