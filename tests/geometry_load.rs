@@ -5,7 +5,10 @@ mod geometry_support;
 use std::borrow::Cow;
 use std::path::Path;
 
-use ballast::geometry::{check_mesh, load_mesh, mass_properties, LoadError, MeshSelector, TriMesh};
+use ballast::geometry::{
+    check_mesh, load_mesh, load_mesh_with, mass_properties, LoadError, MeshSelector, ReadPolicy,
+    TriMesh,
+};
 use geometry_support::{fixture, shared_mesh};
 use nalgebra::Point3;
 
@@ -307,7 +310,11 @@ fn unknown_extension_is_rejected() {
 fn obj_extension_is_case_insensitive_and_empty_files_are_empty() {
     let text = "o tri\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
     let (_dir, path) = write_temp("tri.OBJ", text.as_bytes());
-    assert_eq!(load(&path, &MeshSelector::Whole).triangles, vec![[0, 1, 2]]);
+    // The one triangle, and its reverse capping the hole it leaves open.
+    assert_eq!(
+        load(&path, &MeshSelector::Whole).triangles,
+        vec![[0, 1, 2], [2, 1, 0]]
+    );
     let (_dir, path) = write_temp("points.obj", b"v 0 0 0\nv 1 0 0\n");
     assert!(matches!(
         load_mesh(&path, &MeshSelector::Whole),
@@ -345,8 +352,26 @@ fn poppy_whole_merges_all_links() {
     let Some(path) = shared_mesh("poppy_humanoid.obj") else {
         return;
     };
-    let whole = load(&path, &MeshSelector::Whole);
-    assert_eq!(whole.triangles.len(), 3951);
+    let loaded = load_mesh_with(
+        &path,
+        &MeshSelector::Whole,
+        &ReadPolicy::within(path.parent().unwrap()),
+    )
+    .unwrap();
+    // 3,951 in the file; 4 repeated (two faces and their reverses) left out, and one hole of
+    // 5 edges capped by 5.
+    assert_eq!(loaded.repairs.repeated_triangles, 4);
+    assert_eq!(
+        loaded
+            .repairs
+            .holes
+            .iter()
+            .map(|h| h.edges)
+            .collect::<Vec<_>>(),
+        [5]
+    );
+    let whole = loaded.mesh;
+    assert_eq!(whole.triangles.len(), 3951 - 4 + 5);
     let parts_volume: f64 = ["head", "l_thigh", "abdomen"]
         .iter()
         .map(|n| mass_properties(&load(&path, &MeshSelector::ObjObject(n.to_string()))).volume)
@@ -373,9 +398,17 @@ fn gltf_sparse_accessor_is_applied() {
         "indices": {"bufferView": 1, "byteOffset": 0, "componentType": 5123},
         "values": {"bufferView": 0, "byteOffset": 24}
     });
-    let tetra = load_json(&json, &node("tetra_mesh")).unwrap();
-    assert!(tetra.positions.contains(&Point3::new(1.0, 1.0, 0.0)));
-    assert_eq!(tetra.positions.len(), 5);
+    let (_dir, path) = write_temp("edited.gltf", &serde_json::to_vec(&json).unwrap());
+    let loaded = load_mesh_with(
+        &path,
+        &node("tetra_mesh"),
+        &ReadPolicy::within(path.parent().unwrap()),
+    )
+    .unwrap();
+    assert!(loaded.mesh.positions.contains(&Point3::new(1.0, 1.0, 0.0)));
+    // The file's 5 positions, and a cap's centre for each hole of more than 3 edges.
+    let centres = loaded.repairs.holes.iter().filter(|h| h.edges > 3).count();
+    assert_eq!(loaded.mesh.positions.len() - centres, 5);
 }
 
 #[test]

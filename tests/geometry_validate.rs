@@ -2,7 +2,7 @@
 
 mod geometry_support;
 
-use ballast::geometry::{check_mesh, load_mesh, MeshSelector, TriMesh};
+use ballast::geometry::{check_mesh, load_mesh, load_mesh_with, MeshSelector, ReadPolicy, TriMesh};
 use geometry_support::{icosphere, shared_mesh, unit_cube};
 use nalgebra::Point3;
 
@@ -121,13 +121,19 @@ fn empty_mesh_has_nothing_to_report() {
 }
 
 #[test]
-fn poppy_abdomen_is_open() {
+fn poppy_abdomen_is_open_and_loads_capped() {
     let Some(path) = shared_mesh("poppy_humanoid_parts/abdomen.obj") else {
         return;
     };
-    let check = check_mesh(&load_mesh(&path, &MeshSelector::Whole).unwrap());
-    assert!(!check.is_closed());
-    assert!(!check.boundary_edges.is_empty());
+    let loaded = load_mesh_with(
+        &path,
+        &MeshSelector::Whole,
+        &ReadPolicy::within(path.parent().unwrap()),
+    )
+    .unwrap();
+    assert!(!loaded.repairs.holes.is_empty());
+    let check = check_mesh(&loaded.mesh);
+    assert!(check.is_closed(), "{check:?}");
 }
 
 #[test]

@@ -9,11 +9,12 @@ use crate::geometry::{Hole, Repairs};
 use crate::spec::model::Component;
 
 /// The largest share of a mesh's size a hole may span, when that is more than the wall, and be
-/// capped.
-const HOLE_SHARE: f64 = 0.02;
+/// capped: a missing triangle or a crack is a few percent of it; a missing face or an open
+/// sheet, most of it.
+const HOLE_SHARE: f64 = 0.1;
 
 /// The problems of `component`'s mesh repaired as `repairs` says (its holes in project units),
-/// where a hole wider than `wall`, and than 2 % of the mesh's largest `extent`, is an error: a
+/// where a hole wider than `wall`, and than 10 % of the mesh's largest `extent`, is an error: a
 /// slicer closes cracks and pinholes, but a hole that wide is a missing piece of the surface, and
 /// a cap across it a guess.
 pub(super) fn repair_problems(
@@ -124,7 +125,7 @@ fn hole_problem(name: &str, holes: &[Hole], wall: f64, limit: f64) -> Option<Pro
             "ballast::mesh::open",
             format!(
                 "the mesh of component `{name}` has {holes_text} in its surface{}: {place}, \
-                 wider than the wall ({} mm) and than 2 % of the mesh's size, too wide to close \
+                 wider than the wall ({} mm) and than 10 % of the mesh's size, too wide to close \
                  as a slicer closes a crack",
                 if count == 1 { "" } else { ", the widest" },
                 round(wall)

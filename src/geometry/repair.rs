@@ -121,10 +121,11 @@ fn half_edges(mesh: &TriMesh) -> Vec<HalfEdge> {
     edges
 }
 
-/// Leaves out the triangles that repeat another's corners where that leaves the surface no less
+/// Leaves out the triangles that repeat another's corners where that leaves the surface more
 /// closed: of a face and its reverse (which enclose nothing), both; of a face repeated turning the
-/// same way, each copy whose three edges have more uses along them than against (a doubled face;
-/// where two closed shells share a face, its edges balance and both copies stay). Returns how many
+/// same way, each copy (in order) whose leaving brings the uses of its three edges closer to
+/// pairing up, as many along each as against (a doubled face, or a doubled patch; where two
+/// closed shells share a face, its edges pair up already and both copies stay). Returns how many
 /// went.
 fn drop_repeated(mesh: &mut TriMesh, edges: &[HalfEdge]) -> usize {
     // The corners turned so the lowest index comes first: equal for the same triangle whichever
@@ -165,13 +166,26 @@ fn drop_repeated(mesh: &mut TriMesh, edges: &[HalfEdge]) -> usize {
         along - left_out.get(&(u, v)).copied().unwrap_or(0)
             + left_out.get(&(v, u)).copied().unwrap_or(0)
     };
-    for index in repeats {
-        let [a, b, c] = mesh.triangles[index];
-        let sides = [(a, b), (b, c), (c, a)];
-        if sides.iter().all(|&(u, v)| net(u, v, &left_out) > 0) {
-            keep[index] = false;
-            for side in sides {
-                *left_out.entry(side).or_default() += 1;
+    // A copy inside a doubled patch pairs up only once its neighbours are out: pass again while
+    // a pass leaves one out.
+    let mut left = true;
+    while left {
+        left = false;
+        for &index in &repeats {
+            if !keep[index] {
+                continue;
+            }
+            let [a, b, c] = mesh.triangles[index];
+            let sides = [(a, b), (b, c), (c, a)];
+            let nets = sides.map(|(u, v)| net(u, v, &left_out));
+            let unpaired: i64 = nets.iter().map(|n| n.abs()).sum();
+            let unpaired_without: i64 = nets.iter().map(|n| (n - 1).abs()).sum();
+            if unpaired_without < unpaired {
+                keep[index] = false;
+                left = true;
+                for side in sides {
+                    *left_out.entry(side).or_default() += 1;
+                }
             }
         }
     }
