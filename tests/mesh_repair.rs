@@ -153,6 +153,56 @@ fn shells_that_overlap_much_weigh_as_their_union() {
 }
 
 #[test]
+fn misnested_shells_weigh_as_their_union() {
+    // A 40 × 30 × 20 block with a 10 mm cube inside it facing out (a cavity turned the wrong
+    // way: filled, as a slicer prints it), and a 10 mm cube beside it facing in (inside nothing:
+    // nothing printed).
+    let mut obj = boxes(&[
+        ([0.0, 0.0, 0.0], [40.0, 30.0, 20.0]),
+        ([5.0, 5.0, 5.0], [15.0, 15.0, 15.0]),
+    ]);
+    let beside = boxes(&[([60.0, 0.0, 0.0], [70.0, 10.0, 10.0])]);
+    for line in beside.lines() {
+        obj += &match line.strip_prefix("f ") {
+            Some(face) => {
+                let corners: Vec<usize> = face
+                    .split_whitespace()
+                    .map(|c| c.parse::<usize>().unwrap() + 16)
+                    .collect();
+                format!("f {} {} {}\n", corners[0], corners[2], corners[1])
+            }
+            None => format!("{line}\n"),
+        };
+    }
+    let (problems, solid) = compiled(&obj);
+    let solid = solid.unwrap_or_else(|| panic!("{problems:#?}"));
+    assert!(
+        problems
+            .iter()
+            .any(|(code, message)| code == "ballast::mesh::nested_shells"
+                && message.contains("union")),
+        "{problems:#?}"
+    );
+    // The block alone: measured on slices 70 / 256 mm apart, each face of the two cubes
+    // facing ±y or ±z off by half a step at most.
+    let half_step = 70.0 / 256.0 / 2.0;
+    let faces = 2.0 * 4.0 * 100.0;
+    assert!(
+        (solid.volume - 24_000.0).abs() <= half_step * faces,
+        "{}",
+        solid.volume
+    );
+    // Each cube's volume off by up to half a step times its faces, at 10 and 45 mm from the
+    // block's centre.
+    let bound = half_step * faces / 2.0 * (10.0 + 45.0) / 24_000.0;
+    assert!(
+        (solid.centroid - Point3::new(20.0, 15.0, 10.0)).norm() < bound,
+        "{} (within {bound})",
+        solid.centroid
+    );
+}
+
+#[test]
 fn flipped_doubled_and_inside_out_triangles_are_repaired() {
     let clean = boxes(&[([0.0, 0.0, 0.0], [40.0, 30.0, 20.0])]);
     let (_, solid) = compiled(&clean);

@@ -103,8 +103,7 @@ fn into_rest_frame(
     // edge and triangle lists still hold; only the volume scales.
     check.signed_volume *= factor * factor * factor;
     if let Some(overlap) = &mut check.overlap {
-        overlap.union *= factor * factor * factor;
-        overlap.excess = overlap.excess.turned_and_scaled(&rotation, factor);
+        *overlap = overlap.turned_and_scaled(&rotation, factor);
     }
     for hole in &mut repairs.holes {
         hole.width *= factor;
@@ -372,7 +371,7 @@ fn solid_problems(component: &Component, mesh: &TriMesh, check: &MeshCheck) -> V
         let share = check
             .overlap
             .filter(|overlap| overlap.union > 0.0)
-            .map(|overlap| overlap.excess.volume / overlap.union);
+            .map(|overlap| overlap.volume / overlap.union);
         match share {
             Some(share) => problems.push(
                 Problem::warning(
@@ -405,27 +404,37 @@ fn solid_problems(component: &Component, mesh: &TriMesh, check: &MeshCheck) -> V
     if let Some(fault) = check.shell_faults.first() {
         let count = check.shell_faults.len();
         let what = if fault.winding > 1 {
-            "inside another shell that faces the same way, so the solid there counts more than once"
+            "inside another shell that faces the same way: it is filled, part of the shell \
+             around it"
         } else {
-            "facing inwards without being inside another shell, so it encloses a negative volume"
+            "facing inwards without being inside another shell: it encloses nothing a slicer \
+             prints"
         };
-        problems.push(
-            Problem::error(
+        let problem = |problem: Problem| {
+            problem.with_label(span, "this mesh").with_help(
+                "a cavity must face inwards and be inside the shell around it; a separate \
+                     part inside another belongs in its own component",
+            )
+        };
+        let first = format_triangle(mesh, fault.triangle);
+        let plural = if count == 1 { "" } else { "s" };
+        problems.push(match check.overlap {
+            Some(_) => problem(Problem::warning(
                 "ballast::mesh::nested_shells",
                 format!(
-                    "the mesh of component `{name}` has {count} shell{} not nested right; the \
-                     first, through {}, is {what} (winding number {})",
-                    if count == 1 { "" } else { "s" },
-                    format_triangle(mesh, fault.triangle),
-                    fault.winding
+                    "the mesh of component `{name}` has {count} shell{plural} not nested right; \
+                     the first, through {first}, is {what}; the solid is the union of its \
+                     shells (winding number above 0), as a slicer prints it",
                 ),
-            )
-            .with_label(span, "this mesh")
-            .with_help(
-                "a cavity must face inwards and be inside the shell around it; a separate part \
-                 inside another belongs in its own component, or joined by a boolean union",
-            ),
-        );
+            )),
+            None => problem(Problem::error(
+                "ballast::mesh::nested_shells",
+                format!(
+                    "the mesh of component `{name}` has {count} shell{plural} not nested right \
+                     and cannot be measured; the first, through {first}, is {what}",
+                ),
+            )),
+        });
     }
     if check.shells_unchecked {
         problems.push(

@@ -1,6 +1,6 @@
 //! Volume, centroid and second moment of the solid bounded by a closed triangle mesh.
 
-use nalgebra::{Matrix3, Point3, Rotation3, Vector3};
+use nalgebra::{Matrix3, Point3, Vector3};
 
 use super::mesh::TriMesh;
 
@@ -87,33 +87,6 @@ impl MassProperties {
             volume,
             centroid,
             second_moment,
-        }
-    }
-
-    /// The solid less `part` of it (its volume and moments taken away): the union of a mesh's
-    /// shells is the mesh's mass properties less their overlap. The centroid stays where it was
-    /// when nothing is left.
-    pub fn less(&self, part: &MassProperties) -> MassProperties {
-        let volume = self.volume - part.volume;
-        let first = self.centroid.coords * self.volume - part.centroid.coords * part.volume;
-        MassProperties {
-            volume,
-            centroid: if volume != 0.0 {
-                Point3::from(first / volume)
-            } else {
-                self.centroid
-            },
-            second_moment: self.second_moment - part.second_moment,
-        }
-    }
-
-    /// The same solid turned by `rotation` about the origin and then scaled by `factor` (> 0).
-    pub fn turned_and_scaled(&self, rotation: &Rotation3<f64>, factor: f64) -> MassProperties {
-        let r = rotation.matrix();
-        MassProperties {
-            volume: self.volume * factor.powi(3),
-            centroid: Point3::from(rotation * self.centroid.coords * factor),
-            second_moment: r * self.second_moment * r.transpose() * factor.powi(5),
         }
     }
 }

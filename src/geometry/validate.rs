@@ -2,6 +2,8 @@
 
 use std::collections::HashMap;
 
+use nalgebra::Point3;
+
 use super::mass::{self, MassProperties};
 use super::mesh::TriMesh;
 use super::print::{overlap, Overlap};
@@ -37,8 +39,8 @@ pub struct MeshCheck {
     /// The crossing and shell checks stopped at their work bound before the end (a mesh built to
     /// defeat them); what they found so far is listed.
     pub shells_unchecked: bool,
-    /// For a mesh whose triangles cross: how much its shells overlap, beside the volume of their
-    /// union ([`overlap`]).
+    /// For a mesh whose triangles cross or whose shells do not nest right: how much its shells
+    /// overlap, beside the volume of their union ([`overlap`]).
     pub overlap: Option<Overlap>,
 }
 
@@ -70,9 +72,19 @@ impl MeshCheck {
     /// closed form.
     pub fn solid(&self, mesh: &TriMesh) -> MassProperties {
         let whole = mass::mass_properties(mesh);
-        match &self.overlap {
-            Some(overlap) => whole.less(&overlap.excess),
-            None => whole,
+        let Some(overlap) = &self.overlap else {
+            return whole;
+        };
+        let volume = whole.volume - overlap.volume;
+        let first = whole.centroid.coords * whole.volume - overlap.first_moment;
+        MassProperties {
+            volume,
+            centroid: if volume != 0.0 {
+                Point3::from(first / volume)
+            } else {
+                whole.centroid
+            },
+            second_moment: whole.second_moment - overlap.second_moment,
         }
     }
 }
@@ -140,7 +152,7 @@ pub fn check_mesh(mesh: &TriMesh) -> MeshCheck {
         check.crossing_triangles = shells.crossings;
         check.shell_faults = shells.faults;
         check.shells_unchecked = shells.incomplete;
-        if !check.crossing_triangles.is_empty() {
+        if !check.is_solid() {
             check.overlap = overlap(mesh);
         }
     }

@@ -165,13 +165,29 @@ struct Layers {
 /// its moments.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Overlap {
-    /// The overlap as a solid, each point weighted by how far the winding number `w` is past 1
-    /// (and by `w` where it is negative, inside an inward surface with nothing around it): volume
-    /// `∫ (w − [w > 0]) dV` (units³), its centroid and second moment. The union's mass
-    /// properties are the mesh's less these ([`MassProperties::less`]).
-    pub excess: MassProperties,
+    /// What the winding number `w` counts beyond the union, `∫ (w − [w > 0]) dV` (units³): the
+    /// overlap, each point weighted by how far `w` is past 1, less what an inward surface with
+    /// nothing around it takes away (where `w` is negative).
+    pub volume: f64,
+    /// Its first moment about the origin, `∫ (w − [w > 0]) x dV` (units⁴).
+    pub first_moment: Vector3<f64>,
+    /// Its second moment about the origin, `∫ (w − [w > 0]) x xᵀ dV` (units⁵).
+    pub second_moment: Matrix3<f64>,
     /// The union's volume, `∫ [w > 0] dV` (units³).
     pub union: f64,
+}
+
+impl Overlap {
+    /// The same overlap turned by `rotation` about the origin, then scaled by `factor` (> 0).
+    pub fn turned_and_scaled(&self, rotation: &Rotation3<f64>, factor: f64) -> Overlap {
+        let r = rotation.matrix();
+        Overlap {
+            volume: self.volume * factor.powi(3),
+            first_moment: rotation * self.first_moment * factor.powi(4),
+            second_moment: r * self.second_moment * r.transpose() * factor.powi(5),
+            union: self.union * factor.powi(3),
+        }
+    }
 }
 
 /// Layers (and rows per layer, about) the overlap of a mesh is measured on.
@@ -222,8 +238,14 @@ pub fn overlap(mesh: &TriMesh) -> Option<Overlap> {
             (z * z + layer) * m,
         ) * step;
     }
+    let r = reference.coords;
     Some(Overlap {
-        excess: MassProperties::from_moments(reference, volume, first, second),
+        volume,
+        first_moment: first + r * volume,
+        second_moment: second
+            + first * r.transpose()
+            + r * first.transpose()
+            + r * r.transpose() * volume,
         union,
     })
 }
@@ -476,7 +498,7 @@ mod tests {
         let half_step = 60.0 / 256.0 / 2.0;
         let common_faces = 2.0 * 20.0 * 20.0 + 2.0 * 20.0 * 18.0;
         assert!(
-            (measured.excess.volume - 7200.0).abs() <= half_step * common_faces,
+            (measured.volume - 7200.0).abs() <= half_step * common_faces,
             "{measured:?}"
         );
         let union_faces = (40.0 + 20.0 + 40.0 + 20.0) * 20.0 + 2.0 * 2040.0;
@@ -485,7 +507,7 @@ mod tests {
             "{measured:?}"
         );
         let one = overlap(&box_at([0.0; 3], [40.0, 30.0, 20.0], 0)).unwrap();
-        assert_eq!(one.excess.volume, 0.0);
+        assert_eq!(one.volume, 0.0);
         let box_faces = 2.0 * 40.0 * 20.0 + 2.0 * 40.0 * 30.0;
         assert!(
             (one.union - 24000.0).abs() <= 40.0 / 256.0 / 2.0 * box_faces,
