@@ -4,8 +4,8 @@
 //! built as it is, so the debug-build test stays quick). The corpus:
 //! the bundled Spot, broken the ways downloaded meshes are (crossing shells, a punched hole,
 //! doubled faces, a flipped patch, a zero-area sliver, inside out), the torus and the Poppy
-//! humanoid's assembly (tests/data/corpus, credited in its README.md), the bundled fish and
-//! hammer, and, with
+//! humanoid's assembly (tests/data/corpus, credited in its README.md), the examples' fish and
+//! hammer and the benchmarks' boat, and, with
 //! `BALLAST_SHARED_CORPUS=1` and the folder there, every mesh in `../shared/meshes` beside the
 //! checkout too (minutes in a release build). A repair that changes no solid (flipped, doubled,
 //! inside-out, sliver) leaves the mass of the clean mesh; capping a small hole nearly so.
@@ -200,9 +200,17 @@ fn the_corpus_meshes_check_and_build() {
         .collect();
     meshes.sort();
     assert!(meshes.len() >= 2, "{meshes:?}");
-    // The bundled examples' real meshes, as a user would bring them: the fish and the hammer.
-    let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/meshes");
-    meshes.extend(["blub_fish.obj", "hammer.obj"].map(|name| examples.join(name)));
+    // The other real meshes the repository holds, as a user would bring them: the examples'
+    // fish and hammer, the benchmarks' boat.
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    meshes.extend(
+        [
+            "examples/meshes/blub_fish.obj",
+            "examples/meshes/hammer.obj",
+            "benches/projects/meshes/boat.obj",
+        ]
+        .map(|name| root.join(name)),
+    );
     let bundled = meshes.len();
     let shared = std::env::var_os("BALLAST_SHARED_CORPUS").is_some_and(|v| v == "1");
     match shared.then(|| geometry_support::shared_mesh("")).flatten() {
