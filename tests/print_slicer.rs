@@ -176,17 +176,11 @@ fn overlapping_shells_weigh_what_prusaslicer_deposits() {
     // pushed into its body: PrusaSlicer prints their union, with perimeters along its outline
     // only; so does the model.
     let dir = tempfile::tempdir().unwrap();
-    let mut body = box_mesh(40.0, 30.0, 20.0);
-    let other = box_mesh(40.0, 30.0, 20.0);
-    let first = body.positions.len() as u32;
-    body.positions.extend(
-        other
-            .positions
-            .iter()
-            .map(|p| p + Vector3::new(20.0, 12.0, 0.0)),
-    );
-    body.triangles
-        .extend(other.triangles.iter().map(|t| t.map(|i| i + first)));
+    let mut other = box_mesh(40.0, 30.0, 20.0);
+    for p in &mut other.positions {
+        *p += Vector3::new(20.0, 12.0, 0.0);
+    }
+    let body = with_shell(&box_mesh(40.0, 30.0, 20.0), &other);
     for infill in [0.15, 0.5] {
         let gcode = sliced(
             dir.path(),
@@ -220,13 +214,10 @@ fn a_broken_mesh_weighs_what_prusaslicer_prints_of_it() {
     // and a smaller sphere pushed into it as a second shell. PrusaSlicer repairs the file as it
     // loads it and prints the union; ballast repairs it as it loads it and models the union.
     let dir = tempfile::tempdir().unwrap();
-    let mut clean = icosphere(4, 20.0, Point3::origin());
-    let other = icosphere(3, 10.0, Point3::new(22.0, 0.0, 0.0));
-    let first = clean.positions.len() as u32;
-    clean.positions.extend(other.positions);
-    clean
-        .triangles
-        .extend(other.triangles.iter().map(|t| t.map(|i| i + first)));
+    let clean = with_shell(
+        &icosphere(4, 20.0, Point3::origin()),
+        &icosphere(3, 10.0, Point3::new(22.0, 0.0, 0.0)),
+    );
     let mut broken = clean.clone();
     // A punched hole: one triangle gone.
     broken.triangles.remove(1000);

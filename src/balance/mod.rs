@@ -48,7 +48,7 @@ pub use equilibria::{CUT_FLIPS, MAX_ENUMERATED_BALLS};
 pub use evaluate::evaluate_pose;
 pub use facets::{facet_rotation, resting_facets, RestingFacet};
 pub use mass::{capsule_shell, component_material};
-pub use printed::{component_voids, cut_bodies, PartPrints};
+pub use printed::{bare_bodies, component_voids, cut_bodies, PartPrints};
 pub use rest::{Resting, ROCKING_DEGREES, SNAP_WARNING};
 
 use nalgebra::{Isometry3, Matrix3, Rotation3};

@@ -51,6 +51,21 @@ pub fn cut_bodies<'a>(
         .collect()
 }
 
+/// The bodies of `meshes`, whose solids have the mass properties `solids`, with their material
+/// `bare` (one per mesh) before any capsule is cut.
+pub fn bare_bodies<'a>(
+    meshes: &'a [TriMesh],
+    solids: &[MassProperties],
+    bare: &[PrintVolumes],
+) -> Vec<ComponentBody<'a>> {
+    meshes
+        .iter()
+        .zip(solids)
+        .zip(bare)
+        .map(|((mesh, solid), print)| ComponentBody::with_print(mesh, *solid, *print))
+        .collect()
+}
+
 /// What it takes to print each component's material for any design: the material before a
 /// capsule is cut (the mass model's, with the calibration's correction), how the component is
 /// printed, and the correction. Under the `fdm` model each component is sliced the first time a
@@ -133,12 +148,7 @@ impl PartPrints {
 
     /// The bodies of `meshes` before any capsule is cut, for the closed-form capsule term.
     pub fn bare_bodies<'a>(&self, meshes: &'a [TriMesh]) -> Vec<ComponentBody<'a>> {
-        meshes
-            .iter()
-            .zip(&self.solids)
-            .zip(&self.bare)
-            .map(|((mesh, solid), print)| ComponentBody::with_print(mesh, *solid, *print))
-            .collect()
+        bare_bodies(meshes, &self.solids, &self.bare)
     }
 
     /// Component `index`'s material with `voids` cut.

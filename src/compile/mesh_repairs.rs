@@ -1,9 +1,8 @@
 //! The diagnostics for what loading repaired in a component's mesh ([`Repairs`]): a warning for
 //! each kind of repair, saying what changed; an error for a hole too wide for a slicer to close.
 
-use nalgebra::Point3;
-
 use super::design::round;
+use super::meshes::format_position;
 use crate::diagnostic::Problem;
 use crate::geometry::{Hole, Repairs};
 use crate::spec::model::Component;
@@ -117,7 +116,7 @@ fn hole_problem(name: &str, holes: &[Hole], wall: f64, limit: f64) -> Option<Pro
     let place = format!(
         "{} mm across at {}, {} edges around it",
         round(widest.width),
-        point(&widest.centre),
+        format_position(&widest.centre),
         widest.edges
     );
     Some(if widest.width > limit {
@@ -144,8 +143,4 @@ fn hole_problem(name: &str, holes: &[Hole], wall: f64, limit: f64) -> Option<Pro
         )
         .with_help("a mesh editor's fill holes closes them in the file")
     })
-}
-
-fn point(p: &Point3<f64>) -> String {
-    format!("({}, {}, {})", round(p.x), round(p.y), round(p.z))
 }

@@ -502,9 +502,14 @@ fn format_triangle(mesh: &TriMesh, index: u32) -> String {
 
 fn format_point(mesh: &TriMesh, index: u32) -> String {
     match mesh.positions.get(index as usize) {
-        Some(p) => format!("({}, {}, {})", round(p.x), round(p.y), round(p.z)),
+        Some(p) => format_position(p),
         None => "(?)".to_string(),
     }
+}
+
+/// `(x, y, z)`, each rounded for a diagnostic.
+pub(super) fn format_position(p: &Point3<f64>) -> String {
+    format!("({}, {}, {})", round(p.x), round(p.y), round(p.z))
 }
 
 /// `path` relative to the folder `policy` confines reads to, when it is in it lexically (as

@@ -75,7 +75,9 @@ pub use report::{Report, REPORT_FORMAT};
 pub use solution::{interrupted_solution_text, read_solution, solution_text};
 pub use workspace::{Failure, Stage, Workspace};
 
-use crate::balance::{cut_bodies, evaluate_pose, ComponentBody, PartPrints, PoseEvaluation};
+use crate::balance::{
+    bare_bodies, cut_bodies, evaluate_pose, ComponentBody, PartPrints, PoseEvaluation,
+};
 use crate::design::Design;
 use crate::diagnostic::Problem;
 use crate::fabrication::{Orientation, PrintPlan};
@@ -189,12 +191,7 @@ impl Compilation {
 
     /// The components' bodies before any capsule is cut (`prints`).
     pub fn bare_bodies(&self) -> Vec<ComponentBody<'_>> {
-        self.meshes
-            .iter()
-            .zip(&self.mass)
-            .zip(&self.prints)
-            .map(|((mesh, solid), print)| ComponentBody::with_print(mesh, *solid, *print))
-            .collect()
+        bare_bodies(&self.meshes, &self.mass, &self.prints)
     }
 
     /// Whether every goal of every pose is met.
@@ -289,12 +286,7 @@ pub fn compile_with(
                 workspace,
             ))
             .prints;
-        let bodies: Vec<ComponentBody> = meshes
-            .iter()
-            .zip(solids)
-            .zip(prints.iter())
-            .map(|((mesh, solid), print)| ComponentBody::with_print(mesh, *solid, *print))
-            .collect();
+        let bodies = bare_bodies(meshes, solids, prints);
         problems.extend(down::place_down_poses(&mut project, &bodies));
     }
     let optimizing = project.optimize.is_some() && options.optimize.is_some();

@@ -67,14 +67,23 @@ pub fn capsule_mesh(from: Point3<f64>, to: Point3<f64>, r: f64, segments: u32) -
 pub fn with_voids(body: &TriMesh, voids: &[TriMesh]) -> TriMesh {
     let mut mesh = body.clone();
     for void in voids {
-        let base = mesh.positions.len() as u32;
-        mesh.positions.extend(&void.positions);
-        mesh.triangles.extend(
-            void.triangles
-                .iter()
-                .map(|[a, b, c]| [base + a, base + c, base + b]),
-        );
+        let mut reversed = void.clone();
+        for triangle in &mut reversed.triangles {
+            triangle.swap(1, 2);
+        }
+        mesh = with_shell(&mesh, &reversed);
     }
+    mesh
+}
+
+/// `body` with `shell` added as one more shell, as it is (two overlapping shells, when they
+/// cross).
+pub fn with_shell(body: &TriMesh, shell: &TriMesh) -> TriMesh {
+    let mut mesh = body.clone();
+    let base = mesh.positions.len() as u32;
+    mesh.positions.extend(&shell.positions);
+    mesh.triangles
+        .extend(shell.triangles.iter().map(|t| t.map(|i| base + i)));
     mesh
 }
 
