@@ -15,6 +15,7 @@
 //! - [`gcode`]: what a slicer's G-code deposits, object by object and layer by layer, and where
 //!   it pauses.
 //! - [`cancel`]: a flag another thread sets to stop a long build early.
+//! - [`regular_file`]: every input file opened as a regular file only, read within a limit.
 //! - [`verify`]: every goal re-measured by a rigid-body simulation, independent of [`balance`].
 //! - [`sliced`]: a sliced G-code file checked against the design: the goals with its mass, its
 //!   pauses, its voids.
@@ -36,6 +37,7 @@ pub mod geometry;
 pub mod objective;
 pub mod optimize;
 mod parallel;
+pub mod regular_file;
 pub mod sliced;
 pub mod spec;
 pub mod verify;
