@@ -230,22 +230,39 @@ fn a_refused_correction_is_left_out_of_the_designs_material_too() {
 }
 
 #[test]
-fn a_calibration_file_that_does_not_read_is_an_error_at_its_place() {
+fn a_calibration_file_that_does_not_read_is_a_warning_at_its_place_and_corrects_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let path = t_shape_in(dir.path());
     let plain = compiled(&path);
     let text = written(&plain, "T").replace("\"volume\": 1000.0", "\"volume\": \"much\"");
     std::fs::write(calibration_path(&path), &text).unwrap();
-    let problems = compile(&std::fs::read_to_string(&path).unwrap(), &path).unwrap_err();
-    let problem = problems
+    let unreadable = compiled(&path);
+    let problem = unreadable
+        .warnings
         .iter()
         .find(|p| p.code == CALIBRATION_UNREADABLE)
-        .unwrap_or_else(|| panic!("{problems:#?}"));
+        .unwrap_or_else(|| panic!("{:#?}", unreadable.warnings));
     let (span, _) = &problem.labels[0];
     let line = text[..span.offset()].lines().count();
     let at = text.lines().nth(line - 1).unwrap();
     assert!(at.contains("volume"), "points at {at:?}");
     assert!(problem.file.is_some());
+    assert_eq!(unreadable.printed, plain.printed);
+    // What a calibration of plastic that overflowed would hold, and a file that is no JSON at
+    // all: never a project that does not read.
+    for broken in [
+        written(&plain, "T").replace("\"volume\": 1000.0", "\"volume\": null"),
+        written(&plain, "T").replace("\"volume\": 1000.0", "\"volume\": 1e999"),
+        "\u{0}\u{1}".to_owned(),
+    ] {
+        std::fs::write(calibration_path(&path), &broken).unwrap();
+        let read = compiled(&path);
+        assert!(read
+            .warnings
+            .iter()
+            .any(|p| p.code == CALIBRATION_UNREADABLE));
+        assert_eq!(read.printed, plain.printed);
+    }
 }
 
 #[test]

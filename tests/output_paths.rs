@@ -57,6 +57,28 @@ fn an_output_that_is_the_project_or_a_mesh_is_refused_at_its_span() {
 }
 
 #[test]
+fn an_output_that_is_a_calibration_file_is_refused_whether_or_not_it_exists() {
+    // The project's own calibration file (not written yet), then another project's.
+    for (name, exists) in [
+        ("model.calibration.json", false),
+        ("other.Calibration.json", true),
+    ] {
+        let text = format!("{T}output {{\n    report \"{name}\"\n}}\n");
+        let (_folder, path) = project(&text);
+        let calibration = path.parent().unwrap().join(name);
+        if exists {
+            fs::write(&calibration, "{}").unwrap();
+        }
+        let err = refused(&path, &[], "ballast::output::overwrites_input", name);
+        assert!(err.contains("is a calibration file"), "{err}");
+        assert_eq!(calibration.exists(), exists);
+        if exists {
+            assert_eq!(fs::read_to_string(&calibration).unwrap(), "{}");
+        }
+    }
+}
+
+#[test]
 fn an_output_that_is_a_gltf_buffer_is_refused() {
     let (_folder, path) = project("");
     let root = path.parent().unwrap();

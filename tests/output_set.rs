@@ -13,7 +13,8 @@ use std::time::{Duration, Instant};
 
 use ballast::compile::{finish_interrupted_outputs, journal_path};
 use ballast::emit::atomic::TempName;
-use cli_support::build;
+use ballast::spec::parse_project;
+use cli_support::{ballast, build};
 
 /// The T shape with a written capsule, evaluated in two poses; `density` tells one version of
 /// the project from the other (it changes the report, the glTF file and the print settings).
@@ -92,6 +93,14 @@ fn complete(path: &Path, density: f64) -> (BTreeMap<PathBuf, Vec<u8>>, Duration)
     (outputs(path.parent().unwrap()), took)
 }
 
+/// What every command does first once it has read the project at `path`: finish replacing the
+/// outputs of a build killed while it replaced them.
+fn finish(path: &Path) {
+    let source = fs::read_to_string(path).unwrap();
+    let project = parse_project(&source, path).project.unwrap();
+    finish_interrupted_outputs(&project, path, None).unwrap();
+}
+
 /// A small deterministic generator (xorshift), so a failing run can be repeated.
 struct Random(u64);
 
@@ -156,7 +165,7 @@ fn a_build_killed_at_random_points_leaves_all_old_or_all_new_outputs() {
             );
         }
         // What the next command (any of them) does first.
-        finish_interrupted_outputs(&path, None).unwrap();
+        finish(&path);
         let after = outputs(root);
         if after == sets[next] {
             new += 1;
@@ -353,4 +362,141 @@ fn a_solution_file_stays_when_the_project_stops_optimizing() {
     let plain = build(&path);
     assert_ne!(plain.status.code(), Some(2));
     assert_eq!(fs::read(&solution).unwrap(), design);
+}
+
+/// The BLAKE3 hash of `path`'s bytes, hexadecimal, as the journal and manifest record it.
+fn hash(path: &Path) -> String {
+    blake3::hash(&fs::read(path).unwrap()).to_hex().to_string()
+}
+
+#[test]
+fn a_forged_journal_or_manifest_removes_and_replaces_nothing_outside_the_outputs() {
+    let (dir, path) = folder();
+    let root = dir.path();
+    fs::write(&path, text(1.24)).unwrap();
+    assert_eq!(build(&path).status.code(), Some(0));
+    // Files the project does not write: one in another folder, one in the project's folder
+    // with an output's suffix, and the project and its mesh themselves (also by another
+    // spelling, through /proc).
+    let elsewhere = tempfile::tempdir().unwrap();
+    let victim = elsewhere.path().join("notes.txt");
+    fs::write(&victim, "someone's notes").unwrap();
+    let notes = root.join("notes.md");
+    fs::write(&notes, "notes").unwrap();
+    let mesh = root.join("meshes/t_shape.obj");
+    let calibration = root.join("model.calibration.json");
+    fs::write(&calibration, "{}").unwrap();
+    let by_proc = Path::new("/proc/self/root").join(path.strip_prefix("/").unwrap());
+    let named = [&victim, &notes, &path, &mesh, &calibration];
+    let mut entries: Vec<String> = named
+        .iter()
+        .map(|file| {
+            format!(
+                r#"{{"path":"{}","blake3":"{}"}}"#,
+                file.display(),
+                hash(file)
+            )
+        })
+        .collect();
+    entries.push(format!(
+        r#"{{"path":"{}","blake3":"{}"}}"#,
+        by_proc.display(),
+        hash(&path)
+    ));
+    entries.push(format!(
+        r#"{{"path":"{}","blake3":"{}"}}"#,
+        Path::new("..")
+            .join(elsewhere.path().file_name().unwrap())
+            .join("notes.txt")
+            .display(),
+        hash(&victim)
+    ));
+    let journal = journal_path(&path, None);
+    let manifest = ballast::emit::manifest_path(&journal);
+    // A forged journal also tries to rename a planted file over the project.
+    let planted = root.join(
+        TempName {
+            target: "model.kdl".into(),
+            pid: u32::MAX - 1,
+            n: 1,
+        }
+        .file_name(),
+    );
+    fs::write(&planted, "pose").unwrap();
+    let forged_journal = format!(
+        r#"{{"ballast_output_set":1,"files":[{{"target":"{}","temp":"{}"}}],"remove":[{}]}}"#,
+        path.display(),
+        planted.file_name().unwrap().to_string_lossy(),
+        entries.join(",")
+    );
+    let forged_manifest = format!(
+        r#"{{"ballast_output_manifest":1,"files":[{}]}}"#,
+        entries.join(",")
+    );
+    let originals: Vec<Vec<u8>> = named.iter().map(|file| fs::read(file).unwrap()).collect();
+    fs::write(&journal, &forged_journal).unwrap();
+    let checked = ballast(&["check", path.to_str().unwrap()]);
+    assert_eq!(
+        checked.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&checked.stderr)
+    );
+    fs::write(&manifest, &forged_manifest).unwrap();
+    let built = build(&path);
+    assert_eq!(
+        built.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&built.stderr)
+    );
+    for (file, original) in named.iter().zip(&originals) {
+        assert_eq!(
+            &fs::read(file).unwrap(),
+            original,
+            "{} was touched",
+            file.display()
+        );
+    }
+    assert!(!journal.exists());
+}
+
+#[cfg(unix)]
+#[test]
+fn a_journal_or_manifest_that_is_not_a_regular_file_is_not_read() {
+    let (dir, path) = folder();
+    fs::write(&path, text(1.24)).unwrap();
+    let journal = journal_path(&path, None);
+    let manifest = ballast::emit::manifest_path(&journal);
+    // A link to an endless device, then a pipe no one writes to: neither is read.
+    std::os::unix::fs::symlink("/dev/zero", &journal).unwrap();
+    std::os::unix::fs::symlink("/dev/zero", &manifest).unwrap();
+    let built = build(&path);
+    assert_eq!(
+        built.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&built.stderr)
+    );
+    for record in [&journal, &manifest] {
+        let name = std::ffi::CString::new(record.to_str().unwrap()).unwrap();
+        let _ = fs::remove_file(record);
+        // SAFETY: `name` is a valid NUL-terminated path.
+        assert_eq!(unsafe { libc::mkfifo(name.as_ptr(), 0o600) }, 0);
+    }
+    let checked = ballast(&["check", path.to_str().unwrap()]);
+    assert_eq!(
+        checked.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&checked.stderr)
+    );
+    let built = build(&path);
+    assert_eq!(
+        built.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&built.stderr)
+    );
+    assert!(dir.path().join("build/model.glb").exists());
 }

@@ -25,8 +25,7 @@ use clap::Parser;
 pub use args::{Cli, Command, InputArgs, MessageFormat, OptimizeArgs, Solver};
 
 use crate::compile::{
-    compile_with, finish_interrupted_outputs, Compilation, CompileOptions, Failure,
-    OptimizeOptions, Workspace, WriteOptions,
+    compile_with, Compilation, CompileOptions, Failure, OptimizeOptions, Workspace, WriteOptions,
 };
 use crate::diagnostic::Problem;
 use crate::geometry::MeshLimits;
@@ -251,11 +250,6 @@ fn compile_file(
     workspace: &mut Workspace,
     format: MessageFormat,
 ) -> Result<Compilation, NotCompiled> {
-    // A build killed while it replaced its outputs left a journal: finishing it first means
-    // every command sees one build's outputs (the solution file `check` reads among them).
-    if let Err(error) = finish_interrupted_outputs(path, options.out_dir.as_deref()) {
-        eprintln!("warning: cannot finish replacing the outputs of an interrupted build: {error}");
-    }
     let name = path.display().to_string();
     let invalid = |source: String, problems: Vec<Problem>| {
         NotCompiled::Invalid(Invalid {

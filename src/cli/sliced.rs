@@ -74,7 +74,8 @@ pub fn run(
 
 /// Writes the calibration file of the project at `path` from `check`, atomically, and says so
 /// on standard error with each component's correction in grams; refuses when a part was not
-/// found as planned, since its deposit would not be its own.
+/// found as planned, since its deposit would not be its own, and when a correction is not a
+/// finite number (the file could not hold it).
 fn write_calibration(
     path: &Path,
     gcode: &Path,
@@ -85,6 +86,14 @@ fn write_calibration(
         return Err(format!("no calibration written: {mismatch}"));
     }
     let corrections = measured_corrections(compilation, check);
+    if let Some(index) = corrections.iter().position(|correction| {
+        !(correction.volume.is_finite() && correction.moment.iter().all(|m| m.is_finite()))
+    }) {
+        return Err(format!(
+            "no calibration written: component `{}`'s plastic in the G-code is not a finite amount",
+            compilation.project.component_name(index)
+        ));
+    }
     let text = calibration_text(
         &compilation.project,
         &compilation.meshes,

@@ -9,7 +9,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use miette::SourceSpan;
+use miette::{Severity, SourceSpan};
 use serde::{Deserialize, Serialize};
 
 use crate::diagnostic::{Problem, SourceFile};
@@ -19,7 +19,7 @@ use crate::optimize::content_hash;
 use crate::spec::model::Project;
 use crate::spec::read_source;
 
-/// The calibration file cannot be read or is not one.
+/// The calibration file cannot be read or is not one (a warning: the mass is the model's).
 pub const CALIBRATION_UNREADABLE: &str = "ballast::calibration::unreadable";
 /// An entry was measured on another mesh, print orientation or print settings.
 pub const CALIBRATION_STALE: &str = "ballast::calibration::stale";
@@ -27,6 +27,9 @@ pub const CALIBRATION_STALE: &str = "ballast::calibration::stale";
 pub const CALIBRATION_UNKNOWN: &str = "ballast::calibration::unknown_component";
 /// An entry would take away more material than the component's solid part holds.
 pub const CALIBRATION_REFUSED: &str = "ballast::calibration::refused";
+
+/// What an unreadable calibration file means for the build, and how to mend it.
+const LEFT_OUT: &str = "no correction is applied: the masses are the model's; write the file again with `ballast verify --gcode FILE --calibrate`, or delete it";
 
 /// The version of the file's layout this build reads and writes.
 const VERSION: u32 = 1;
@@ -74,8 +77,9 @@ pub fn fingerprint(project: &Project, mesh: &TriMesh, orientation: &Orientation)
 }
 
 /// The corrections of the calibration file at `path` for `project`'s components (zero where
-/// it has none or its entry is stale), and the problems found: an unreadable file is an error,
-/// a stale or unknown entry a warning. No file: no correction, no problem.
+/// it has none or its entry is stale), and the problems found, every one a warning: a
+/// calibration never makes a project unreadable. An unreadable file (not one, not finite
+/// numbers, too large) corrects nothing. No file: no correction, no problem.
 pub fn read_calibration(
     project: &Project,
     path: &Path,
@@ -89,7 +93,8 @@ pub fn read_calibration(
         Err(problem) => {
             let mut problem = *problem;
             problem.code = CALIBRATION_UNREADABLE;
-            return (corrections, vec![problem]);
+            problem.severity = Severity::Warning;
+            return (corrections, vec![problem.with_help(LEFT_OUT)]);
         }
     };
     let file = SourceFile {
@@ -99,26 +104,25 @@ pub fn read_calibration(
     let parsed: CalibrationFile = match serde_json::from_str(&text) {
         Ok(parsed) => parsed,
         Err(error) => {
-            let problem = Problem::error(
+            let problem = Problem::warning(
                 CALIBRATION_UNREADABLE,
                 format!("the calibration file {} does not read: {error}", file.name),
             )
             .with_label(span_at(&text, error.line(), error.column()), "here")
-            .with_help(
-                "write it again with `ballast verify --gcode FILE --calibrate`, or delete it",
-            )
+            .with_help(LEFT_OUT)
             .in_file(file);
             return (corrections, vec![problem]);
         }
     };
     if parsed.calibration != VERSION {
-        let problem = Problem::error(
+        let problem = Problem::warning(
             CALIBRATION_UNREADABLE,
             format!(
                 "the calibration file {} is of version {}; this ballast reads version {VERSION}",
                 file.name, parsed.calibration
             ),
         )
+        .with_help(LEFT_OUT)
         .in_file(file);
         return (corrections, vec![problem]);
     }

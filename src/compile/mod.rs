@@ -62,8 +62,8 @@ pub use orientation::{
 };
 pub(crate) use output_paths::lexical;
 pub use output_paths::{
-    check_output_paths, input_files, output_targets, OutputTarget, WriteOptions, DUPLICATE_OUTPUT,
-    OUTSIDE_PROJECT, OVERWRITES_INPUT,
+    check_output_paths, input_files, output_targets, OutputScope, OutputTarget, WriteOptions,
+    DUPLICATE_OUTPUT, INTERRUPTED_OUTPUTS, OUTSIDE_PROJECT, OVERWRITES_INPUT,
 };
 pub use outputs::{
     finish_interrupted_outputs, journal_path, write_outputs, write_outputs_with, PrintFileCache,
@@ -229,6 +229,16 @@ pub fn compile_with(
     let Some(mut project) = parsed.project else {
         return Err(Failure::Invalid(problems));
     };
+    // A build killed while it replaced its outputs left a journal: finishing it first means
+    // every command sees one build's outputs (the solution file read below among them).
+    if let Err(error) =
+        finish_interrupted_outputs(&project, project_path, options.out_dir.as_deref())
+    {
+        problems.push(Problem::warning(
+            INTERRUPTED_OUTPUTS,
+            format!("cannot finish replacing the outputs of an interrupted build: {error}"),
+        ));
+    }
     if let Some(writes) = options.writes {
         problems.extend(check_output_paths(
             &project,

@@ -11,7 +11,7 @@ use std::path::{Component, Path, PathBuf};
 
 use miette::SourceSpan;
 
-use super::output_path;
+use super::{calibration_path, output_path};
 use crate::diagnostic::Problem;
 use crate::emit::output_set::same_file;
 use crate::emit::print_files::file_name;
@@ -25,6 +25,10 @@ pub const DUPLICATE_OUTPUT: &str = "ballast::output::duplicate";
 /// An output path leaves the project's folder (absolute, or through `..`) without
 /// `--write-outside`.
 pub const OUTSIDE_PROJECT: &str = "ballast::output::outside_project";
+
+/// The outputs of a build killed while it replaced them could not be finished (a warning: the
+/// next build writes them all anew).
+pub const INTERRUPTED_OUTPUTS: &str = "ballast::output::interrupted";
 
 /// Where outputs may go, beyond what the project file says.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -73,8 +77,9 @@ pub fn output_targets(project: &Project, out_dir: Option<&Path>) -> Vec<OutputTa
     targets
 }
 
-/// The files a build of `project` (read from `project_path`) reads: the project file, every
-/// component's mesh, the external buffers of its glTF meshes that `policy` lets it read.
+/// The files a build of `project` (read from `project_path`) reads: the project file, its
+/// calibration file (whether there is one yet or not), every component's mesh, the external
+/// buffers of its glTF meshes that `policy` lets it read.
 pub fn input_files(project: &Project, project_path: &Path, policy: &ReadPolicy) -> Vec<PathBuf> {
     spanned_inputs(project, project_path, policy)
         .into_iter()
@@ -88,7 +93,10 @@ fn spanned_inputs(
     project_path: &Path,
     policy: &ReadPolicy,
 ) -> Vec<(PathBuf, Option<SourceSpan>)> {
-    let mut inputs = vec![(project_path.to_path_buf(), None)];
+    let mut inputs = vec![
+        (project_path.to_path_buf(), None),
+        (calibration_path(project_path), None),
+    ];
     for component in &project.components {
         let mesh = &component.mesh;
         inputs.push((mesh.value.clone(), Some(mesh.span)));
@@ -119,23 +127,42 @@ pub fn check_output_paths(
     let mut problems = Vec::new();
     for target in &targets {
         let shown = target.path.display();
-        for (input, input_span) in &inputs {
-            if !same_file(&target.path, input) {
-                continue;
-            }
+        let calibration = target.path.file_name().is_some_and(|name| {
+            name.to_string_lossy()
+                .to_lowercase()
+                .ends_with(CALIBRATION_SUFFIX)
+        });
+        let read = inputs.iter().filter(|(input, _)| {
+            same_file(&target.path, input) || lexical(&target.path) == lexical(input)
+        });
+        // Any project's calibration file is read by its builds, this project's or not.
+        let calibration = calibration.then_some((target.path.clone(), None));
+        for (input, input_span) in read.cloned().chain(calibration).take(1) {
+            let what = if lexical(&input) == lexical(&target.path) {
+                if input
+                    .to_string_lossy()
+                    .to_lowercase()
+                    .ends_with(CALIBRATION_SUFFIX)
+                {
+                    "a calibration file".to_owned()
+                } else {
+                    "a file".to_owned()
+                }
+            } else {
+                input.display().to_string()
+            };
             let mut problem = Problem::error(
                 OVERWRITES_INPUT,
                 format!(
-                    "the `{}` output {shown} is {}, which the build reads: writing it would destroy it",
+                    "the `{}` output {shown} is {what}, which the build reads: writing it would destroy it",
                     target.node,
-                    input.display()
                 ),
             )
             .with_help(format!(
                 "name another path in `output {{ {} \"...\" }}`",
                 target.node
             ));
-            match (spans().get(target.node), *input_span) {
+            match (spans().get(target.node), input_span) {
                 (Some(span), _) => problem = problem.with_label(span, "this output"),
                 (None, Some(span)) => {
                     problem = problem.with_label(
@@ -207,6 +234,120 @@ pub fn check_output_paths(
         }
     }
     problems
+}
+
+/// The suffixes of the files each `output` child writes, whatever a project names them: what may
+/// be removed of an earlier build's outputs in the folder that child writes into.
+fn output_suffixes(node: &str) -> &'static [&'static str] {
+    match node {
+        "gltf" => &[".glb", ".gltf"],
+        "report" => &[".json"],
+        "stl" => &[".stl"],
+        "prusa" => &[".3mf"],
+        "sheet" => &[".md", ".svg"],
+        "solution" => &[".solution.kdl"],
+        _ => &[],
+    }
+}
+
+/// The suffix of every project's calibration file: a file builds read, never one they write.
+const CALIBRATION_SUFFIX: &str = ".calibration.json";
+
+/// What a build of a project may touch of the files an earlier build's journal and manifest
+/// name (see [`crate::emit::output_set`]): neither record is trusted, so each file is checked
+/// here, resolved (links in its folder's path followed).
+///
+/// - An interrupted replacement is finished only onto one of this build's own output files.
+/// - A file of an earlier build is removed only when it has the suffix of an output of some kind
+///   (`.glb` for `gltf`, `.json` for `report`, `.stl`, ...) and is in a folder this build writes
+///   that kind into, is not a calibration file, and is none of the build's inputs, nor its
+///   solution file (kept even when a build writes none: it is committed, and `check` reads it
+///   when `optimize` comes back).
+#[derive(Debug, Clone)]
+pub struct OutputScope {
+    /// This build's output files, resolved.
+    targets: Vec<PathBuf>,
+    /// Each folder this build writes outputs into, resolved, with the suffixes of those outputs.
+    folders: Vec<(PathBuf, &'static [&'static str])>,
+    /// The build's inputs and solution file, resolved.
+    kept: Vec<PathBuf>,
+}
+
+impl OutputScope {
+    /// The scope of a build of `project`, read from `project_path`, writing into `out_dir` if
+    /// given. Every glTF buffer counts as an input, wherever it is.
+    pub fn of(project: &Project, project_path: &Path, out_dir: Option<&Path>) -> OutputScope {
+        let anywhere = ReadPolicy {
+            within: None,
+            limits: crate::geometry::MeshLimits::default(),
+        };
+        let mut targets = Vec::new();
+        let mut folders = Vec::new();
+        for target in output_targets(project, out_dir) {
+            let Some(path) = resolved(&target.path) else {
+                continue;
+            };
+            if let Some(folder) = path.parent() {
+                folders.push((folder.to_path_buf(), output_suffixes(target.node)));
+            }
+            targets.push(path);
+        }
+        folders.sort();
+        folders.dedup();
+        let mut kept: Vec<PathBuf> = input_files(project, project_path, &anywhere)
+            .iter()
+            .chain([&output_path(&project.output.solution, out_dir)])
+            .filter_map(|path| resolved(path))
+            .collect();
+        kept.sort();
+        kept.dedup();
+        OutputScope {
+            targets,
+            folders,
+            kept,
+        }
+    }
+}
+
+impl crate::emit::output_set::Scope for OutputScope {
+    fn may_replace(&self, target: &Path) -> bool {
+        resolved(target).is_some_and(|target| self.targets.contains(&target))
+    }
+
+    fn may_remove(&self, path: &Path) -> bool {
+        let Some(path) = resolved(path) else {
+            return false;
+        };
+        let name = path
+            .file_name()
+            .map(|name| name.to_string_lossy().to_lowercase())
+            .unwrap_or_default();
+        let folder = path.parent().unwrap_or(Path::new(""));
+        let of_an_output = self.folders.iter().any(|(output_folder, suffixes)| {
+            output_folder == folder && suffixes.iter().any(|suffix| name.ends_with(suffix))
+        });
+        of_an_output
+            && !name.ends_with(CALIBRATION_SUFFIX)
+            && !self
+                .kept
+                .iter()
+                .any(|kept| *kept == path || same_file(kept, &path))
+    }
+}
+
+/// `path` with its folder resolved (made absolute, links followed) and its file name kept as it
+/// is (a link there is the file itself, which is never followed when removing); `None` when its
+/// folder does not exist or it names no file.
+fn resolved(path: &Path) -> Option<PathBuf> {
+    let name = match path.components().next_back()? {
+        Component::Normal(name) => name,
+        _ => return None,
+    };
+    let folder = match path.parent() {
+        Some(folder) if !folder.as_os_str().is_empty() => folder,
+        _ => Path::new("."),
+    };
+    Some(folder.canonicalize().ok()?.join(name))
 }
 
 /// `path` absolute, with `.` and `..` resolved lexically (symbolic links are not followed: a

@@ -7,7 +7,7 @@
 use std::io;
 use std::path::{Path, PathBuf};
 
-use super::output_paths::input_files;
+use super::output_paths::{input_files, OutputScope};
 use super::{
     bed_parts, interrupted_solution_text, output_path, print_settings, solution_text, Compilation,
     DesignSource, Report,
@@ -18,6 +18,7 @@ use crate::emit::print_files::{
 };
 use crate::emit::{finish_interrupted, replace_set, write_glb};
 use crate::geometry::{MeshLimits, ReadPolicy};
+use crate::spec::model::Project;
 
 /// The files a build wrote, and those of the previous build's set that it removed.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
@@ -81,13 +82,8 @@ fn replace_outputs(
             ));
         }
     }
-    // The project's solution file stays even when this build writes none (the project no longer
-    // optimizes): it is the design `check` reads when `optimize` comes back, and it is committed.
-    let solution = output_path(&compilation.project.output.solution, out_dir);
-    let kept = |file: &Path| {
-        inputs.iter().any(|input| same_file(file, input)) || same_file(file, &solution)
-    };
-    let removed = replace_set(&journal_path(path, out_dir), &targets, &kept)
+    let scope = OutputScope::of(&compilation.project, path, out_dir);
+    let removed = replace_set(&journal_path(path, out_dir), &targets, &scope)
         .map_err(|error| format!("cannot write the outputs: {error}"))?;
     Ok(WrittenOutputs {
         written: targets.into_iter().map(|(target, _)| target).collect(),
@@ -95,10 +91,16 @@ fn replace_outputs(
     })
 }
 
-/// Finishes replacing the outputs of a build of the project at `path` (into `out_dir`) that was
-/// killed while replacing them, so they are all the new ones; does nothing otherwise.
-pub fn finish_interrupted_outputs(path: &Path, out_dir: Option<&Path>) -> io::Result<()> {
-    finish_interrupted(&journal_path(path, out_dir))
+/// Finishes replacing the outputs of a build of `project` (read from `path`, written into
+/// `out_dir`) that was killed while replacing them, so they are all the new ones; does nothing
+/// otherwise. Only files of `project`'s [`OutputScope`] are touched.
+pub fn finish_interrupted_outputs(
+    project: &Project,
+    path: &Path,
+    out_dir: Option<&Path>,
+) -> io::Result<()> {
+    let scope = OutputScope::of(project, path, out_dir);
+    finish_interrupted(&journal_path(path, out_dir), &scope)
 }
 
 /// The journal of the output set of the project at `path`: a hidden file in `out_dir`, else

@@ -17,10 +17,14 @@
 //! next [`finish_interrupted`] completes (renaming what is left, removing what is no longer in the
 //! set, writing the manifest), so the set becomes the new one.
 //!
-//! A file of the previous set is removed only when the manifest names it, it still holds exactly
-//! the bytes written then (its BLAKE3 hash), no file of the new set is it, and the caller does not
-//! protect it (an input of the build): a file ballast did not write, or that someone changed since,
-//! is never removed.
+//! Neither the journal nor the manifest is trusted: anyone who can write the folder can write
+//! them. Every file they name is checked against the caller's [`Scope`] (the outputs the project
+//! being built can have, never one of its inputs), and both are read only as regular files within
+//! [`MAX_RECORD_BYTES`]. A file of the previous set is removed only when the manifest names it,
+//! the scope allows it, it still holds exactly the bytes written then (its BLAKE3 hash), and no
+//! file of the new set is it: a file ballast did not write, or that someone changed since, is
+//! never removed. An interrupted replacement renames its temporary files only onto targets the
+//! scope allows.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::ffi::OsString;
@@ -31,6 +35,21 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use super::atomic::{folder_of, sync_dir, write_atomic, write_temp, TempName};
+use crate::regular_file::{blake3_of, read_limited};
+
+/// The most bytes of a journal or manifest read: one names every output of a build, a few
+/// hundred bytes each.
+pub const MAX_RECORD_BYTES: u64 = 16 << 20;
+
+/// Which files named by a journal or manifest (an earlier build's record, not trusted) a set
+/// may touch.
+pub trait Scope {
+    /// Whether finishing an interrupted replacement may rename a temporary file onto `target`.
+    fn may_replace(&self, target: &Path) -> bool;
+    /// Whether `path`, a file of the previous set that the new one does not write, may be
+    /// removed (it is then removed only if it still holds what was written to it).
+    fn may_remove(&self, path: &Path) -> bool;
+}
 
 /// The journal's format number.
 const JOURNAL_FORMAT: u32 = 1;
@@ -96,22 +115,25 @@ pub fn manifest_path(journal: &Path) -> PathBuf {
 /// `journal` (and the manifest at [`manifest_path`]): first finishes an interrupted replacement
 /// recorded there and removes temporary files that earlier writers of these targets (or of the
 /// previous set's) left, then the four steps of the module's documentation. Files of the previous
-/// set that this one does not have are removed, except those `protected` says to keep (the
-/// build's inputs); returns them. An error before the commit point leaves every old file as it
-/// was; an error renaming leaves the journal, so the next call finishes the set.
+/// set that this one does not have are removed where `scope` allows; returns them. An error
+/// before the commit point leaves every old file as it was; an error renaming leaves the
+/// journal, so the next call finishes the set.
 pub fn replace_set(
     journal: &Path,
     files: &[(PathBuf, Vec<u8>)],
-    protected: &dyn Fn(&Path) -> bool,
+    scope: &dyn Scope,
 ) -> io::Result<Vec<PathBuf>> {
-    finish_interrupted(journal)?;
+    finish_interrupted(journal, scope)?;
     let targets: Vec<PathBuf> = files
         .iter()
         .map(|(path, _)| std::path::absolute(path))
         .collect::<io::Result<_>>()?;
     let journal = std::path::absolute(journal)?;
     let manifest = manifest_path(&journal);
-    let previous = read_manifest(&manifest);
+    let previous: Vec<(PathBuf, Option<String>)> = read_manifest(&manifest)
+        .into_iter()
+        .filter(|(path, _)| scope.may_remove(path))
+        .collect();
     remove_stale_temps(
         targets
             .iter()
@@ -125,7 +147,6 @@ pub fn replace_set(
             !targets
                 .iter()
                 .any(|target| target == path || same_file(target, path))
-                && !protected(path)
                 && still_written(path, hash.as_deref())
         })
         .map(|(path, blake3)| {
@@ -182,14 +203,24 @@ pub fn replace_set(
 
 /// Completes the replacement recorded in the journal at `journal`, if there is one: renames each
 /// temporary file still there over its target, removes the previous set's files it names that
-/// still hold what was written to them, writes the manifest, then removes the journal. A journal that does not
-/// read as one (not written by ballast) is removed unread; an entry whose temporary file is not
-/// ballast's temporary file of that very target is skipped.
-pub fn finish_interrupted(journal: &Path) -> io::Result<()> {
+/// still hold what was written to them, writes the manifest, then removes the journal. A journal
+/// that does not read as one (not written by ballast, not a regular file, larger than
+/// [`MAX_RECORD_BYTES`]) is removed unread; an entry whose target `scope` does not allow, or
+/// whose temporary file is not ballast's temporary file of that very target, is skipped, and so
+/// is a file to remove that `scope` does not allow.
+pub fn finish_interrupted(journal: &Path, scope: &dyn Scope) -> io::Result<()> {
     let journal = &std::path::absolute(journal)?;
-    let text = match fs::read(journal) {
+    let text = match read_limited(journal, MAX_RECORD_BYTES) {
         Ok(text) => text,
         Err(error) if error.kind() == io::ErrorKind::NotFound => return Ok(()),
+        Err(error)
+            if matches!(
+                error.kind(),
+                io::ErrorKind::InvalidInput | io::ErrorKind::FileTooLarge
+            ) =>
+        {
+            return remove_journal(journal)
+        }
         Err(error) => return Err(error),
     };
     let Some(read) = serde_json::from_slice::<Journal>(&text)
@@ -204,13 +235,16 @@ pub fn finish_interrupted(journal: &Path) -> io::Result<()> {
         .filter_map(|entry| {
             let target = PathBuf::from(&entry.target);
             let name = TempName::parse(entry.temp.as_ref())?;
-            (target.is_absolute() && Some(name.target.as_os_str()) == target.file_name())
-                .then(|| (folder_of(&target).join(&entry.temp), target))
+            (target.is_absolute()
+                && Some(name.target.as_os_str()) == target.file_name()
+                && scope.may_replace(&target))
+            .then(|| (folder_of(&target).join(&entry.temp), target))
         })
         .collect();
     let written: Vec<WrittenFile> = read
         .files
         .iter()
+        .filter(|entry| scope.may_replace(Path::new(&entry.target)))
         .map(|entry| WrittenFile {
             path: entry.target.clone(),
             blake3: entry.blake3.clone(),
@@ -219,7 +253,9 @@ pub fn finish_interrupted(journal: &Path) -> io::Result<()> {
     let remove: Vec<WrittenFile> = read
         .remove
         .into_iter()
-        .filter(|file| Path::new(&file.path).is_absolute())
+        .filter(|file| {
+            Path::new(&file.path).is_absolute() && scope.may_remove(Path::new(&file.path))
+        })
         .collect();
     complete(
         journal,
@@ -277,7 +313,7 @@ fn complete<'a>(
 /// The files the manifest at `path` names, absolute, with their hashes; none when there is no
 /// manifest or it does not read as one.
 fn read_manifest(path: &Path) -> Vec<(PathBuf, Option<String>)> {
-    let Some(manifest) = fs::read(path)
+    let Some(manifest) = read_limited(path, MAX_RECORD_BYTES)
         .ok()
         .and_then(|text| serde_json::from_slice::<Manifest>(&text).ok())
         .filter(|manifest| manifest.ballast_output_manifest == MANIFEST_FORMAT)
@@ -323,7 +359,7 @@ fn still_written(path: &Path, blake3: Option<&str>) -> bool {
     if !fs::symlink_metadata(path).is_ok_and(|metadata| metadata.is_file()) {
         return false;
     }
-    fs::read(path).is_ok_and(|bytes| blake3::hash(&bytes).to_hex().as_str() == expected)
+    blake3_of(path).is_ok_and(|hash| hash.to_hex().as_str() == expected)
 }
 
 /// Whether `a` and `b` are one existing file (a link or another spelling of one path included:
@@ -420,6 +456,28 @@ fn utf8(path: &Path) -> io::Result<&str> {
 mod tests {
     use super::*;
 
+    /// Every file inside a folder, except those listed.
+    struct Within<'a> {
+        folder: &'a Path,
+        except: Vec<PathBuf>,
+    }
+
+    impl Scope for Within<'_> {
+        fn may_replace(&self, target: &Path) -> bool {
+            target.starts_with(self.folder) && !self.except.iter().any(|e| e == target)
+        }
+        fn may_remove(&self, path: &Path) -> bool {
+            self.may_replace(path)
+        }
+    }
+
+    fn within(folder: &Path) -> Within<'_> {
+        Within {
+            folder,
+            except: Vec::new(),
+        }
+    }
+
     fn set(dir: &Path, content: &str) -> Vec<(PathBuf, Vec<u8>)> {
         ["a.glb", "sub/b.json", "c.kdl"]
             .iter()
@@ -446,9 +504,9 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let journal = dir.path().join(".journal");
         let old = set(dir.path(), "old");
-        replace_set(&journal, &old, &|_| false).unwrap();
+        replace_set(&journal, &old, &within(dir.path())).unwrap();
         let new = set(dir.path(), "new");
-        replace_set(&journal, &new, &|_| false).unwrap();
+        replace_set(&journal, &new, &within(dir.path())).unwrap();
         let expected: Vec<_> = new.iter().map(|(_, b)| Some(b.clone())).collect();
         assert_eq!(read(&new), expected);
         assert_eq!(
@@ -463,21 +521,25 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let journal = dir.path().join(".journal");
         let old = set(dir.path(), "old");
-        replace_set(&journal, &old, &|_| false).unwrap();
+        replace_set(&journal, &old, &within(dir.path())).unwrap();
         // The new set has only `a.glb`; `sub/b.json` is protected (an input), `c.kdl` not.
         let new = vec![old[0].clone()];
         let b = old[1].0.clone();
-        let removed = replace_set(&journal, &new, &|path| path == b).unwrap();
+        let scope = Within {
+            folder: dir.path(),
+            except: vec![b.clone()],
+        };
+        let removed = replace_set(&journal, &new, &scope).unwrap();
         assert_eq!(removed, [std::path::absolute(&old[2].0).unwrap()]);
         assert!(!old[2].0.exists() && b.exists());
         // Still in the manifest? No: the manifest names the set last written, `a.glb` alone, so
         // `sub/b.json` is not ballast's to remove any more.
-        let removed = replace_set(&journal, &new, &|_| false).unwrap();
+        let removed = replace_set(&journal, &new, &within(dir.path())).unwrap();
         assert!(removed.is_empty() && b.exists());
         // A file of the set changed since it was written is not removed.
-        replace_set(&journal, &old, &|_| false).unwrap();
+        replace_set(&journal, &old, &within(dir.path())).unwrap();
         fs::write(&old[2].0, "edited").unwrap();
-        let removed = replace_set(&journal, &new, &|_| false).unwrap();
+        let removed = replace_set(&journal, &new, &within(dir.path())).unwrap();
         assert_eq!(removed, [std::path::absolute(&old[1].0).unwrap()]);
         assert_eq!(fs::read(&old[2].0).unwrap(), b"edited");
     }
@@ -487,7 +549,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let journal = dir.path().join(".journal");
         let old = set(dir.path(), "old");
-        replace_set(&journal, &old, &|_| false).unwrap();
+        replace_set(&journal, &old, &within(dir.path())).unwrap();
         // What a kill after the commit point, with the first file renamed, leaves.
         let new = set(dir.path(), "new");
         let temps: Vec<PathBuf> = new.iter().map(|(p, b)| write_temp(p, b).unwrap()).collect();
@@ -508,7 +570,7 @@ mod tests {
         .unwrap();
         fs::write(&journal, text).unwrap();
         fs::rename(&temps[0], &new[0].0).unwrap();
-        finish_interrupted(&journal).unwrap();
+        finish_interrupted(&journal, &within(dir.path())).unwrap();
         let expected: Vec<_> = new.iter().map(|(_, b)| Some(b.clone())).collect();
         assert_eq!(read(&new), expected);
         assert!(!journal.exists());
@@ -521,11 +583,11 @@ mod tests {
             new[0].0.display()
         );
         fs::write(&journal, forged).unwrap();
-        finish_interrupted(&journal).unwrap();
+        finish_interrupted(&journal, &within(dir.path())).unwrap();
         assert_eq!(fs::read(&new[0].0).unwrap(), new[0].1);
         assert!(dir.path().join("mine.txt").exists());
         fs::write(&journal, "not json").unwrap();
-        finish_interrupted(&journal).unwrap();
+        finish_interrupted(&journal, &within(dir.path())).unwrap();
         assert!(!journal.exists());
     }
 
@@ -534,18 +596,18 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let journal = dir.path().join(".journal");
         let old = set(dir.path(), "old");
-        replace_set(&journal, &old, &|_| false).unwrap();
+        replace_set(&journal, &old, &within(dir.path())).unwrap();
         let before = read(&old);
         // The last target is a folder: refused before anything is written.
         let mut new = set(dir.path(), "new");
         fs::create_dir_all(dir.path().join("d")).unwrap();
         new.push((dir.path().join("d"), b"x".to_vec()));
-        assert!(replace_set(&journal, &new, &|_| false).is_err());
+        assert!(replace_set(&journal, &new, &within(dir.path())).is_err());
         assert_eq!(read(&old), before);
         // A file where a folder should be: fails while writing, after the first temporary file.
         let mut new = set(dir.path(), "new");
         new.push((dir.path().join("a.glb").join("inner"), b"x".to_vec()));
-        assert!(replace_set(&journal, &new, &|_| false).is_err());
+        assert!(replace_set(&journal, &new, &within(dir.path())).is_err());
         assert_eq!(read(&old), before);
         assert_eq!(
             names(dir.path()),
