@@ -292,3 +292,77 @@ fn absurd_coordinates_are_refused_at_their_span() {
     let further = metres.replace("wall 1000", "wall 1001");
     assert_eq!(codes_of(&problems(&further)), [codes::OUT_OF_RANGE]);
 }
+
+/// The T's project without its `ball` and `material` lines, for tests that write their own.
+fn without_ball_or_material() -> String {
+    let (_, source) = t_shape();
+    let lines = [
+        "\nball density=7.85 clearance=0.2\n",
+        "\nmaterial \"PLA\" density=1.24\n",
+    ];
+    lines.iter().fold(source, |text, line| {
+        assert!(text.contains(line));
+        text.replace(line, "\n")
+    })
+}
+
+#[test]
+fn print_settings_and_balls_outside_their_physical_range_are_refused_at_their_span() {
+    let source = without_ball_or_material();
+    // Each asked the print model for gigabytes or placed capsules a kilometre wide.
+    for (line, written) in [
+        ("print layer-height=1e-9", "1e-9"),
+        ("print first-layer-height=5", "5"),
+        ("print top-solid-layers=1000000000", "1000000000"),
+        ("print bottom-solid-layers=1001", "1001"),
+        ("print perimeters=101", "101"),
+        ("print extrusion-width=(m)1", "(m)1"),
+        ("ball { diameters 6 1e6; }", "1e6"),
+        ("ball { diameters 0.1; }", "0.1"),
+        ("ball density=100", "100"),
+        ("material \"lead foam\" density=0.001", "0.001"),
+    ] {
+        let edited = source.replace("\noptimize tolerance=0.2\n", &format!("\n{line}\n"));
+        let found: Vec<Problem> = problems(&edited)
+            .into_iter()
+            .filter(|p| p.code == codes::OUT_OF_RANGE)
+            .collect();
+        assert_eq!(found.len(), 1, "{line}: {found:?}");
+        assert_eq!(labelled(&edited, &found), written, "{line}");
+        assert!(found[0].message.contains(" to "), "{}", found[0].message);
+    }
+    // The ends of each range are accepted.
+    let edited = source.replace(
+        "\noptimize tolerance=0.2\n",
+        "\nprint layer-height=0.01 first-layer-height=2 perimeters=100 top-solid-layers=1000\n\
+         ball { diameters 0.5 100; }\n",
+    );
+    assert!(codes_of(&problems(&edited))
+        .iter()
+        .all(|code| *code != codes::OUT_OF_RANGE));
+}
+
+#[test]
+fn a_design_no_listed_ball_fits_is_refused_and_not_written() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/sheared_cylinder.kdl");
+    let source = std::fs::read_to_string(&path).unwrap();
+    // 90 mm balls in a cylinder 30 mm thick: every capsule the optimizer can size sticks out.
+    let line = "ball density=7.85 clearance=0.2\n";
+    assert!(source.contains(line));
+    let edited = source.replace(line, "ball density=7.85 clearance=0.2 { diameters 90; }\n");
+    let options = CompileOptions {
+        optimize: Some(OptimizeOptions::default()),
+        ..CompileOptions::default()
+    };
+    let found = match compile_with(&edited, &path, &options, &mut Workspace::new()) {
+        Err(Failure::Invalid(problems)) => problems,
+        Ok(_) => panic!("a design of capsules wider than the part was accepted"),
+        Err(Failure::Cancelled) => panic!("cancelled"),
+    };
+    let problem = found
+        .iter()
+        .find(|p| p.code == ballast::compile::UNFIT_DESIGN)
+        .unwrap_or_else(|| panic!("{found:?}"));
+    assert!(problem.is_error());
+    assert!(labelled(&edited, std::slice::from_ref(problem)).starts_with("optimize"));
+}

@@ -46,7 +46,7 @@ pub use calibration::{
     calibration_path, calibration_text, CALIBRATION_REFUSED, CALIBRATION_STALE,
     CALIBRATION_UNKNOWN, CALIBRATION_UNREADABLE,
 };
-pub use design::hand_placed_design;
+pub use design::{fabrication_problems, hand_placed_design};
 pub use insertion::{direction_words, plan_insertions_into, BRIDGE_LIMIT_MM};
 pub use mesh_cache::MeshCache;
 pub use meshes::load_components;
@@ -54,7 +54,8 @@ pub use optimization::{
     CandidateReport, CapsuleOrigin, GoalName, Optimization, SeedReport, Starts, Timings,
 };
 pub use optimize::{
-    length_decimals, optimize_design, prepare, OptimizeOptions, Preparation, WarmStart,
+    length_decimals, optimize_design, prepare, unfit_design, OptimizeOptions, Preparation,
+    WarmStart, UNFIT_DESIGN,
 };
 pub use orientation::{
     insertion_rank, layer_grid, print_orientations, print_plan, print_setup, BED_CENTRE_MM,
@@ -359,6 +360,12 @@ pub fn compile_with(
                 let (design, mut optimization) =
                     optimize_design(&project, settings, &meshes, &parts, &print, run, workspace)
                         .ok_or(Failure::Cancelled)?;
+                // What `check` would refuse in the solution file is never written as one.
+                let unfit = fabrication_problems(&project, &meshes, &design, &print);
+                if let Some(first) = unfit.iter().find(|p| p.is_error()) {
+                    problems.push(unfit_design(settings, first));
+                    return Err(Failure::Invalid(problems));
+                }
                 problems.append(&mut optimization.warnings);
                 (design, DesignSource::Optimized, Some(optimization))
             }

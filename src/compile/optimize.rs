@@ -22,6 +22,29 @@ use crate::optimize::{
 };
 use crate::spec::model::{Optimize, Project};
 
+/// The optimizer's best design breaks a fabrication rule (a capsule outside its part, too close
+/// to the surface, two capsules overlapping), so it is not written.
+pub const UNFIT_DESIGN: &str = "ballast::optimize::unfit_design";
+
+/// The error for an optimized design that breaks a fabrication rule, `first` being the first
+/// broken: nothing is written, since `check` would refuse the solution file.
+pub fn unfit_design(
+    settings: &Optimize,
+    first: &crate::diagnostic::Problem,
+) -> crate::diagnostic::Problem {
+    crate::diagnostic::Problem::error(
+        UNFIT_DESIGN,
+        format!(
+            "the best design the optimizer found does not fit the parts, so nothing is written: {}",
+            first.message
+        ),
+    )
+    .with_label(settings.span, "this optimization")
+    .with_help(
+        "list balls small enough for the parts in `ball { diameters ... }`, ask for fewer capsules, or a thinner `wall`",
+    )
+}
+
 /// How `build` runs the optimizer, beyond what the project file says.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct OptimizeOptions {

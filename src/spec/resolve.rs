@@ -11,6 +11,7 @@
 
 mod components;
 mod poses;
+mod ranges;
 mod settings;
 
 use std::path::Path;
@@ -58,6 +59,7 @@ pub fn resolve(
             .extend(bounds::optimizer_bounds(settings, &capsules, &poses));
     }
     let wall = resolver.top("wall").and_then(Node::number_arg);
+    resolver.check_physical_ranges();
     Project {
         units,
         up: resolver.up,

@@ -13,6 +13,9 @@ const CELL_BUDGET: f64 = 1e7;
 /// Cells across the perimeter thickness, at most.
 const CELLS_PER_PERIMETER: f64 = 4.0;
 
+/// Cells across the part's narrower side, at least (before the budget coarsens them).
+const MIN_CELLS_ACROSS: f64 = 32.0;
+
 /// The print frame's axes: up (the build direction), and the raster's columns and rows.
 pub(super) const UP: usize = 2;
 pub(super) const U: usize = 0;
@@ -75,7 +78,9 @@ impl Layout {
         if !(width.is_finite() && depth.is_finite()) {
             return None;
         }
-        let finest = slicing.perimeter_thickness / CELLS_PER_PERIMETER;
+        // Perimeters as thick as the part itself still leave the outline its cells.
+        let finest = (slicing.perimeter_thickness / CELLS_PER_PERIMETER)
+            .min(width.min(depth) / MIN_CELLS_ACROSS);
         let budget = (width * depth * layers as f64 / CELL_BUDGET).sqrt();
         let mut cell = finest.max(budget);
         if !(cell > 0.0 && cell.is_finite()) {
@@ -88,8 +93,14 @@ impl Layout {
             low[u] - (columns as f64 * cell - width) / 2.0,
             low[v] - (rows as f64 * cell - depth) / 2.0,
         );
+        // Solid layers past the part's height print it the same: solid.
+        let slicing = Slicing {
+            top_layers: slicing.top_layers.min(layers),
+            bottom_layers: slicing.bottom_layers.min(layers),
+            ..*slicing
+        };
         Some(Layout {
-            slicing: *slicing,
+            slicing,
             bottom: low[UP],
             layers,
             origin,
