@@ -785,3 +785,65 @@ fn blender_keys_of_location_and_scale_pose_the_rig_as_its_rotation_keys_do() {
     )
     .unwrap();
 }
+
+/// A `.gltf` file of the GLB `bytes`, its binary chunk as a data URI, with `edit` applied to its
+/// JSON.
+fn as_gltf(bytes: &[u8], edit: impl FnOnce(&mut serde_json::Value)) -> String {
+    use base64::Engine;
+    let (mut json, bin) = glb_chunks(bytes);
+    json["buffers"][0]["uri"] = format!(
+        "data:application/octet-stream;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(&bin)
+    )
+    .into();
+    edit(&mut json);
+    json.to_string()
+}
+
+#[test]
+fn a_channel_moving_no_node_or_no_property_is_a_diagnostic_not_a_panic() {
+    let folder = tempfile::tempdir().unwrap();
+    let bytes = rig_glb(&figure(), &figure_animations());
+    let first = figure_animations()[0].name;
+    for (edit, said) in [
+        (
+            serde_json::json!({"node": 999, "path": "rotation"}),
+            "node 999, which does not exist",
+        ),
+        (
+            serde_json::json!({"node": 0, "path": "bogus"}),
+            "a property glTF does not have",
+        ),
+    ] {
+        let text = as_gltf(&bytes, |json| {
+            // The last animation, which no pose below uses.
+            let last = json["animations"].as_array().unwrap().len() - 1;
+            json["animations"][last]["channels"][0]["target"] = edit.clone();
+        });
+        fs::write(folder.path().join("r.gltf"), text).unwrap();
+        let source = format!("rig \"r.gltf\"\npose \"p\" animation=\"{first}\"\n");
+        let refused = compiled(folder.path(), &source).expect_err("a broken channel is refused");
+        assert_eq!(refused.len(), 1, "{refused:#?}");
+        assert_eq!(refused[0].code.to_string(), "ballast::rig::unreadable");
+        assert!(refused[0].message.contains(said), "{}", refused[0].message);
+    }
+}
+
+#[test]
+fn a_rig_of_thousands_of_parts_is_read_as_one_file() {
+    // 2000 boxes of 4 mm in one file: each part is a component of the one mesh file, which is
+    // parsed once (and its buffers looked up once), not once per part.
+    let folder = tempfile::tempdir().unwrap();
+    let joints: Vec<Joint> = (0..2000)
+        .map(|i| {
+            let name: &'static str = Box::leak(format!("part{i}").into_boxed_str());
+            let at = [0.01 * (i % 50) as f32, 0.01 * (i / 50) as f32, 0.0];
+            Joint::new(name, None, at, Some([[0.0; 3], [0.004; 3]]))
+        })
+        .collect();
+    fs::write(folder.path().join("r.glb"), rig_glb(&joints, &[])).unwrap();
+    let compilation = compiled(folder.path(), "rig \"r.glb\"\npose \"rest\" { stand; }\n")
+        .unwrap_or_else(|problems| panic!("{problems:#?}"));
+    assert_eq!(compilation.project.components.len(), 2000);
+    assert_eq!(component_names(&compilation)[1999], "part1999");
+}

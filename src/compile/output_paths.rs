@@ -7,6 +7,7 @@
 //!
 //! [`write_outputs`]: super::write_outputs
 
+use std::collections::HashMap;
 use std::path::{Component, Path, PathBuf};
 
 use miette::SourceSpan;
@@ -97,14 +98,65 @@ fn spanned_inputs(
         (project_path.to_path_buf(), None),
         (calibration_path(project_path), None),
     ];
+    // A rig's thousands of parts are one file: its buffers are looked up once.
+    let mut seen = std::collections::BTreeSet::new();
     for component in &project.components {
         let mesh = &component.mesh;
+        if !seen.insert(&mesh.value) {
+            continue;
+        }
         inputs.push((mesh.value.clone(), Some(mesh.span)));
         for buffer in external_buffer_paths(&mesh.value, policy) {
             inputs.push((buffer, Some(mesh.span)));
         }
     }
     inputs
+}
+
+/// Where `paths` are, to tell in constant time whether a path is one of them: by lexical form,
+/// and by device and inode for those that exist (a link, another spelling of one file).
+struct FileIndex {
+    lexical: HashMap<PathBuf, usize>,
+    inode: HashMap<(u64, u64), usize>,
+}
+
+impl FileIndex {
+    fn new() -> FileIndex {
+        FileIndex {
+            lexical: HashMap::new(),
+            inode: HashMap::new(),
+        }
+    }
+
+    /// The index of the first path added that is `path`'s file; `None` when there is none.
+    fn find(&self, path: &Path) -> Option<usize> {
+        let by_name = self.lexical.get(&lexical(path)).copied();
+        let by_inode = inode(path).and_then(|key| self.inode.get(&key).copied());
+        by_name.into_iter().chain(by_inode).min()
+    }
+
+    /// Adds `path` as number `index`, unless a path already added is its file.
+    fn add(&mut self, path: &Path, index: usize) {
+        self.lexical.entry(lexical(path)).or_insert(index);
+        if let Some(key) = inode(path) {
+            self.inode.entry(key).or_insert(index);
+        }
+    }
+}
+
+/// The device and inode of the existing file at `path` (links followed).
+fn inode(path: &Path) -> Option<(u64, u64)> {
+    let metadata = std::fs::metadata(path).ok()?;
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        Some((metadata.dev(), metadata.ino()))
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = metadata;
+        None
+    }
 }
 
 /// The problems of the output paths of `project`, read from `project_path` with text `source`,
@@ -124,6 +176,10 @@ pub fn check_output_paths(
     let lazy = std::cell::OnceCell::new();
     let spans = || lazy.get_or_init(|| OutputSpans::of(source));
     let inputs = spanned_inputs(project, project_path, policy);
+    let mut read = FileIndex::new();
+    for (index, (input, _)) in inputs.iter().enumerate() {
+        read.add(input, index);
+    }
     let mut problems = Vec::new();
     for target in &targets {
         let shown = target.path.display();
@@ -132,12 +188,10 @@ pub fn check_output_paths(
                 .to_lowercase()
                 .ends_with(CALIBRATION_SUFFIX)
         });
-        let read = inputs.iter().filter(|(input, _)| {
-            same_file(&target.path, input) || lexical(&target.path) == lexical(input)
-        });
+        let input = read.find(&target.path).map(|index| inputs[index].clone());
         // Any project's calibration file is read by its builds, this project's or not.
         let calibration = calibration.then_some((target.path.clone(), None));
-        for (input, input_span) in read.cloned().chain(calibration).take(1) {
+        if let Some((input, input_span)) = input.or(calibration) {
             let what = if lexical(&input) == lexical(&target.path) {
                 if input
                     .to_string_lossy()
@@ -175,12 +229,11 @@ pub fn check_output_paths(
             problems.push(problem);
         }
     }
+    let mut written = FileIndex::new();
     for (index, target) in targets.iter().enumerate() {
-        let key = lexical(&target.path);
-        if let Some(first) = targets[..index]
-            .iter()
-            .find(|other| lexical(&other.path) == key || same_file(&other.path, &target.path))
-        {
+        let earlier = written.find(&target.path);
+        written.add(&target.path, index);
+        if let Some(first) = earlier.map(|first| &targets[first]) {
             let message = if first.node == target.node {
                 format!(
                     "the `{}` output writes {} twice: two components' names give one file name",

@@ -110,6 +110,7 @@ pub(super) fn open_document(
     let gltf::Gltf { document, blob } =
         gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| err(e.to_string()))?;
     check_position_indices(document.as_json())?;
+    check_animation_targets(document.as_json())?;
     let document = Document::from_json(document.into_json()).map_err(|e| err(e.to_string()))?;
     let buffers = resolve_buffers(&document, base, blob, reader)?;
     Ok((document, buffers))
@@ -128,6 +129,29 @@ fn check_position_indices(root: &gltf::json::Root) -> Result<(), LoadError> {
                         index.value()
                     )));
                 }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// gltf-json's validation leaves an animation channel's target unchecked, and the document's
+/// accessors panic on a target node that does not exist or a path it does not know: check them
+/// first (every channel, whether a pose uses its animation or not).
+fn check_animation_targets(root: &gltf::json::Root) -> Result<(), LoadError> {
+    for (a, animation) in root.animations.iter().enumerate() {
+        for (c, channel) in animation.channels.iter().enumerate() {
+            let target = &channel.target;
+            if target.node.value() >= root.nodes.len() {
+                return Err(err(format!(
+                    "channel {c} of animation {a} moves node {}, which does not exist",
+                    target.node.value()
+                )));
+            }
+            if !matches!(target.path, gltf::json::validation::Checked::Valid(_)) {
+                return Err(err(format!(
+                    "channel {c} of animation {a} changes a property glTF does not have (not translation, rotation, scale or weights)"
+                )));
             }
         }
     }

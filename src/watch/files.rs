@@ -24,9 +24,11 @@ pub fn referenced_files(
     files.insert(watch_key(project_path));
     let reader = FileReader::new(policy);
     if let Some(project) = project {
+        // A rig's thousands of parts are one file: it is looked at once.
+        let mut seen = BTreeSet::new();
         for component in &project.components {
             let mesh = &component.mesh.value;
-            if mesh.exists() && !reader.allows(mesh) {
+            if !seen.insert(mesh) || (mesh.exists() && !reader.allows(mesh)) {
                 continue;
             }
             files.insert(watch_key(mesh));
