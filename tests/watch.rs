@@ -614,3 +614,70 @@ fn a_new_session_reads_the_grid_a_build_stored_in_the_disk_cache() {
         "{first}"
     );
 }
+
+#[test]
+fn a_project_folder_removed_and_made_again_is_watched_again() {
+    let outer = tempfile::tempdir().unwrap();
+    let (inner, _) = scratch(HAND_PLACED);
+    let folder = outer.path().join("project");
+    let copy = |to: &Path| {
+        fs::create_dir_all(to.join("meshes")).unwrap();
+        for name in ["model.kdl", "meshes/t_shape.obj"] {
+            fs::copy(inner.path().join(name), to.join(name)).unwrap();
+        }
+    };
+    copy(&folder);
+    let project = folder.join("model.kdl");
+    let watch = Watch::start(&project, &[]);
+    watch.wait_builds(1);
+    // As a checkout that swaps the folder out and back: removed (the build fails), then made
+    // again with the project edited.
+    fs::remove_dir_all(&folder).unwrap();
+    let gone = watch.wait_builds(2);
+    assert!(gone.contains(BAD), "{gone}");
+    let staged = outer.path().join("staged");
+    copy(&staged);
+    fs::write(
+        staged.join("model.kdl"),
+        HAND_PLACED.replace("margin=1", "margin=2"),
+    )
+    .unwrap();
+    fs::rename(&staged, &folder).unwrap();
+    let back = watch.wait_builds(3);
+    assert!(back.contains(GOOD), "{back}");
+    // And its files are watched again: an edit rebuilds.
+    save_by_rename(&project, &HAND_PLACED.replace("margin=1", "margin=3"));
+    let edited = watch.wait_builds(4);
+    assert!(edited.contains(GOOD), "{edited}");
+}
+
+#[cfg(unix)]
+#[test]
+fn a_mesh_replaced_by_a_pipe_or_a_device_fails_its_build_and_the_watch_goes_on() {
+    let (folder, project) = scratch(HAND_PLACED);
+    let mesh = folder.path().join("meshes/t_shape.obj");
+    let bytes = fs::read(&mesh).unwrap();
+    let watch = Watch::start(&project, &[]);
+    watch.wait_builds(1);
+    // A pipe no one writes to, then a link to an endless device, each followed by the real
+    // mesh: neither is read, and the watch is not stuck on either.
+    let pipe = || {
+        let name = std::ffi::CString::new(mesh.to_str().unwrap()).unwrap();
+        // SAFETY: `name` is a valid NUL-terminated path.
+        assert_eq!(unsafe { libc::mkfifo(name.as_ptr(), 0o600) }, 0);
+    };
+    let device = || std::os::unix::fs::symlink("/dev/zero", &mesh).unwrap();
+    let mut builds = 1;
+    for replace in [&pipe as &dyn Fn(), &device] {
+        fs::remove_file(&mesh).unwrap();
+        replace();
+        builds += 1;
+        let refused = watch.wait_builds(builds);
+        assert!(refused.contains(BAD), "{refused}");
+        fs::remove_file(&mesh).unwrap();
+        save_bytes_by_rename(&mesh, &bytes);
+        builds += 1;
+        let back = watch.wait_builds(builds);
+        assert!(back.contains(GOOD), "{back}");
+    }
+}

@@ -127,13 +127,16 @@ impl<'p> FileReader<'p> {
     /// in case the file grows meanwhile.
     pub fn read(&mut self, path: &Path) -> Result<Vec<u8>, LoadError> {
         let canonical = self.locate(path)?;
-        let file = std::fs::File::open(&canonical).map_err(|source| io_error(path, source))?;
+        let file = crate::regular_file::open_regular(&canonical).map_err(|source| {
+            if source.kind() == std::io::ErrorKind::InvalidInput {
+                LoadError::NotAFile {
+                    path: path.to_path_buf(),
+                }
+            } else {
+                io_error(path, source)
+            }
+        })?;
         let metadata = file.metadata().map_err(|source| io_error(path, source))?;
-        if !metadata.is_file() {
-            return Err(LoadError::NotAFile {
-                path: path.to_path_buf(),
-            });
-        }
         let left = self.policy.limits.max_bytes.saturating_sub(self.used);
         let too_large = || LoadError::TooLarge {
             path: path.to_path_buf(),

@@ -42,7 +42,8 @@ fn read_coded(
         Err(error) => return Err(unreadable(error)),
     };
     check_metadata(&metadata, path, what)?;
-    let file = std::fs::File::open(path).map_err(unreadable)?;
+    // Opened without blocking: a pipe put there since the first look is refused, not waited on.
+    let file = crate::regular_file::open_regular(path).map_err(unreadable)?;
     // The file may have been replaced between the two looks.
     check_metadata(&file.metadata().map_err(unreadable)?, path, what)?;
     let mut text = String::new();

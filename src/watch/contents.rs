@@ -36,11 +36,12 @@ impl Contents {
     }
 }
 
-/// A hash of the bytes of `path`, or `None` when it cannot be read.
+/// A hash of the bytes of `path`, or `None` when it cannot be read or is not a regular file (a
+/// pipe would block the watcher, a device never end), read in pieces whatever its size.
 fn hash_of(path: &Path) -> Option<u64> {
-    let bytes = std::fs::read(path).ok()?;
+    let hash = crate::regular_file::blake3_of(path).ok()?;
     let mut hasher = DefaultHasher::new();
-    hasher.write(&bytes);
+    hasher.write(hash.as_bytes());
     Some(hasher.finish())
 }
 

@@ -80,16 +80,51 @@ pub fn is_change(kind: &EventKind) -> bool {
     )
 }
 
-/// The watched files among `paths` (an event's paths: both ends of a rename).
+/// The watched files among `paths` (an event's paths: both ends of a rename), and every watched
+/// file in a folder that is one of `paths` (the folder itself removed, renamed or created again).
 pub fn touched<'a>(
     paths: impl IntoIterator<Item = &'a PathBuf>,
     files: &BTreeSet<PathBuf>,
 ) -> Vec<PathBuf> {
-    paths
-        .into_iter()
-        .filter(|path| files.contains(*path))
-        .cloned()
+    let mut found = Vec::new();
+    for path in paths {
+        if files.contains(path) {
+            found.push(path.clone());
+        }
+        found.extend(
+            files
+                .iter()
+                .filter(|file| file.parent() == Some(path.as_path()))
+                .cloned(),
+        );
+    }
+    found
+}
+
+/// The folders to watch so that each of `folders` is seen to be removed and created again: their
+/// parents (a folder's own watch ends with it). Those already among `folders` are left out.
+pub fn anchor_folders(folders: &BTreeSet<PathBuf>) -> BTreeSet<PathBuf> {
+    folders
+        .iter()
+        .filter_map(|folder| folder.parent().map(Path::to_path_buf))
+        .filter(|parent| !folders.contains(parent))
         .collect()
+}
+
+/// What tells a folder from another made later at the same path: its device and inode (on Unix;
+/// elsewhere only whether it exists). `None` when there is no folder there.
+pub fn folder_identity(path: &Path) -> Option<(u64, u64)> {
+    let metadata = std::fs::metadata(path).ok().filter(|m| m.is_dir())?;
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        Some((metadata.dev(), metadata.ino()))
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = metadata;
+        Some((0, 0))
+    }
 }
 
 #[cfg(test)]
@@ -215,5 +250,12 @@ mod tests {
         );
         let output = [PathBuf::from("/p/model.solution.kdl")];
         assert!(touched(&output, &files).is_empty());
+        // The folder itself removed or made again touches every file in it, and only those.
+        let folder = [PathBuf::from("/p")];
+        assert_eq!(
+            touched(&folder, &files),
+            vec![PathBuf::from("/p/model.kdl")]
+        );
+        assert!(touched(&[PathBuf::from("/")], &files).is_empty());
     }
 }

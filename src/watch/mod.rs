@@ -13,7 +13,7 @@ pub mod changes;
 pub mod contents;
 pub mod files;
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{channel, Receiver, TryRecvError};
@@ -27,7 +27,10 @@ use crate::cancel::Cancel;
 
 pub use changes::{differences, Snapshot};
 pub use contents::Contents;
-pub use files::{is_change, referenced_files, touched, watch_key, watched_folders};
+pub use files::{
+    anchor_folders, folder_identity, is_change, referenced_files, touched, watch_key,
+    watched_folders,
+};
 
 /// How long the file system must be quiet before a burst of events becomes one rebuild: long
 /// enough to cover an editor's temp-file-and-rename save or a tool writing several files (each
@@ -127,6 +130,9 @@ pub fn run(
         if !drain(&receiver, &watched.files, &mut changed) {
             return Ok(());
         }
+        // A watched folder removed and made again needs a new watch: its old one ended with it.
+        let files = watched.files.clone();
+        watched.follow(&mut debouncer, files);
         let differing = {
             let mut contents = lock(&contents);
             let differing = contents.differing(&changed);
@@ -196,46 +202,73 @@ fn drain(
 #[derive(Default)]
 struct Watched {
     files: BTreeSet<PathBuf>,
-    folders: BTreeSet<PathBuf>,
+    /// The folders watched for the files, each with the identity it had when its watch began.
+    folders: BTreeMap<PathBuf, Option<(u64, u64)>>,
+    /// Their parents, watched to see a watched folder removed and created again.
+    anchors: BTreeMap<PathBuf, Option<(u64, u64)>>,
     /// The files, as the debouncer's thread sees them.
     shared: Arc<Mutex<BTreeSet<PathBuf>>>,
 }
 
 impl Watched {
-    /// Follows `files` from now on: unwatches folders no longer needed, watches new ones (and
-    /// retries any that could not be watched before, such as a folder that did not exist).
+    /// Follows `files` from now on: unwatches folders no longer needed, watches new ones, and
+    /// watches again any that could not be watched before (a folder that did not exist) or that
+    /// is not the folder it was (removed and created again).
     fn follow(
         &mut self,
         debouncer: &mut Debouncer<RecommendedWatcher, RecommendedCache>,
         files: BTreeSet<PathBuf>,
     ) {
         let wanted = watched_folders(&files);
-        for folder in self.folders.difference(&wanted) {
-            let _ = debouncer.unwatch(folder);
-        }
-        let mut folders = BTreeSet::new();
-        for folder in &wanted {
-            if self.folders.contains(folder) {
-                folders.insert(folder.clone());
-                continue;
-            }
-            match debouncer.watch(folder, RecursiveMode::NonRecursive) {
-                Ok(()) => {
-                    folders.insert(folder.clone());
-                }
-                Err(error) => {
-                    eprintln!("warning: cannot watch {}: {error}", folder.display());
-                }
-            }
-        }
+        let anchors = anchor_folders(&wanted);
+        self.folders = renew(debouncer, &self.folders, &wanted, true);
+        self.anchors = renew(debouncer, &self.anchors, &anchors, false);
         if files != self.files {
             // A status line: on standard error, so standard output can carry JSON diagnostics.
             eprintln!("watching {}", list(&files));
         }
         *lock(&self.shared) = files.clone();
         self.files = files;
-        self.folders = folders;
     }
+}
+
+/// The watches of `wanted` folders, given those `held` now: folders no longer wanted are
+/// unwatched, and a folder is watched (again) unless it is held and still the folder its watch
+/// began on. A folder that cannot be watched is left out (with a warning when `warn`), to be
+/// tried again next time.
+fn renew(
+    debouncer: &mut Debouncer<RecommendedWatcher, RecommendedCache>,
+    held: &BTreeMap<PathBuf, Option<(u64, u64)>>,
+    wanted: &BTreeSet<PathBuf>,
+    warn: bool,
+) -> BTreeMap<PathBuf, Option<(u64, u64)>> {
+    for folder in held.keys().filter(|folder| !wanted.contains(*folder)) {
+        let _ = debouncer.unwatch(folder);
+    }
+    let mut watching = BTreeMap::new();
+    for folder in wanted {
+        let identity = folder_identity(folder);
+        match held.get(folder) {
+            Some(was) if identity.is_some() && *was == identity => {
+                watching.insert(folder.clone(), identity);
+                continue;
+            }
+            Some(_) => {
+                let _ = debouncer.unwatch(folder);
+            }
+            None => {}
+        }
+        match debouncer.watch(folder, RecursiveMode::NonRecursive) {
+            Ok(()) => {
+                watching.insert(folder.clone(), identity);
+            }
+            Err(error) if warn => {
+                eprintln!("warning: cannot watch {}: {error}", folder.display());
+            }
+            Err(_) => {}
+        }
+    }
+    watching
 }
 
 /// File paths for a message, relative to the current folder when under it.

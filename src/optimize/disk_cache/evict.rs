@@ -4,7 +4,7 @@
 //! starts with. Nothing else under the cache folder is ever removed: not a user's folder, not a
 //! file of another name, not a folder that still holds anything.
 
-use std::fs::{self, File};
+use std::fs;
 use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::time::SystemTime;
@@ -124,7 +124,7 @@ fn own_temp(name: &std::ffi::OsStr) -> Option<TempName> {
 /// Whether the file at `path` starts with the cache's magic bytes.
 fn has_magic(path: &Path) -> bool {
     let mut start = [0u8; 8];
-    File::open(path)
+    crate::regular_file::open_regular(path)
         .and_then(|mut file| file.read_exact(&mut start))
         .is_ok()
         && &start == MAGIC

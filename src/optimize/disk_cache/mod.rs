@@ -78,7 +78,8 @@ impl DiskCache {
         let key = Key::of(mesh, cell);
         let path = self.path(&key);
         let secret = secret::read_secret(&self.root)?;
-        let bytes = fs::read(&path).ok()?;
+        // A regular file within the cache's size: a pipe or a link to a device is a miss.
+        let bytes = crate::regular_file::read_limited(&path, self.limit).ok()?;
         match decode(&bytes, &key, &secret) {
             Some(found) => {
                 // Only for eviction: a file that cannot be touched is still a hit.
