@@ -6,15 +6,25 @@
 //! positions, `E` included, as Marlin does), `M82`/`M83` (absolute or relative `E`), `G92`
 //! (setting positions), `M117` (a message on the printer's screen), the pause command (`M601`
 //! unless told otherwise) and the comments slicers label objects with (see [`read_program`]).
-//! Everything else (temperatures, fans, other comments) is skipped. A move that extrudes (`E`
-//! grows) while it moves in `X`, `Y` or `Z` deposits the filament it feeds along its path;
-//! `E` changes without motion are retractions and their undoing.
+//! Words are read as the
+//! firmware reads them (`words.rs`): with or without spaces, either case, a line number `N` and
+//! checksum `*` dropped. Everything else (temperatures, fans, other comments) is skipped. A move
+//! that extrudes (`E` grows) while it moves in `X`, `Y` or `Z` deposits the filament it feeds
+//! along its path; `E` changes without motion are retractions and their undoing.
+//!
+//! A line costs time linear in its length and at most one copy of its text (a label or a
+//! message).
 //!
 //! The module knows G-code and nothing of ballast: positions are the printer's, in mm.
 
+mod motion;
 mod program;
+mod words;
 
-pub use program::{read_program, PauseMark, PrintedObject, Program, ReadOptions, Segment};
+pub use program::{
+    read_program, scan_program, ObjectOutline, Outline, PauseMark, PrintedObject, Program,
+    ReadOptions, Segment,
+};
 
 use nalgebra::{Point3, Vector3};
 use thiserror::Error;
@@ -37,14 +47,52 @@ impl Deposit {
     }
 }
 
+/// The most of a word at fault an error repeats, characters; a longer one ends in `…`.
+const MAX_WORD_SHOWN: usize = 40;
+
 /// A G-code line that cannot be read.
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
-#[error("G-code line {line}: `{word}` is not a number")]
+#[error("G-code line {line}: {}", self.kind.describe(&self.word))]
 pub struct GcodeError {
     /// 1-based line number.
     pub line: usize,
-    /// The word whose value does not parse.
+    /// The word at fault, as written (may be empty, for a line at fault as a whole), cut to its
+    /// first 40 characters and `…` when longer.
     pub word: String,
+    /// What is wrong with it.
+    pub kind: GcodeErrorKind,
+}
+
+/// What is wrong with a G-code line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GcodeErrorKind {
+    /// A word whose value does not parse.
+    NotANumber,
+    /// A move gives one axis twice (G-code numbers have no exponent: `E1e3` is `E1`, `e3`).
+    Repeated,
+}
+
+impl GcodeError {
+    /// The error of kind `kind` at `word` of line `line`.
+    fn new(line: usize, word: &str, kind: GcodeErrorKind) -> GcodeError {
+        let word = match word.char_indices().nth(MAX_WORD_SHOWN) {
+            Some((at, _)) => format!("{}…", &word[..at]),
+            None => word.to_string(),
+        };
+        GcodeError { line, word, kind }
+    }
+}
+
+impl GcodeErrorKind {
+    fn describe(self, word: &str) -> String {
+        match self {
+            GcodeErrorKind::NotANumber => format!("`{word}` is not a number"),
+            GcodeErrorKind::Repeated => format!(
+                "`{word}` gives an axis a second value in one move (G-code numbers have no \
+                 exponent: `E1e3` is `E1` then `e3`)"
+            ),
+        }
+    }
 }
 
 /// The deposit of the G-code `text`, every object together, with filament of

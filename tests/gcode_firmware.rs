@@ -1,0 +1,145 @@
+//! The G-code reader on what firmware reads and slicers write beyond spaced `G1` lines: words
+//! without spaces, many labels; and the one-pass scan against the reading that keeps every
+//! segment.
+
+use std::time::{Duration, Instant};
+
+use ballast::gcode::{
+    read_deposit, read_program, scan_program, GcodeErrorKind, ReadOptions, Segment,
+};
+
+fn segments(text: &str) -> Vec<Segment> {
+    let program = read_program(text, &ReadOptions::default()).expect("the program reads");
+    program
+        .objects
+        .into_iter()
+        .flat_map(|object| object.segments)
+        .collect()
+}
+
+/// The same program spaced, unspaced, in lower case, with comments and line numbers: one
+/// deposit, bit for bit.
+#[test]
+fn words_without_spaces_read_as_with_them() {
+    let spaced = "\
+M83
+G1 Z0.2
+G1 X0 Y0
+G1 X10 Y10 E1
+G1 X20 Y5 E0.5 F1800
+G92 E0
+G1 X0 Y0 Z0.4 E2
+";
+    let forms = [
+        "M83\nG1Z0.2\nG1X0Y0\nG1X10Y10E1\nG1X20Y5E0.5F1800\nG92E0\nG1X0Y0Z0.4E2\n",
+        "m83\ng1 z0.2\ng1x0y0\ng1 x10 y10 e1\ng1x20y5e0.5f1800\ng92 e0\ng1x0y0z.4e2\n",
+        "M83;relative\nG1 Z0.2;up\nG01 X0 Y0\nG1 X10 Y10 E1;comment\nG1 X20Y5 E 0.5 F1800\nG92 E0\nG1X0 Y0Z0.4E2 ; done\n",
+        "N1 M83*33\nN2 G1 Z0.2*40\nN3 G1 X0 Y0*33\nN4 G1 X10 Y10 E1*2\nN5 G1 X20 Y5 E0.5 F1800*0\nN6 G92 E0*1\nN7 G1 X0 Y0 Z0.4 E2*9\n",
+    ];
+    let expected = segments(spaced);
+    assert_eq!(expected.len(), 3);
+    let deposit = read_deposit(spaced, 1.75).unwrap();
+    assert_eq!(deposit.filament, 3.5);
+    for form in forms {
+        assert_eq!(segments(form), expected, "{form}");
+        assert_eq!(read_deposit(form, 1.75).unwrap(), deposit, "{form}");
+    }
+}
+
+/// G-code numbers have no exponent: `E1e308` is `E1` then `e308`, one axis twice, which no
+/// firmware reads alike (Marlin keeps the first, Klipper the last): an error at the word.
+#[test]
+fn an_axis_given_twice_is_an_error() {
+    let error = read_deposit("M83\nG1 Z0.2\nG1 X10 E1e308\n", 1.75).unwrap_err();
+    assert_eq!((error.line, error.kind), (3, GcodeErrorKind::Repeated));
+    assert_eq!(error.word, "e308");
+    let error = read_deposit("G1 X1 X2\n", 1.75).unwrap_err();
+    assert_eq!(
+        (error.word.as_str(), error.kind),
+        ("X2", GcodeErrorKind::Repeated)
+    );
+    // Letters ballast does not read may repeat.
+    assert!(read_deposit("G1 X1 F1 F2 E1\n", 1.75).is_ok());
+}
+
+/// The scan hands over the segments `read_program` keeps, in print order, each with its
+/// object's id.
+#[test]
+fn a_scan_sees_every_segment_in_print_order() {
+    let text = "\
+M83
+G1 Z0.2
+G1 X0 Y-5 E1
+; printing object left id:0 copy 0
+G1 X10 E1
+; stop printing object left id:0 copy 0
+; printing object right id:1 copy 0
+G1 X20 Y0 E1
+; stop printing object right id:1 copy 0
+; printing object left id:0 copy 0
+G1 X0 E1
+";
+    let program = read_program(text, &ReadOptions::default()).unwrap();
+    let mut seen: Vec<(usize, Segment)> = Vec::new();
+    let outline = scan_program(text, &ReadOptions::default(), |id, s| seen.push((id, *s))).unwrap();
+    assert_eq!(outline.layers, program.layers);
+    assert_eq!(outline.objects.len(), program.objects.len());
+    for (object, read) in outline.objects.iter().zip(&program.objects) {
+        assert_eq!(object.label, read.label);
+        assert_eq!(object.segments, read.segments.len());
+        let mine: Vec<Segment> = seen
+            .iter()
+            .filter(|(id, _)| *id == object.id)
+            .map(|(_, s)| *s)
+            .collect();
+        assert_eq!(mine, read.segments);
+    }
+    // Print order: the purge line (unlabelled, listed last) first.
+    assert_eq!(outline.objects.last().unwrap().label, None);
+    assert_eq!(seen[0].0, outline.objects.last().unwrap().id);
+    let lines: Vec<usize> = seen.iter().map(|(_, s)| s.line).collect();
+    assert!(lines.windows(2).all(|w| w[0] <= w[1]), "{lines:?}");
+}
+
+/// 100 000 firmware labels, each started three times: read in a time linear in the file.
+#[test]
+fn many_firmware_labels_are_looked_up_by_hash() {
+    let objects = 100_000;
+    let mut text = String::from("M83\nG1 Z0.2\n");
+    for pass in 0..3 {
+        for i in 0..objects {
+            let name = if pass == 0 {
+                format!(" A\"part{i}\"")
+            } else {
+                String::new()
+            };
+            let y = i + 1;
+            text.push_str(&format!(
+                "M486 S{i}{name}\nG1 X{pass} Y{y} E0.1\nM486 S-1\n"
+            ));
+        }
+    }
+    let started = Instant::now();
+    let outline = scan_program(&text, &ReadOptions::default(), |_, _| {}).unwrap();
+    let took = started.elapsed();
+    assert_eq!(outline.objects.len(), objects);
+    assert_eq!(outline.objects[77_777].label.as_deref(), Some("part77777"));
+    assert!(outline.objects.iter().all(|o| o.segments == 3));
+    // A lookup through the names seen is 3 × 10⁵ × 10⁵ / 2 comparisons: seconds to minutes.
+    assert!(took < Duration::from_secs(5), "{took:?}");
+}
+
+/// A line of 20 MB (words no reader uses, then a move) is read in time linear in its length
+/// and allocates nothing per word.
+#[test]
+fn a_long_line_is_read_in_linear_time() {
+    let mut text = String::from("M83\nG1 Z0.2\nG1");
+    for _ in 0..5_000_000 {
+        text.push_str(" F1");
+    }
+    text.push_str("F2X5E1\n");
+    let started = Instant::now();
+    let deposit = read_deposit(&text, 1.75).unwrap();
+    assert_eq!(deposit.filament, 1.0);
+    assert!(started.elapsed() < Duration::from_secs(10));
+}
