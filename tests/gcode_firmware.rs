@@ -1,6 +1,6 @@
 //! The G-code reader on what firmware reads and slicers write beyond spaced `G1` lines: words
-//! without spaces, many labels; and the one-pass scan against the reading that keeps every
-//! segment.
+//! without spaces, numbers past any printer, many labels; and the one-pass scan against the
+//! reading that keeps every segment.
 
 use std::time::{Duration, Instant};
 
@@ -60,6 +60,45 @@ fn an_axis_given_twice_is_an_error() {
     );
     // Letters ballast does not read may repeat.
     assert!(read_deposit("G1 X1 F1 F2 E1\n", 1.75).is_ok());
+}
+
+/// Numbers past any printer are refused at their line, so no sum of them overflows: two
+/// extrusions of 10³⁰⁸ mm (written out in digits), a relative move past 1 km, a number past
+/// the largest float, an absolute `E` past 10⁹ mm.
+#[test]
+fn numbers_past_any_printer_are_errors_at_their_line() {
+    let huge = format!("1{}", "0".repeat(308));
+    let text = format!("M83\nG1 Z0.2\nG1 X0 Y0\nG1 X10 E{huge}\nG1 X0 E{huge}\n");
+    let error = read_deposit(&text, 1.75).unwrap_err();
+    assert_eq!(
+        (error.line, error.kind),
+        (4, GcodeErrorKind::TooMuchFilament)
+    );
+    assert!(error.word.starts_with("E1000") && error.word.ends_with('…'));
+    assert!(error.to_string().starts_with("G-code line 4: "), "{error}");
+
+    // Within the limit each, past it together.
+    let text = "M83\nG1 Z0.2\nG1 X10 E600000000\nG1 X0 E600000000\n";
+    let error = read_deposit(text, 1.75).unwrap_err();
+    assert_eq!(
+        (error.line, error.kind),
+        (4, GcodeErrorKind::TooMuchFilament)
+    );
+
+    let text = "G91\nG1 Z0.2\nG1 X600000 E1\nG1 X600000 E1\n";
+    let error = read_deposit(text, 1.75).unwrap_err();
+    assert_eq!((error.line, error.kind), (4, GcodeErrorKind::OutOfRange));
+    assert_eq!(error.word, "X600000");
+
+    let text = format!("G1 Y1{}\n", "9".repeat(400));
+    let error = read_deposit(&text, 1.75).unwrap_err();
+    assert_eq!((error.line, error.kind), (1, GcodeErrorKind::OutOfRange));
+
+    let error = read_deposit("G92 E2000000000\n", 1.75).unwrap_err();
+    assert_eq!(error.kind, GcodeErrorKind::TooMuchFilament);
+    // What any printer does reads.
+    let deposit = read_deposit("G1 Z0.2\nG1 X-999999 Y999999 E99999\n", 1.75).unwrap();
+    assert!(deposit.filament == 99999.0 && deposit.centroid.x.is_finite());
 }
 
 /// The scan hands over the segments `read_program` keeps, in print order, each with its
@@ -127,6 +166,27 @@ fn many_firmware_labels_are_looked_up_by_hash() {
     assert!(outline.objects.iter().all(|o| o.segments == 3));
     // A lookup through the names seen is 3 × 10⁵ × 10⁵ / 2 comparisons: seconds to minutes.
     assert!(took < Duration::from_secs(5), "{took:?}");
+}
+
+/// Labels and messages longer than any printer shows, and more pauses than any print has,
+/// are errors at their line.
+#[test]
+fn texts_and_pauses_are_bounded() {
+    let long = "x".repeat(ballast::gcode::MAX_TEXT_BYTES + 1);
+    let error = read_deposit(&format!("G1 X1\n; printing object {long}\n"), 1.75).unwrap_err();
+    assert_eq!((error.line, error.kind), (2, GcodeErrorKind::TooLong));
+    assert_eq!(error.word.chars().count(), 41);
+    let error = read_deposit(&format!("M117 {long}\n"), 1.75).unwrap_err();
+    assert_eq!(error.kind, GcodeErrorKind::TooLong);
+    let pauses = "M601\n".repeat(ballast::gcode::MAX_PAUSES + 1);
+    let error = read_deposit(&pauses, 1.75).unwrap_err();
+    assert_eq!(
+        (error.line, error.kind),
+        (
+            ballast::gcode::MAX_PAUSES + 1,
+            GcodeErrorKind::TooManyPauses
+        )
+    );
 }
 
 /// A line of 20 MB (words no reader uses, then a move) is read in time linear in its length

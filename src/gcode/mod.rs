@@ -12,8 +12,9 @@
 //! that extrudes (`E` grows) while it moves in `X`, `Y` or `Z` deposits the filament it feeds
 //! along its path; `E` changes without motion are retractions and their undoing.
 //!
-//! A line costs time linear in its length and at most one copy of its text (a label or a
-//! message).
+//! Every number read is bounded: coordinates within [`MAX_COORDINATE`], filament within
+//! [`MAX_FILAMENT`], so no sum of them overflows; a line costs time linear in its length and at
+//! most one copy of its text (a label or a message).
 //!
 //! The module knows G-code and nothing of ballast: positions are the printer's, in mm.
 
@@ -47,6 +48,17 @@ impl Deposit {
     }
 }
 
+/// The largest coordinate read, mm (1 km, past any printer): a move or `G92` word that goes
+/// further is an error.
+pub const MAX_COORDINATE: f64 = 1e6;
+/// The largest filament length read, mm (1000 km): an `E` position, or the total a program
+/// deposits, past it is an error.
+pub const MAX_FILAMENT: f64 = 1e9;
+/// The most pauses a program may have.
+pub const MAX_PAUSES: usize = 10_000;
+/// The longest object label or `M117` message read, bytes (64 KiB; a printer's screen shows a
+/// few dozen characters).
+pub const MAX_TEXT_BYTES: usize = 64 << 10;
 /// The most of a word at fault an error repeats, characters; a longer one ends in `…`.
 const MAX_WORD_SHOWN: usize = 40;
 
@@ -70,6 +82,14 @@ pub enum GcodeErrorKind {
     NotANumber,
     /// A move gives one axis twice (G-code numbers have no exponent: `E1e3` is `E1`, `e3`).
     Repeated,
+    /// A coordinate past [`MAX_COORDINATE`].
+    OutOfRange,
+    /// An `E` position, or the filament deposited, past [`MAX_FILAMENT`].
+    TooMuchFilament,
+    /// More than [`MAX_PAUSES`] pauses.
+    TooManyPauses,
+    /// An object label or `M117` message longer than [`MAX_TEXT_BYTES`].
+    TooLong,
 }
 
 impl GcodeError {
@@ -90,6 +110,19 @@ impl GcodeErrorKind {
             GcodeErrorKind::Repeated => format!(
                 "`{word}` gives an axis a second value in one move (G-code numbers have no \
                  exponent: `E1e3` is `E1` then `e3`)"
+            ),
+            GcodeErrorKind::OutOfRange => format!(
+                "`{word}` takes a coordinate past {MAX_COORDINATE:e} mm, beyond any printer"
+            ),
+            GcodeErrorKind::TooMuchFilament => {
+                format!("`{word}` takes the filament past {MAX_FILAMENT:e} mm, beyond any print")
+            }
+            GcodeErrorKind::TooManyPauses => {
+                format!("more than {MAX_PAUSES} pauses, beyond any print")
+            }
+            GcodeErrorKind::TooLong => format!(
+                "`{word}` is an object label or message longer than {} KiB, beyond any print",
+                MAX_TEXT_BYTES >> 10
             ),
         }
     }

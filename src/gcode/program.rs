@@ -8,7 +8,7 @@ use nalgebra::Point3;
 
 use super::motion::{Axes, Motion};
 use super::words::{command, split_line, Pattern};
-use super::GcodeError;
+use super::{GcodeError, GcodeErrorKind, MAX_PAUSES, MAX_TEXT_BYTES};
 
 /// What to look for beyond moves.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -204,6 +204,9 @@ pub fn scan_program(
         let line = index + 1;
         let (code, comment) = split_line(raw);
         if let Some(label) = label_change(comment) {
+            if let Some(name) = label {
+                checked_text(name, line)?;
+            }
             state.current = label.map(|name| state.object(Some(name)));
             continue;
         }
@@ -212,7 +215,7 @@ pub fn scan_program(
             continue;
         }
         if !pause.is_empty() && pause.matches(code) {
-            state.pause(line);
+            state.pause(line)?;
             continue;
         }
         let Some((command, words)) = command(code) else {
@@ -226,17 +229,30 @@ pub fn scan_program(
             (b'G', 91) => (state.relative_xyz, state.relative_e) = (true, true),
             (b'M', 82) => state.relative_e = false,
             (b'M', 83) => state.relative_e = true,
-            (b'M', 117) => state.message = Some(words.rest().trim().to_string()),
-            (b'M', 486) if firmware_labels => state.firmware_label(words.rest()),
-            (b'G', 92) => state.set_position(&Axes::read(words, line)?),
+            (b'M', 117) => {
+                state.message = Some(checked_text(words.rest().trim(), line)?.to_string());
+            }
+            (b'M', 486) if firmware_labels => {
+                state.firmware_label(checked_text(words.rest(), line)?)
+            }
+            (b'G', 92) => state.set_position(&Axes::read(words, line)?, line)?,
             (b'G', 0 | 1) => {
                 let axes = Axes::read(words, line)?;
-                state.motion(&axes, line, &mut segment);
+                state.motion(&axes, line, &mut segment)?;
             }
             _ => {}
         }
     }
     Ok(state.finish())
+}
+
+/// `text` (a label or message of line `line`) when it is within [`MAX_TEXT_BYTES`].
+fn checked_text(text: &str, line: usize) -> Result<&str, GcodeError> {
+    if text.len() <= MAX_TEXT_BYTES {
+        Ok(text)
+    } else {
+        Err(GcodeError::new(line, text, GcodeErrorKind::TooLong))
+    }
 }
 
 /// `Some(Some(label))` when `comment` starts an object, `Some(None)` when it ends one.
@@ -331,7 +347,10 @@ impl State {
         self.current = Some(self.object(Some(&label)));
     }
 
-    fn pause(&mut self, line: usize) {
+    fn pause(&mut self, line: usize) -> Result<(), GcodeError> {
+        if self.pauses.len() >= MAX_PAUSES {
+            return Err(GcodeError::new(line, "", GcodeErrorKind::TooManyPauses));
+        }
         self.pauses.push(PauseMark {
             line,
             message: self.message.take(),
@@ -339,22 +358,32 @@ impl State {
             height: self.layers.last().copied(),
             resume_height: None,
         });
+        Ok(())
     }
 
     /// A `G92` with these axis values.
-    fn set_position(&mut self, axes: &Axes) {
+    fn set_position(&mut self, axes: &Axes, line: usize) -> Result<(), GcodeError> {
+        let position = self.motion.position;
+        let mut target = position;
         for (axis, value) in axes.xyz.iter().enumerate() {
             if let Some((v, _)) = value {
-                self.motion.position[axis] = *v;
+                target[axis] = *v;
             }
         }
-        if let Some((v, _)) = axes.e {
-            self.motion.e = v;
+        self.motion.position = self.motion.checked(target, axes, line)?;
+        if let Some((v, word)) = axes.e {
+            self.motion.e = super::motion::checked_filament(v, word, line)?;
         }
+        Ok(())
     }
 
     /// A `G0`/`G1` with these axis values: an extruding move goes to `emit`.
-    fn motion(&mut self, axes: &Axes, line: usize, emit: &mut impl FnMut(usize, &Segment)) {
+    fn motion(
+        &mut self,
+        axes: &Axes,
+        line: usize,
+        emit: &mut impl FnMut(usize, &Segment),
+    ) -> Result<(), GcodeError> {
         let start = self.motion.position;
         let mut end = start;
         for (axis, value) in axes.xyz.iter().enumerate() {
@@ -362,11 +391,13 @@ impl State {
                 end[axis] = if self.relative_xyz { end[axis] + v } else { v };
             }
         }
-        let fed = self.motion.feed(axes, self.relative_e);
+        let end = self.motion.checked(end, axes, line)?;
+        let fed = self.motion.feed(axes, self.relative_e, line)?;
         self.motion.position = end;
         if fed <= 0.0 || end == start {
-            return;
+            return Ok(());
         }
+        self.motion.deposit(fed, axes, line)?;
         let z = end.z;
         if self
             .layers
@@ -397,6 +428,7 @@ impl State {
                 line,
             },
         );
+        Ok(())
     }
 
     fn finish(mut self) -> Outline {
