@@ -1,12 +1,15 @@
 //! The G-code reader on what firmware reads and slicers write beyond spaced `G1` lines: words
-//! without spaces, numbers past any printer, many labels; and the one-pass scan against the
-//! reading that keeps every segment.
+//! without spaces, arcs, numbers past any printer, many labels; and the one-pass scan against
+//! the reading that keeps every segment.
 
+use std::f64::consts::PI;
 use std::time::{Duration, Instant};
 
 use ballast::gcode::{
     read_deposit, read_program, scan_program, GcodeErrorKind, ReadOptions, Segment,
+    ARC_CHORDS_PER_TURN,
 };
+use nalgebra::Point3;
 
 fn segments(text: &str) -> Vec<Segment> {
     let program = read_program(text, &ReadOptions::default()).expect("the program reads");
@@ -101,6 +104,113 @@ fn numbers_past_any_printer_are_errors_at_their_line() {
     assert!(deposit.filament == 99999.0 && deposit.centroid.x.is_finite());
 }
 
+/// A full circle drawn by `G2` with its centre at `I`, `J`: the filament it feeds, along
+/// chords of the circle whose total length is 2πr (less what chords cut), centred on the
+/// circle's centre; a half circle by `G3` with `R` has its centroid 2r/π from the centre.
+#[test]
+fn arcs_deposit_along_the_circle() {
+    let r = 10.0;
+    let text = "M83\nG1 Z0.2\nG1 X110 Y100\nG2 I-10 J0 E5\nG1 X120 Y100 E1\n";
+    let all = segments(text);
+    assert_eq!(all.len(), ARC_CHORDS_PER_TURN + 1);
+    let (arc, after) = all.split_at(ARC_CHORDS_PER_TURN);
+    let length: f64 = arc.iter().map(|s| (s.end - s.start).norm()).sum();
+    let chords = ARC_CHORDS_PER_TURN as f64;
+    let expected = 2.0 * chords * r * (PI / chords).sin();
+    assert!((length - expected).abs() < 1e-9, "{length} {expected}");
+    assert!((length - 2.0 * PI * r).abs() < 2e-3 * 2.0 * PI * r);
+    for s in arc {
+        assert!(
+            ((s.end.coords.xy() - nalgebra::Vector2::new(100.0, 100.0)).norm() - r).abs() < 1e-9
+        );
+        assert!((s.filament - 5.0 / chords).abs() < 1e-15);
+        assert_eq!((s.line, s.layer, s.start.z), (4, 0, 0.2));
+    }
+    // Clockwise: from (110, 100) down to (100, 90) first.
+    assert!(arc[ARC_CHORDS_PER_TURN / 4 - 1].end.y < 90.0 + 1e-9);
+    assert!(arc[ARC_CHORDS_PER_TURN / 4 - 1].end.x < 100.0 + 1e-9);
+    // The circle ends where it began, and the next move starts there.
+    assert_eq!(arc.last().unwrap().end, Point3::new(110.0, 100.0, 0.2));
+    assert_eq!(after[0].start, Point3::new(110.0, 100.0, 0.2));
+
+    let circle = read_deposit("M83\nG1 Z0.2\nG1 X110 Y100\nG2 I-10 J0 E5\n", 1.75).unwrap();
+    assert!((circle.filament - 5.0).abs() < 1e-12);
+    let centre = Point3::new(100.0, 100.0, 0.2);
+    assert!(
+        (circle.centroid - centre).norm() < 1e-9,
+        "{:?}",
+        circle.centroid
+    );
+
+    // The upper half, counter-clockwise by R from (110, 100) to (90, 100).
+    let half = read_deposit("M83\nG1 Z0.2\nG1 X110 Y100\nG3 X90 Y100 R10 E3\n", 1.75).unwrap();
+    assert!(
+        (half.centroid.x - 100.0).abs() < 1e-9,
+        "{:?}",
+        half.centroid
+    );
+    let arm = half.centroid.y - 100.0;
+    assert!((arm - 2.0 * r / PI).abs() < 1e-3 * r, "{arm}");
+    // Clockwise, the lower half.
+    let lower = read_deposit("M83\nG1 Z0.2\nG1 X110 Y100\nG2 X90 Y100 R10 E3\n", 1.75).unwrap();
+    assert!(
+        (lower.centroid.y - 100.0 + arm).abs() < 1e-9,
+        "{:?}",
+        lower.centroid
+    );
+    // A quarter by R, the short way round; by a negative R, the long way (three quarters).
+    let quarter = "M83\nG1 Z0.2\nG1 X110 Y100\nG3 X100 Y110 R10 E1\n";
+    assert_eq!(segments(quarter).len(), ARC_CHORDS_PER_TURN / 4);
+    let long = segments(&quarter.replace("R10", "R-10"));
+    assert_eq!(long.len(), ARC_CHORDS_PER_TURN * 3 / 4);
+    let centre = nalgebra::Vector2::new(110.0, 110.0);
+    assert!(long
+        .iter()
+        .all(|s| ((s.end.coords.xy() - centre).norm() - r).abs() < 1e-9));
+    // A quarter by I/J, relative positions, and a rising helix: the chords climb evenly.
+    let helix = segments("M83\nG91\nG1 Z0.2\nG3 X-10 Y10 Z1 I-10 E1\n");
+    assert_eq!(helix.len(), ARC_CHORDS_PER_TURN / 4);
+    let top = helix.last().unwrap().end;
+    assert_eq!(top, Point3::new(-10.0, 10.0, 1.2));
+    assert!((helix[0].end.z - (0.2 + 1.0 / 16.0)).abs() < 1e-12);
+}
+
+/// The same circle as one `G2` and as the chords the reader splits it into, written as `G1`
+/// moves: one deposit.
+#[test]
+fn an_arc_deposits_what_its_chords_do() {
+    let arc = "M83\nG1 Z0.3\nG1 X5 Y0\nG3 X-5 Y0 I-5 J0 E2\nG3 X5 Y0 I5 J0 E2\n";
+    let mut lines = String::from("M83\nG1 Z0.3\nG1 X5 Y0\n");
+    for s in segments(arc) {
+        lines.push_str(&format!("G1 X{} Y{} E{}\n", s.end.x, s.end.y, s.filament));
+    }
+    let (a, b) = (
+        read_deposit(arc, 1.75).unwrap(),
+        read_deposit(&lines, 1.75).unwrap(),
+    );
+    assert!((a.filament - b.filament).abs() < 1e-12);
+    assert!((a.centroid - b.centroid).norm() < 1e-12, "{a:?} {b:?}");
+}
+
+#[test]
+fn arcs_that_are_not_arcs_are_errors() {
+    let cases = [
+        ("G1 X1 Y1\nG2 X5 Y5 E1\n", "neither"),
+        ("G1 X1 Y1\nG2 X5 Y5 I0 J0 E1\n", "centre is its start"),
+        ("G1 X1 Y1\nG3 R5 E1\n", "`R` must end elsewhere"),
+        ("G18\nG1 X1 Y1\nG2 X5 Y5 I1 E1\n", "XY plane"),
+        ("G1 X1 Y1\nG2 I1 P2 E1\n", "full turns"),
+    ];
+    for (text, why) in cases {
+        let error = read_deposit(text, 1.75).unwrap_err();
+        assert!(matches!(error.kind, GcodeErrorKind::NotAnArc(_)), "{text}");
+        assert!(error.to_string().contains(why), "{error}");
+    }
+    // Back in the XY plane, arcs read again; an arc without `E` moves the nozzle only.
+    let text = "G18\nG17\nM83\nG1 Z0.2 X1\nG2 I1 J0\nG1 X3 E1\n";
+    assert_eq!(segments(text)[0].start, Point3::new(1.0, 0.0, 0.2));
+}
+
 /// The scan hands over the segments `read_program` keeps, in print order, each with its
 /// object's id.
 #[test]
@@ -113,7 +223,7 @@ G1 X0 Y-5 E1
 G1 X10 E1
 ; stop printing object left id:0 copy 0
 ; printing object right id:1 copy 0
-G1 X20 Y0 E1
+G2 X20 Y0 I5 E1
 ; stop printing object right id:1 copy 0
 ; printing object left id:0 copy 0
 G1 X0 E1

@@ -2,11 +2,11 @@
 //! where it pauses (`docs/physics.md`, "The mass of a print"; `docs/fabrication.md`, "Checking
 //! the sliced file").
 //!
-//! Understood: `G0`/`G1` moves (`X`, `Y`, `Z`, `E`), `G90`/`G91` (absolute or relative
-//! positions, `E` included, as Marlin does), `M82`/`M83` (absolute or relative `E`), `G92`
-//! (setting positions), `M117` (a message on the printer's screen), the pause command (`M601`
-//! unless told otherwise) and the comments slicers label objects with (see [`read_program`]).
-//! Words are read as the
+//! Understood: `G0`/`G1` moves (`X`, `Y`, `Z`, `E`), `G2`/`G3` arcs (centre by `I`/`J` or radius
+//! `R`, in the XY plane, split into chords), `G90`/`G91` (absolute or relative positions, `E`
+//! included, as Marlin does), `M82`/`M83` (absolute or relative `E`), `G92` (setting positions),
+//! `M117` (a message on the printer's screen), the pause command (`M601` unless told otherwise)
+//! and the comments slicers label objects with (see [`read_program`]). Words are read as the
 //! firmware reads them (`words.rs`): with or without spaces, either case, a line number `N` and
 //! checksum `*` dropped. Everything else (temperatures, fans, other comments) is skipped. A move
 //! that extrudes (`E` grows) while it moves in `X`, `Y` or `Z` deposits the filament it feeds
@@ -48,8 +48,8 @@ impl Deposit {
     }
 }
 
-/// The largest coordinate read, mm (1 km, past any printer): a move or `G92` word that goes
-/// further is an error.
+/// The largest coordinate read, mm (1 km, past any printer): a move, `G92` or arc word that
+/// goes further is an error.
 pub const MAX_COORDINATE: f64 = 1e6;
 /// The largest filament length read, mm (1000 km): an `E` position, or the total a program
 /// deposits, past it is an error.
@@ -61,6 +61,9 @@ pub const MAX_PAUSES: usize = 10_000;
 pub const MAX_TEXT_BYTES: usize = 64 << 10;
 /// The most of a word at fault an error repeats, characters; a longer one ends in `…`.
 const MAX_WORD_SHOWN: usize = 40;
+/// Chords an arc is split into per full turn (an arc of any angle into at most this many): each
+/// chord spans at most 5.625°, so it lies within 0.12% of the radius of its arc.
+pub const ARC_CHORDS_PER_TURN: usize = 64;
 
 /// A G-code line that cannot be read.
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
@@ -86,6 +89,8 @@ pub enum GcodeErrorKind {
     OutOfRange,
     /// An `E` position, or the filament deposited, past [`MAX_FILAMENT`].
     TooMuchFilament,
+    /// A `G2`/`G3` that is no arc ballast reads, and why.
+    NotAnArc(&'static str),
     /// More than [`MAX_PAUSES`] pauses.
     TooManyPauses,
     /// An object label or `M117` message longer than [`MAX_TEXT_BYTES`].
@@ -117,6 +122,7 @@ impl GcodeErrorKind {
             GcodeErrorKind::TooMuchFilament => {
                 format!("`{word}` takes the filament past {MAX_FILAMENT:e} mm, beyond any print")
             }
+            GcodeErrorKind::NotAnArc(why) => format!("`{word}` is not an arc ballast reads: {why}"),
             GcodeErrorKind::TooManyPauses => {
                 format!("more than {MAX_PAUSES} pauses, beyond any print")
             }

@@ -4,7 +4,7 @@
 
 use std::collections::HashMap;
 
-use nalgebra::Point3;
+use nalgebra::{Point3, Vector3};
 
 use super::motion::{Axes, Motion};
 use super::words::{command, split_line, Pattern};
@@ -119,7 +119,7 @@ fn object_name(label: &str) -> &str {
         .map_or(label, |at| &label[..at])
 }
 
-/// One extruding move.
+/// One extruding move, or one chord of an extruding arc.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Segment {
     /// Where the nozzle starts, mm.
@@ -229,6 +229,8 @@ pub fn scan_program(
             (b'G', 91) => (state.relative_xyz, state.relative_e) = (true, true),
             (b'M', 82) => state.relative_e = false,
             (b'M', 83) => state.relative_e = true,
+            (b'G', 17) => state.motion.plane_xy = true,
+            (b'G', 18 | 19) => state.motion.plane_xy = false,
             (b'M', 117) => {
                 state.message = Some(checked_text(words.rest().trim(), line)?.to_string());
             }
@@ -236,9 +238,9 @@ pub fn scan_program(
                 state.firmware_label(checked_text(words.rest(), line)?)
             }
             (b'G', 92) => state.set_position(&Axes::read(words, line)?, line)?,
-            (b'G', 0 | 1) => {
+            (b'G', code @ 0..=3) => {
                 let axes = Axes::read(words, line)?;
-                state.motion(&axes, line, &mut segment)?;
+                state.motion(code, &axes, line, &mut segment)?;
             }
             _ => {}
         }
@@ -377,9 +379,11 @@ impl State {
         Ok(())
     }
 
-    /// A `G0`/`G1` with these axis values: an extruding move goes to `emit`.
+    /// A `G0`/`G1` (`code` 0 or 1) or an arc (`G2` clockwise, `G3` counter-clockwise) with
+    /// these axis values: each extruding piece goes to `emit`.
     fn motion(
         &mut self,
+        code: u32,
         axes: &Axes,
         line: usize,
         emit: &mut impl FnMut(usize, &Segment),
@@ -393,8 +397,13 @@ impl State {
         }
         let end = self.motion.checked(end, axes, line)?;
         let fed = self.motion.feed(axes, self.relative_e, line)?;
+        let path = match code {
+            2 | 3 => self.motion.arc(code == 2, start, end, axes, line)?,
+            _ => None,
+        };
         self.motion.position = end;
-        if fed <= 0.0 || end == start {
+        let moved = path.as_ref().map_or(end != start, |arc| arc.moves());
+        if fed <= 0.0 || !moved {
             return Ok(());
         }
         self.motion.deposit(fed, axes, line)?;
@@ -417,17 +426,24 @@ impl State {
             Some(index) => index,
             None => self.object(None),
         };
-        self.objects[object].segments += 1;
-        emit(
-            object,
-            &Segment {
-                start: Point3::from(start),
-                end: Point3::from(end),
-                filament: fed,
-                layer: self.layers.len() - 1,
-                line,
-            },
-        );
+        let layer = self.layers.len() - 1;
+        let mut piece = |start: Vector3<f64>, end: Vector3<f64>, filament: f64| {
+            self.objects[object].segments += 1;
+            emit(
+                object,
+                &Segment {
+                    start: Point3::from(start),
+                    end: Point3::from(end),
+                    filament,
+                    layer,
+                    line,
+                },
+            );
+        };
+        match path {
+            None => piece(start, end, fed),
+            Some(arc) => arc.chords(fed, &mut piece),
+        }
         Ok(())
     }
 
