@@ -20,6 +20,7 @@ use serde::Serialize;
 use thiserror::Error;
 
 pub use pauses::{FoundPause, PauseCheck, PlannedPause};
+use placement::NozzleBoxes;
 pub use placement::SlicedComponent;
 pub use voids::VoidCheck;
 
@@ -28,7 +29,7 @@ use crate::balance::{
 };
 use crate::compile::Compilation;
 use crate::fabrication::PrintPlan;
-use crate::gcode::{read_program, GcodeError, ReadOptions};
+use crate::gcode::{scan_program, GcodeError, ReadOptions};
 use crate::geometry::{PrintCorrection, Region};
 
 /// How to read the sliced file.
@@ -152,20 +153,26 @@ pub fn verify_gcode(
     gcode: &str,
     options: &SlicedOptions,
 ) -> Result<SlicedCheck, SlicedError> {
-    let program = read_program(
-        gcode,
-        &ReadOptions {
-            pause_gcode: options.pause_gcode.clone(),
-        },
-    )?;
-    if program.objects.iter().all(|o| o.segments.is_empty()) {
+    let read = ReadOptions {
+        pause_gcode: options.pause_gcode.clone(),
+    };
+    let mm = compilation.project.units.from_millimetres(1.0);
+    // Two passes over the text, so that memory does not grow with the moves: the objects,
+    // layers, pauses and each object's extent first, then each extrusion mapped back.
+    let mut boxes = NozzleBoxes::new();
+    let outline = scan_program(gcode, &read, |id, segment| {
+        placement::grow_box(&mut boxes, id, segment, mm)
+    })?;
+    if outline.objects.iter().all(|o| o.segments == 0) {
         return Err(SlicedError::Empty);
     }
-    let placed = placement::place(compilation, plan, &program, options.filament_diameter)?;
-    let components: Vec<SlicedComponent> = placed.iter().map(|p| p.summary.clone()).collect();
-    let mm = compilation.project.units.from_millimetres(1.0);
-    let pauses = pauses::check(plan, &program, mm);
-    let voids = voids::check(compilation, &placed);
+    let mut placement = placement::place(compilation, plan, &outline, &boxes)?;
+    let mut voids = voids::start(compilation);
+    scan_program(gcode, &read, |id, segment| {
+        placement.count(compilation, &outline, &mut voids, (id, segment))
+    })?;
+    let components = placement.finish(compilation, options.filament_diameter);
+    let pauses = pauses::check(plan, &outline, mm);
     let bodies: Vec<ComponentBody> = compilation
         .meshes
         .iter()
@@ -194,7 +201,7 @@ pub fn verify_gcode(
         .collect();
     Ok(SlicedCheck {
         components,
-        layers: program.layers.len(),
+        layers: outline.layers.len(),
         pauses,
         voids,
         poses,
