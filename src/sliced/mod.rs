@@ -32,10 +32,14 @@ use crate::fabrication::PrintPlan;
 use crate::gcode::{scan_program, GcodeError, ReadOptions};
 use crate::geometry::{PrintCorrection, Region};
 
+/// The filament diameters ballast reads a sliced file with, mm: 0.5 to 5 (printers feed 1.75,
+/// 2.85 or 3).
+pub const FILAMENT_DIAMETER_MM: std::ops::RangeInclusive<f64> = 0.5..=5.0;
+
 /// How to read the sliced file.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SlicedOptions {
-    /// Diameter of the filament, mm (1.75 unless told).
+    /// Diameter of the filament, mm (1.75 unless told), within [`FILAMENT_DIAMETER_MM`].
     pub filament_diameter: f64,
     /// The command the slicer pauses with (`M601` unless told).
     pub pause_gcode: String,
@@ -56,6 +60,13 @@ pub enum SlicedError {
     /// A line does not read.
     #[error(transparent)]
     Gcode(#[from] GcodeError),
+    /// The filament diameter is outside [`FILAMENT_DIAMETER_MM`].
+    #[error(
+        "a filament diameter of {0} mm is outside {low} to {high} mm",
+        low = FILAMENT_DIAMETER_MM.start(),
+        high = FILAMENT_DIAMETER_MM.end()
+    )]
+    FilamentDiameter(f64),
     /// Nothing is extruded.
     #[error("the G-code extrudes nothing")]
     Empty,
@@ -153,6 +164,10 @@ pub fn verify_gcode(
     gcode: &str,
     options: &SlicedOptions,
 ) -> Result<SlicedCheck, SlicedError> {
+    let range = FILAMENT_DIAMETER_MM;
+    if !range.contains(&options.filament_diameter) {
+        return Err(SlicedError::FilamentDiameter(options.filament_diameter));
+    }
     let read = ReadOptions {
         pause_gcode: options.pause_gcode.clone(),
     };
