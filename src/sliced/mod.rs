@@ -32,6 +32,10 @@ use crate::fabrication::PrintPlan;
 use crate::gcode::{scan_program, GcodeError, ReadOptions};
 use crate::geometry::{PrintCorrection, Region};
 
+/// The largest G-code file `ballast verify --gcode` reads, bytes (1 GiB): the file is read
+/// whole, and its size is checked before it is.
+pub const MAX_GCODE_BYTES: u64 = 1 << 30;
+
 /// The filament diameters ballast reads a sliced file with, mm: 0.5 to 5 (printers feed 1.75,
 /// 2.85 or 3).
 pub const FILAMENT_DIAMETER_MM: std::ops::RangeInclusive<f64> = 0.5..=5.0;
