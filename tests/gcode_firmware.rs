@@ -199,13 +199,22 @@ fn arcs_that_are_not_arcs_are_errors() {
         ("G1 X1 Y1\nG2 X5 Y5 I0 J0 E1\n", "centre is its start"),
         ("G1 X1 Y1\nG3 R5 E1\n", "`R` must end elsewhere"),
         ("G18\nG1 X1 Y1\nG2 X5 Y5 I1 E1\n", "XY plane"),
-        ("G1 X1 Y1\nG2 I1 P2 E1\n", "full turns"),
+        ("G1 X1 Y1\nG2 I1 P2.5 E1\n", "full turns"),
+        ("G1 X1 Y1\nG2 I1 P101 E1\n", "full turns"),
     ];
     for (text, why) in cases {
         let error = read_deposit(text, 1.75).unwrap_err();
         assert!(matches!(error.kind, GcodeErrorKind::NotAnArc(_)), "{text}");
         assert!(error.to_string().contains(why), "{error}");
     }
+    // Whole extra turns (Marlin's `P`) at the start change nothing: a spiral lift (Bambu
+    // Studio's `G2 Z… I… J… P1`, a travel) ends above its start.
+    let lift = "M83\nG1 Z0.2 X10 Y10\nG2 Z0.6 I0.86 J0.86 P1 F20000\nG1 X12 E1\n";
+    assert_eq!(segments(lift)[0].start, Point3::new(10.0, 10.0, 0.6));
+    assert_eq!(
+        segments("G1 X1 Y1\nG2 I1 P3 E1\n"),
+        segments("G1 X1 Y1\nG2 I1 E1\n")
+    );
     // Back in the XY plane, arcs read again; an arc without `E` moves the nozzle only.
     let text = "G18\nG17\nM83\nG1 Z0.2 X1\nG2 I1 J0\nG1 X3 E1\n";
     assert_eq!(segments(text)[0].start, Point3::new(1.0, 0.0, 0.2));

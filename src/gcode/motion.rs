@@ -141,7 +141,9 @@ impl Motion {
 
     /// The arc from `start` to `end` that `G2` (`clockwise`) or `G3` draws with `axes`, as
     /// Marlin draws it: the centre at `I`, `J` from the start, or on the side `R` says (a
-    /// negative `R` for the longer way round); a full circle when it ends where it starts.
+    /// negative `R` for the longer way round); a full circle when it ends where it starts; the
+    /// full turns `P` asks for before it (0 to 100) left out, as they neither move the nozzle
+    /// on nor extrude.
     /// `None` when it is a straight line (the end on the ray from the centre to the start).
     pub fn arc(
         &self,
@@ -156,8 +158,15 @@ impl Motion {
         if !self.plane_xy {
             return Err(not_an_arc("arcs are read in the XY plane (`G17`) only"));
         }
-        if axes.p.is_some_and(|(p, _)| p != 0.0) {
-            return Err(not_an_arc("full turns (`P`) are not read"));
+        // Marlin's `P`: whole circles drawn where the arc starts, before it, neither moving on
+        // nor feeding filament, so they change nothing read here.
+        if axes
+            .p
+            .is_some_and(|(p, _)| p.fract() != 0.0 || !(0.0..=100.0).contains(&p))
+        {
+            return Err(not_an_arc(
+                "its full turns (`P`) are not a whole number from 0 to 100",
+            ));
         }
         for (value, word) in [axes.i, axes.j, axes.r].into_iter().flatten() {
             if !within(value, MAX_COORDINATE) {
