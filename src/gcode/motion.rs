@@ -15,10 +15,13 @@ pub(super) struct Axes<'a> {
     pub xyz: [Option<(f64, &'a str)>; 3],
     /// `E`.
     pub e: Option<(f64, &'a str)>,
-    /// An arc's centre offsets `I`, `J`, its radius `R` and its full turns `P`.
+    /// An arc's centre offset in x from its start, `I`.
     pub i: Option<(f64, &'a str)>,
+    /// An arc's centre offset in y, `J`.
     pub j: Option<(f64, &'a str)>,
+    /// An arc's radius, `R`.
     pub r: Option<(f64, &'a str)>,
+    /// An arc's whole extra turns, `P`.
     pub p: Option<(f64, &'a str)>,
 }
 
@@ -85,7 +88,9 @@ pub(super) fn checked_filament(value: f64, word: &str, line: usize) -> Result<f6
 /// filament deposited so far.
 #[derive(Debug)]
 pub(super) struct Motion {
+    /// Where the nozzle is, mm.
     pub position: Vector3<f64>,
+    /// The extruder's position, mm of filament.
     pub e: f64,
     /// Whether arcs are in the XY plane (`G17`, the default) rather than `G18`'s or `G19`'s.
     pub plane_xy: bool,

@@ -27,6 +27,7 @@ pub(super) struct Words<'a> {
 }
 
 impl<'a> Words<'a> {
+    /// The words of `code`, from its start.
     pub fn new(code: &'a str) -> Words<'a> {
         Words { code, at: 0 }
     }
