@@ -199,3 +199,17 @@ fn text_from_the_file_cannot_drive_the_terminal() {
         }
     }
 }
+
+/// A label in another encoding than UTF-8 (Latin-1) is read with its bad bytes replaced: no
+/// number or command holds one.
+#[test]
+fn text_that_is_not_utf8_is_read() {
+    let folder = tempfile::tempdir().unwrap();
+    let path = folder.path().join("latin1.gcode");
+    let mut bytes = b"M83\n; printing object caf\xe9 id:0 copy 0\nG1 Z0.3\nG1 X10 E1\n".to_vec();
+    bytes.extend_from_slice(b"; stop printing object caf\xe9 id:0 copy 0\n");
+    fs::write(&path, bytes).unwrap();
+    let output = ballast(&["verify", &t_shape(), "--gcode", path.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(1), "{}", stderr(&output));
+    assert!(stdout(&output).contains("object `caf\u{fffd} id:0 copy 0`"));
+}
