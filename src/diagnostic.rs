@@ -244,3 +244,44 @@ fn located(problem: &Problem, name: &str, text: &str) -> String {
     }
     out
 }
+
+/// `text` from a file (a G-code object label or `M117` message, a component name from a
+/// calibration file), fit to print on a terminal: every control character (C0, line ends and
+/// tabs included, DEL and C1, so ESC and the escape sequences it starts) is written as a
+/// visible escape such as `\u{1b}`, so no file can move the cursor, clear the screen or set the
+/// terminal's title. Borrowed when there is nothing to replace.
+pub fn printable(text: &str) -> std::borrow::Cow<'_, str> {
+    if !text.chars().any(char::is_control) {
+        return std::borrow::Cow::Borrowed(text);
+    }
+    let mut out = String::with_capacity(text.len() + 8);
+    for c in text.chars() {
+        if c.is_control() {
+            out.extend(c.escape_unicode());
+        } else {
+            out.push(c);
+        }
+    }
+    std::borrow::Cow::Owned(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::printable;
+
+    #[test]
+    fn control_characters_are_printed_as_escapes() {
+        assert!(matches!(
+            printable("keel «ü» 8 mm"),
+            std::borrow::Cow::Borrowed("keel «ü» 8 mm")
+        ));
+        assert_eq!(
+            printable("\u{1b}]0;title\u{7}T\u{1b}[31m"),
+            "\\u{1b}]0;title\\u{7}T\\u{1b}[31m"
+        );
+        assert_eq!(
+            printable("a\tb\nc\r\u{7f}\u{9b}2J"),
+            "a\\u{9}b\\u{a}c\\u{d}\\u{7f}\\u{9b}2J"
+        );
+    }
+}

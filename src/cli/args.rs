@@ -68,8 +68,8 @@ pub enum Command {
         /// Check this G-code file, sliced from the project's print files.
         #[arg(long, value_name = "FILE")]
         gcode: Option<PathBuf>,
-        /// Diameter of the filament the G-code feeds, mm (with `--gcode`).
-        #[arg(long, value_name = "MM", default_value_t = 1.75, value_parser = positive_mm)]
+        /// Diameter of the filament the G-code feeds, mm, 0.5 to 5 (with `--gcode`).
+        #[arg(long, value_name = "MM", default_value_t = 1.75, value_parser = filament_mm)]
         filament_diameter: f64,
         /// The command the G-code pauses with (with `--gcode`).
         #[arg(long, value_name = "GCODE", default_value = "M601")]
@@ -255,10 +255,15 @@ fn positive_seconds(text: &str) -> Result<f64, String> {
     }
 }
 
-/// A positive, finite length in millimetres.
-fn positive_mm(text: &str) -> Result<f64, String> {
+/// A filament diameter within [`crate::sliced::FILAMENT_DIAMETER_MM`].
+fn filament_mm(text: &str) -> Result<f64, String> {
+    let range = crate::sliced::FILAMENT_DIAMETER_MM;
     match text.parse::<f64>() {
-        Ok(value) if value.is_finite() && value > 0.0 => Ok(value),
-        _ => Err(format!("`{text}` is not a positive number of millimetres")),
+        Ok(value) if range.contains(&value) => Ok(value),
+        _ => Err(format!(
+            "`{text}` is not a filament diameter: give one from {} to {} mm",
+            range.start(),
+            range.end()
+        )),
     }
 }

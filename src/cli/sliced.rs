@@ -8,10 +8,13 @@ use std::sync::Arc;
 use super::diagnostics::render_for_terminal;
 use super::{compile_file, file_name, MessageFormat, EXIT_INVALID, EXIT_MET, EXIT_UNMET};
 use crate::compile::{calibration_path, calibration_text, Compilation, CompileOptions, Workspace};
-use crate::diagnostic::{Problem, SourceFile};
+use crate::diagnostic::{printable, Problem, SourceFile, MAX_DRAWN_BYTES};
 use crate::emit::write_atomic;
-use crate::gcode::GcodeError;
-use crate::sliced::{measured_corrections, verify_gcode, SlicedCheck, SlicedError, SlicedOptions};
+use crate::gcode::{GcodeError, GcodeErrorKind};
+use crate::regular_file::read_limited;
+use crate::sliced::{
+    measured_corrections, verify_gcode, SlicedCheck, SlicedError, SlicedOptions, MAX_GCODE_BYTES,
+};
 use crate::spec::codes;
 
 /// Checks the G-code at `gcode` against the project at `path`; prints the table, or the check
@@ -28,23 +31,32 @@ pub fn run(
     else {
         return EXIT_INVALID;
     };
-    let text = match std::fs::read_to_string(gcode) {
-        Ok(text) => text,
+    let shown_path = printable(&gcode.display().to_string()).into_owned();
+    let text = match read_limited(gcode, MAX_GCODE_BYTES) {
+        // Text that is not UTF-8 (a label in another encoding) is read with its bad bytes
+        // replaced: no number or command holds one.
+        Ok(bytes) => String::from_utf8(bytes)
+            .unwrap_or_else(|error| String::from_utf8_lossy(error.as_bytes()).into_owned()),
         Err(error) => {
-            eprintln!("error: cannot read {}: {error}", gcode.display());
+            eprintln!(
+                "error: cannot read {shown_path}: {}",
+                printable(&error.to_string())
+            );
+            if error.kind() == std::io::ErrorKind::FileTooLarge {
+                eprintln!("  help: ballast reads G-code files of at most 1 GiB (docs/limits.md)");
+            }
             return EXIT_INVALID;
         }
     };
     let check = match verify_gcode(&compilation, &compilation.print_plan, &text, sliced) {
         Ok(check) => check,
         Err(SlicedError::Gcode(error)) => {
-            let name = gcode.display().to_string();
-            let problem = unreadable(&error, &name, &text);
-            eprint!("{}", render_for_terminal(&[problem], &name, &text));
+            let problem = unreadable(&error, &shown_path, &text);
+            eprint!("{}", render_for_terminal(&[problem], &shown_path, ""));
             return EXIT_INVALID;
         }
         Err(error) => {
-            eprintln!("error: {}: {error}", gcode.display());
+            eprintln!("error: {shown_path}: {}", printable(&error.to_string()));
             return EXIT_INVALID;
         }
     };
@@ -83,15 +95,16 @@ fn write_calibration(
     check: &SlicedCheck,
 ) -> Result<(), String> {
     if let Some(mismatch) = check.components.iter().find_map(|c| c.mismatch.as_ref()) {
-        return Err(format!("no calibration written: {mismatch}"));
+        return Err(format!("no calibration written: {}", printable(mismatch)));
     }
     let corrections = measured_corrections(compilation, check);
+    // The reader bounds every number, so this should not happen; no file of infinities either way.
     if let Some(index) = corrections.iter().position(|correction| {
         !(correction.volume.is_finite() && correction.moment.iter().all(|m| m.is_finite()))
     }) {
         return Err(format!(
             "no calibration written: component `{}`'s plastic in the G-code is not a finite amount",
-            compilation.project.component_name(index)
+            printable(compilation.project.component_name(index))
         ));
     }
     let text = calibration_text(
@@ -111,34 +124,75 @@ fn write_calibration(
         .map(|(index, correction)| {
             format!(
                 "`{}` {:+.2} g",
-                compilation.project.component_name(index),
+                printable(compilation.project.component_name(index)),
                 correction.volume * grams
             )
         })
         .collect();
     eprintln!(
         "wrote {}: the mass model corrected by {} ({}); build again to design for it",
-        target.display(),
+        printable(&target.display().to_string()),
         changes.join(", "),
-        file_name(gcode)
+        printable(&file_name(gcode))
     );
     Ok(())
 }
 
-/// The diagnostic for a G-code line that does not read, pointed at the word.
+/// The most lines before a G-code error that its drawing counts (as empty lines, so that the
+/// line numbers drawn are the file's); past it, the error is given by its message alone.
+const MAX_LINES_BEFORE_DRAWN: usize = 1 << 20;
+
+/// The diagnostic for a G-code line that does not read, pointed at the word: drawn with the
+/// line before and after it, each [`printable`], the lines above left empty (a few bytes each,
+/// however long the file).
 fn unreadable(error: &GcodeError, name: &str, text: &str) -> Problem {
-    let start: usize = text
-        .split_inclusive('\n')
-        .take(error.line.saturating_sub(1))
-        .map(str::len)
-        .sum();
-    let line = text[start..].lines().next().unwrap_or("");
-    let at = start + line.find(error.word.as_str()).unwrap_or(0);
-    Problem::error(codes::GCODE_NUMBER, error.to_string())
-        .with_label((at, error.word.len()).into(), "not a number")
+    let (code, label) = match error.kind {
+        GcodeErrorKind::NotANumber => (codes::GCODE_NUMBER, "not a number"),
+        GcodeErrorKind::Repeated => (codes::GCODE_REPEATED, "an axis given again"),
+        GcodeErrorKind::OutOfRange | GcodeErrorKind::TooMuchFilament => {
+            (codes::GCODE_RANGE, "out of range")
+        }
+        GcodeErrorKind::NotAnArc(_) => (codes::GCODE_ARC, "not an arc"),
+        GcodeErrorKind::TooManyPauses => (codes::GCODE_PAUSES, "one pause too many"),
+        GcodeErrorKind::TooLong => (codes::GCODE_TEXT, "too long"),
+    };
+    let problem = Problem::error(code, printable(&error.to_string()).into_owned());
+    let first = error.line.saturating_sub(1).max(1);
+    if first > MAX_LINES_BEFORE_DRAWN {
+        return problem;
+    }
+    let mut shown = "\n".repeat(first - 1);
+    let mut start = 0;
+    let lines = text.split_inclusive('\n').enumerate();
+    for (index, line) in lines.skip(first - 1).take(error.line + 2 - first) {
+        if index + 1 == error.line {
+            start = shown.len();
+        }
+        let body = line.strip_suffix('\n').unwrap_or(line);
+        let body = body.strip_suffix('\r').unwrap_or(body);
+        if body.len() > MAX_DRAWN_BYTES {
+            // Too long to draw: its line and column are still given.
+            let mut end = MAX_DRAWN_BYTES;
+            while !body.is_char_boundary(end) {
+                end -= 1;
+            }
+            shown.push_str(&printable(&body[..end]));
+        } else {
+            shown.push_str(&printable(body));
+        }
+        shown.push('\n');
+    }
+    let line = shown[start..].lines().next().unwrap_or("");
+    let word = printable(error.word.strip_suffix('…').unwrap_or(&error.word));
+    let (at, length) = match line.find(word.as_ref()) {
+        Some(at) => (start + at, word.len()),
+        None => (start, 0),
+    };
+    problem
+        .with_label((at, length).into(), label)
         .in_file(SourceFile {
             name: name.to_string(),
-            text: Arc::from(text),
+            text: Arc::from(shown),
         })
 }
 
@@ -148,7 +202,9 @@ fn table(check: &SlicedCheck, project_name: &str, gcode_name: &str) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "{project_name}: checked against {gcode_name} ({} layers); angles in degrees, masses in grams",
+        "{}: checked against {} ({} layers); angles in degrees, masses in grams",
+        printable(project_name),
+        printable(gcode_name),
         check.layers
     );
     for component in &check.components {
@@ -156,14 +212,14 @@ fn table(check: &SlicedCheck, project_name: &str, gcode_name: &str) -> String {
             .object
             .as_deref()
             .map_or("the only object".to_string(), |label| {
-                format!("object `{label}`")
+                format!("object `{}`", printable(label))
             });
         let [x, y, z] = component.centroid;
         let _ = writeln!(
             out,
             "\ncomponent \"{}\": {object}, moved on the bed by ({:+.2}, {:+.2})\n  sliced {:.2} \
              at ({x:.2}, {y:.2}, {z:.2}) in its rest frame, {} extrusions",
-            component.component,
+            printable(&component.component),
             component.shift[0],
             component.shift[1],
             component.mass,
@@ -178,14 +234,14 @@ fn table(check: &SlicedCheck, project_name: &str, gcode_name: &str) -> String {
                     "after layer {} (height {:.2}) \"{}\": found on line {}",
                     planned.layers_done,
                     planned.height,
-                    planned.messages.join("\", \""),
+                    printable(&planned.messages.join("\", \"")),
                     found.line
                 ),
                 (Some(planned), None) => format!(
                     "after layer {} (height {:.2}) \"{}\": not found",
                     planned.layers_done,
                     planned.height,
-                    planned.messages.join("\", \"")
+                    printable(&planned.messages.join("\", \""))
                 ),
                 (None, Some(found)) => format!(
                     "after layer {} (line {}): not planned",
@@ -215,7 +271,8 @@ fn table(check: &SlicedCheck, project_name: &str, gcode_name: &str) -> String {
             let _ = writeln!(
                 out,
                 "  capsule `{}`: {state} ({closest} from the axis, limit {:.2})",
-                void.capsule, void.limit
+                printable(&void.capsule),
+                void.limit
             );
         }
     }
@@ -223,7 +280,9 @@ fn table(check: &SlicedCheck, project_name: &str, gcode_name: &str) -> String {
         let _ = writeln!(
             out,
             "\npose \"{}\": mass computed {:.2}, sliced {:.2}",
-            pose.pose, pose.computed_mass, pose.sliced_mass
+            printable(&pose.pose),
+            pose.computed_mass,
+            pose.sliced_mass
         );
         for goal in &pose.goals {
             let _ = writeln!(
@@ -251,7 +310,7 @@ fn table(check: &SlicedCheck, project_name: &str, gcode_name: &str) -> String {
             if failures.len() == 1 { "" } else { "s" }
         );
         for failure in failures {
-            let _ = writeln!(out, "  - {failure}");
+            let _ = writeln!(out, "  - {}", printable(&failure));
         }
     }
     out

@@ -2,19 +2,30 @@
 //! where it pauses (`docs/physics.md`, "The mass of a print"; `docs/fabrication.md`, "Checking
 //! the sliced file").
 //!
-//! Understood: `G0`/`G1` moves (`X`, `Y`, `Z`, `E`), `G90`/`G91` (absolute or relative
-//! positions, `E` included, as Marlin does), `M82`/`M83` (absolute or relative `E`), `G92`
-//! (setting positions), `M117` (a message on the printer's screen), the pause command (`M601`
-//! unless told otherwise) and the comments slicers label objects with (see [`read_program`]).
-//! Everything else (temperatures, fans, other comments) is skipped. A move that extrudes (`E`
-//! grows) while it moves in `X`, `Y` or `Z` deposits the filament it feeds along its path;
-//! `E` changes without motion are retractions and their undoing.
+//! Understood: `G0`/`G1` moves (`X`, `Y`, `Z`, `E`), `G2`/`G3` arcs (centre by `I`/`J` or radius
+//! `R`, in the XY plane, split into chords), `G90`/`G91` (absolute or relative positions, `E`
+//! included, as Marlin does), `M82`/`M83` (absolute or relative `E`), `G92` (setting positions),
+//! `M117` (a message on the printer's screen), the pause command (`M601` unless told otherwise)
+//! and the comments slicers label objects with (see [`read_program`]). Words are read as the
+//! firmware reads them (`words.rs`): with or without spaces, either case, a line number `N` and
+//! checksum `*` dropped. Everything else (temperatures, fans, other comments) is skipped. A move
+//! that extrudes (`E` grows) while it moves in `X`, `Y` or `Z` deposits the filament it feeds
+//! along its path; `E` changes without motion are retractions and their undoing.
+//!
+//! Every number read is bounded: coordinates within [`MAX_COORDINATE`], filament within
+//! [`MAX_FILAMENT`], so no sum of them overflows; a line costs time linear in its length and at
+//! most one copy of its text (a label or a message).
 //!
 //! The module knows G-code and nothing of ballast: positions are the printer's, in mm.
 
+mod motion;
 mod program;
+mod words;
 
-pub use program::{read_program, PauseMark, PrintedObject, Program, ReadOptions, Segment};
+pub use program::{
+    read_program, scan_program, ObjectOutline, Outline, PauseMark, PrintedObject, Program,
+    ReadOptions, Segment,
+};
 
 use nalgebra::{Point3, Vector3};
 use thiserror::Error;
@@ -37,14 +48,90 @@ impl Deposit {
     }
 }
 
+/// The largest coordinate read, mm (1 km, past any printer): a move, `G92` or arc word that
+/// goes further is an error.
+pub const MAX_COORDINATE: f64 = 1e6;
+/// The largest filament length read, mm (1000 km): an `E` position, or the total a program
+/// deposits, past it is an error.
+pub const MAX_FILAMENT: f64 = 1e9;
+/// The most pauses a program may have.
+pub const MAX_PAUSES: usize = 10_000;
+/// The longest object label or `M117` message read, bytes (64 KiB; a printer's screen shows a
+/// few dozen characters).
+pub const MAX_TEXT_BYTES: usize = 64 << 10;
+/// The most of a word at fault an error repeats, characters; a longer one ends in `…`.
+const MAX_WORD_SHOWN: usize = 40;
+/// Chords an arc is split into per full turn (an arc of any angle into at most this many): each
+/// chord spans at most 5.625°, so it lies within 0.12% of the radius of its arc.
+pub const ARC_CHORDS_PER_TURN: usize = 64;
+
 /// A G-code line that cannot be read.
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
-#[error("G-code line {line}: `{word}` is not a number")]
+#[error("G-code line {line}: {}", self.kind.describe(&self.word))]
 pub struct GcodeError {
     /// 1-based line number.
     pub line: usize,
-    /// The word whose value does not parse.
+    /// The word at fault, as written (may be empty, for a line at fault as a whole), cut to its
+    /// first 40 characters and `…` when longer.
     pub word: String,
+    /// What is wrong with it.
+    pub kind: GcodeErrorKind,
+}
+
+/// What is wrong with a G-code line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GcodeErrorKind {
+    /// A word whose value does not parse.
+    NotANumber,
+    /// A move gives one axis twice (G-code numbers have no exponent: `E1e3` is `E1`, `e3`).
+    Repeated,
+    /// A coordinate past [`MAX_COORDINATE`].
+    OutOfRange,
+    /// An `E` position, or the filament deposited, past [`MAX_FILAMENT`].
+    TooMuchFilament,
+    /// A `G2`/`G3` that is no arc ballast reads, and why.
+    NotAnArc(&'static str),
+    /// More than [`MAX_PAUSES`] pauses.
+    TooManyPauses,
+    /// An object label or `M117` message longer than [`MAX_TEXT_BYTES`].
+    TooLong,
+}
+
+impl GcodeError {
+    /// The error of kind `kind` at `word` of line `line`.
+    fn new(line: usize, word: &str, kind: GcodeErrorKind) -> GcodeError {
+        let word = match word.char_indices().nth(MAX_WORD_SHOWN) {
+            Some((at, _)) => format!("{}…", &word[..at]),
+            None => word.to_string(),
+        };
+        GcodeError { line, word, kind }
+    }
+}
+
+impl GcodeErrorKind {
+    fn describe(self, word: &str) -> String {
+        match self {
+            GcodeErrorKind::NotANumber => format!("`{word}` is not a number"),
+            GcodeErrorKind::Repeated => format!(
+                "`{word}` gives an axis a second value in one move (G-code numbers have no \
+                 exponent: `E1e3` is `E1` then `e3`)"
+            ),
+            GcodeErrorKind::OutOfRange => format!(
+                "`{word}` takes a coordinate past {MAX_COORDINATE:e} mm, beyond any printer"
+            ),
+            GcodeErrorKind::TooMuchFilament => {
+                format!("`{word}` takes the filament past {MAX_FILAMENT:e} mm, beyond any print")
+            }
+            GcodeErrorKind::NotAnArc(why) => format!("`{word}` is not an arc ballast reads: {why}"),
+            GcodeErrorKind::TooManyPauses => {
+                format!("more than {MAX_PAUSES} pauses, beyond any print")
+            }
+            GcodeErrorKind::TooLong => format!(
+                "`{word}` is an object label or message longer than {} KiB, beyond any print",
+                MAX_TEXT_BYTES >> 10
+            ),
+        }
+    }
 }
 
 /// The deposit of the G-code `text`, every object together, with filament of

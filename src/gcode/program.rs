@@ -1,11 +1,14 @@
 //! One pass over a G-code program: its extrusion segments by printed object, its layers and its
-//! pauses.
+//! pauses. [`scan_program`] hands each segment to its caller as it is read and keeps only what
+//! is per object, per layer and per pause; [`read_program`] keeps every segment too.
 
 use std::collections::HashMap;
 
 use nalgebra::{Point3, Vector3};
 
-use super::GcodeError;
+use super::motion::{Axes, Motion};
+use super::words::{command, split_line, Pattern};
+use super::{GcodeError, GcodeErrorKind, MAX_PAUSES, MAX_TEXT_BYTES};
 
 /// What to look for beyond moves.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -42,11 +45,52 @@ impl Program {
     /// Thickness of layer `index`: its height less the previous layer's (the first layer's from
     /// the bed at 0); 0 past the last layer.
     pub fn layer_thickness(&self, index: usize) -> f64 {
-        match (index.checked_sub(1), self.layers.get(index)) {
-            (_, None) => 0.0,
-            (None, Some(z)) => *z,
-            (Some(below), Some(z)) => z - self.layers[below],
-        }
+        layer_thickness(&self.layers, index)
+    }
+}
+
+/// A G-code program without its segments: what [`scan_program`] keeps.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Outline {
+    /// The printed objects, in the order of [`Program::objects`].
+    pub objects: Vec<ObjectOutline>,
+    /// As [`Program::layers`].
+    pub layers: Vec<f64>,
+    /// As [`Program::pauses`].
+    pub pauses: Vec<PauseMark>,
+}
+
+impl Outline {
+    /// As [`Program::layer_thickness`].
+    pub fn layer_thickness(&self, index: usize) -> f64 {
+        layer_thickness(&self.layers, index)
+    }
+}
+
+fn layer_thickness(layers: &[f64], index: usize) -> f64 {
+    match (index.checked_sub(1), layers.get(index)) {
+        (_, None) => 0.0,
+        (None, Some(z)) => *z,
+        (Some(below), Some(z)) => z - layers[below],
+    }
+}
+
+/// One printed object of an [`Outline`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct ObjectOutline {
+    /// The number [`scan_program`] hands with each of the object's segments: objects are
+    /// numbered from 0 in the order the reader first meets them.
+    pub id: usize,
+    /// As [`PrintedObject::label`].
+    pub label: Option<String>,
+    /// How many extrusion segments it has.
+    pub segments: usize,
+}
+
+impl ObjectOutline {
+    /// As [`PrintedObject::name`].
+    pub fn name(&self) -> Option<&str> {
+        self.label.as_deref().map(object_name)
     }
 }
 
@@ -63,16 +107,19 @@ pub struct PrintedObject {
 impl PrintedObject {
     /// The object's name: the label without PrusaSlicer's ` id:N copy M` suffix.
     pub fn name(&self) -> Option<&str> {
-        let label = self.label.as_deref()?;
-        let name = label
-            .rfind(" id:")
-            .filter(|&at| label[at..].contains(" copy "))
-            .map_or(label, |at| &label[..at]);
-        Some(name)
+        self.label.as_deref().map(object_name)
     }
 }
 
-/// One extruding move.
+/// `label` without PrusaSlicer's ` id:N copy M` suffix.
+fn object_name(label: &str) -> &str {
+    label
+        .rfind(" id:")
+        .filter(|&at| label[at..].contains(" copy "))
+        .map_or(label, |at| &label[..at])
+}
+
+/// One extruding move, or one chord of an extruding arc.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Segment {
     /// Where the nozzle starts, mm.
@@ -105,7 +152,7 @@ pub struct PauseMark {
 /// How far two heights may differ and still be one layer, mm.
 const SAME_LAYER: f64 = 1e-6;
 
-/// Reads the G-code `text`.
+/// Reads the G-code `text`, keeping every segment.
 ///
 /// Objects are told apart by the comments slicers write around each object's moves:
 /// PrusaSlicer's `; printing object NAME` … `; stop printing object NAME` (its
@@ -114,69 +161,86 @@ const SAME_LAYER: f64 = 1e-6;
 /// its objects for the firmware instead: `M486 S<n>` starts object `n` (named by an `A` word on
 /// that line or an earlier one for `n`, else labelled `n`), `M486 S-1` ends it.
 pub fn read_program(text: &str, options: &ReadOptions) -> Result<Program, GcodeError> {
-    let pause = normalise(&options.pause_gcode);
+    let mut segments: Vec<Vec<Segment>> = Vec::new();
+    let outline = scan_program(text, options, |id, segment| {
+        if segments.len() <= id {
+            segments.resize_with(id + 1, Vec::new);
+        }
+        segments[id].push(*segment);
+    })?;
+    let objects = outline
+        .objects
+        .into_iter()
+        .map(|object| PrintedObject {
+            label: object.label,
+            segments: segments
+                .get_mut(object.id)
+                .map(std::mem::take)
+                .unwrap_or_default(),
+        })
+        .collect();
+    Ok(Program {
+        objects,
+        layers: outline.layers,
+        pauses: outline.pauses,
+    })
+}
+
+/// Reads the G-code `text` as [`read_program`] does, handing each segment to `segment` with
+/// its object's [`ObjectOutline::id`] as it is read, in print order, and keeping none: memory
+/// grows with the objects, layers and pauses, not with the moves.
+pub fn scan_program(
+    text: &str,
+    options: &ReadOptions,
+    mut segment: impl FnMut(usize, &Segment),
+) -> Result<Outline, GcodeError> {
+    let pause = Pattern::new(&options.pause_gcode);
     let firmware_labels = !text.lines().any(|raw| {
         raw.split_once(';')
             .is_some_and(|(_, comment)| label_change(comment).is_some())
     });
-    let mut firmware_names: Vec<(i64, String)> = Vec::new();
     let mut state = State::default();
     for (index, raw) in text.lines().enumerate() {
         let line = index + 1;
-        let (code, comment) = raw.split_once(';').unwrap_or((raw, ""));
+        let (code, comment) = split_line(raw);
         if let Some(label) = label_change(comment) {
-            let object = label.map(|name| state.object(Some(name)));
-            state.current = object;
+            if let Some(name) = label {
+                checked_text(name, line)?;
+            }
+            state.current = label.map(|name| state.object(Some(name)));
             continue;
         }
         let code = code.trim();
         if code.is_empty() {
             continue;
         }
-        if !pause.is_empty() && normalise(code) == pause {
-            state.pause(line);
+        if !pause.is_empty() && pause.matches(code) {
+            state.pause(line)?;
             continue;
         }
-        let (command, rest) = code.split_once(char::is_whitespace).unwrap_or((code, ""));
-        let command = command.to_ascii_uppercase();
-        match command.as_str() {
-            "G90" => (state.relative_xyz, state.relative_e) = (false, false),
-            "G91" => (state.relative_xyz, state.relative_e) = (true, true),
-            "M82" => state.relative_e = false,
-            "M83" => state.relative_e = true,
-            "M117" => state.message = Some(rest.trim().to_string()),
-            "M486" if firmware_labels => {
-                if let Some((id, name)) = firmware_label(rest) {
-                    if id < 0 {
-                        state.current = None;
-                    } else {
-                        let known = firmware_names.iter().find(|(n, _)| *n == id);
-                        let label = match (name, known) {
-                            (Some(name), _) => name,
-                            (None, Some((_, name))) => name.clone(),
-                            (None, None) => id.to_string(),
-                        };
-                        if known.is_none() {
-                            firmware_names.push((id, label.clone()));
-                        }
-                        state.current = Some(state.object(Some(label)));
-                    }
-                }
+        let Some((command, words)) = command(code) else {
+            continue;
+        };
+        if command.subcode.is_some() {
+            continue;
+        }
+        match (command.letter, command.code) {
+            (b'G', 90) => (state.relative_xyz, state.relative_e) = (false, false),
+            (b'G', 91) => (state.relative_xyz, state.relative_e) = (true, true),
+            (b'M', 82) => state.relative_e = false,
+            (b'M', 83) => state.relative_e = true,
+            (b'G', 17) => state.motion.plane_xy = true,
+            (b'G', 18 | 19) => state.motion.plane_xy = false,
+            (b'M', 117) => {
+                state.message = Some(checked_text(words.rest().trim(), line)?.to_string());
             }
-            "G92" => {
-                let values = axis_values(rest, line)?;
-                for (axis, value) in values.iter().take(3).enumerate() {
-                    if let Some(v) = value {
-                        state.position[axis] = *v;
-                    }
-                }
-                if let Some(v) = values[3] {
-                    state.e = v;
-                }
+            (b'M', 486) if firmware_labels => {
+                state.firmware_label(checked_text(words.rest(), line)?)
             }
-            "G0" | "G1" => {
-                let values = axis_values(rest, line)?;
-                state.motion(values, line);
+            (b'G', 92) => state.set_position(&Axes::read(words, line)?, line)?,
+            (b'G', code @ 0..=3) => {
+                let axes = Axes::read(words, line)?;
+                state.motion(code, &axes, line, &mut segment)?;
             }
             _ => {}
         }
@@ -184,80 +248,57 @@ pub fn read_program(text: &str, options: &ReadOptions) -> Result<Program, GcodeE
     Ok(state.finish())
 }
 
-/// A line's code with its words upper-cased and single-spaced.
-fn normalise(code: &str) -> String {
-    code.split_whitespace()
-        .map(str::to_ascii_uppercase)
-        .collect::<Vec<_>>()
-        .join(" ")
+/// `text` (a label or message of line `line`) when it is within [`MAX_TEXT_BYTES`].
+fn checked_text(text: &str, line: usize) -> Result<&str, GcodeError> {
+    if text.len() <= MAX_TEXT_BYTES {
+        Ok(text)
+    } else {
+        Err(GcodeError::new(line, text, GcodeErrorKind::TooLong))
+    }
 }
 
 /// `Some(Some(label))` when `comment` starts an object, `Some(None)` when it ends one.
-fn label_change(comment: &str) -> Option<Option<String>> {
+fn label_change(comment: &str) -> Option<Option<&str>> {
     let comment = comment.trim();
     if let Some(id) = comment.strip_prefix("start printing object, unique label id:") {
-        return Some(Some(id.trim().to_string()));
+        return Some(Some(id.trim()));
     }
     if comment.starts_with("stop printing object") {
         return Some(None);
     }
     comment
         .strip_prefix("printing object ")
-        .map(|label| Some(label.trim().to_string()))
+        .map(|label| Some(label.trim()))
 }
 
 /// The object index of an `M486 S<n>` and the name its `A` word gives, if any (quotes
 /// dropped); `None` for the other `M486` forms (`T`, `P`, `U`, `C`).
-fn firmware_label(words: &str) -> Option<(i64, Option<String>)> {
+fn firmware_label(words: &str) -> Option<(i64, Option<&str>)> {
     let (index, name) = match words.find(['A', 'a']) {
         Some(at) => (&words[..at], Some(words[at + 1..].trim().trim_matches('"'))),
         None => (words, None),
     };
     let mut index = index.split_whitespace();
     let id = index.next()?.strip_prefix(['S', 's'])?.parse().ok()?;
-    Some((id, name.filter(|n| !n.is_empty()).map(str::to_string)))
-}
-
-/// The `X`, `Y`, `Z` and `E` values of a move's words.
-fn axis_values(words: &str, line: usize) -> Result<[Option<f64>; 4], GcodeError> {
-    let mut values = [None; 4];
-    for word in words.split_whitespace() {
-        let (letter, number) = word.split_at(word.chars().next().map_or(0, char::len_utf8));
-        let slot = match letter.to_ascii_uppercase().as_str() {
-            "X" => 0,
-            "Y" => 1,
-            "Z" => 2,
-            "E" => 3,
-            _ => continue,
-        };
-        let bad = || GcodeError {
-            line,
-            word: word.to_owned(),
-        };
-        let value: f64 = number.parse().map_err(|_| bad())?;
-        if !value.is_finite() {
-            return Err(bad());
-        }
-        values[slot] = Some(value);
-    }
-    Ok(values)
+    Some((id, name.filter(|n| !n.is_empty())))
 }
 
 /// The reader's state between lines.
 #[derive(Debug, Default)]
 struct State {
-    position: Vector3<f64>,
-    e: f64,
+    motion: Motion,
     relative_xyz: bool,
     relative_e: bool,
-    objects: Vec<PrintedObject>,
-    /// Index into `objects` of each label seen (`None`: the unlabelled extrusions), so a file
-    /// of many objects is read in time linear in its length.
-    indices: HashMap<Option<String>, usize>,
+    objects: Vec<ObjectOutline>,
+    /// Index into `objects` of each label seen, so a file of many objects is read in time
+    /// linear in its length.
+    labelled: HashMap<String, usize>,
+    /// Index into `objects` of the unlabelled extrusions, once there are some.
+    unlabelled: Option<usize>,
+    /// The names `M486 A` gave each firmware object index.
+    firmware_names: HashMap<i64, String>,
     /// Index into `objects` of the labelled object printing now.
     current: Option<usize>,
-    /// Whether any label was seen.
-    labelled: bool,
     layers: Vec<f64>,
     pauses: Vec<PauseMark>,
     message: Option<String>,
@@ -265,20 +306,53 @@ struct State {
 
 impl State {
     /// Index of the object labelled `label`, added when new.
-    fn object(&mut self, label: Option<String>) -> usize {
-        self.labelled |= label.is_some();
-        if let Some(&index) = self.indices.get(&label) {
+    fn object(&mut self, label: Option<&str>) -> usize {
+        let known = match label {
+            Some(label) => self.labelled.get(label).copied(),
+            None => self.unlabelled,
+        };
+        if let Some(index) = known {
             return index;
         }
-        self.indices.insert(label.clone(), self.objects.len());
-        self.objects.push(PrintedObject {
-            label,
-            segments: Vec::new(),
+        let index = self.objects.len();
+        match label {
+            Some(label) => {
+                self.labelled.insert(label.to_string(), index);
+            }
+            None => self.unlabelled = Some(index),
+        }
+        self.objects.push(ObjectOutline {
+            id: index,
+            label: label.map(str::to_string),
+            segments: 0,
         });
-        self.objects.len() - 1
+        index
     }
 
-    fn pause(&mut self, line: usize) {
+    /// An `M486` with these words.
+    fn firmware_label(&mut self, words: &str) {
+        let Some((id, name)) = firmware_label(words) else {
+            return;
+        };
+        if id < 0 {
+            self.current = None;
+            return;
+        }
+        let label = match (name, self.firmware_names.get(&id)) {
+            (Some(name), _) => name.to_string(),
+            (None, Some(name)) => name.clone(),
+            (None, None) => id.to_string(),
+        };
+        self.firmware_names
+            .entry(id)
+            .or_insert_with(|| label.clone());
+        self.current = Some(self.object(Some(&label)));
+    }
+
+    fn pause(&mut self, line: usize) -> Result<(), GcodeError> {
+        if self.pauses.len() >= MAX_PAUSES {
+            return Err(GcodeError::new(line, "", GcodeErrorKind::TooManyPauses));
+        }
         self.pauses.push(PauseMark {
             line,
             message: self.message.take(),
@@ -286,30 +360,54 @@ impl State {
             height: self.layers.last().copied(),
             resume_height: None,
         });
+        Ok(())
     }
 
-    /// A `G0`/`G1` with these axis values.
-    fn motion(&mut self, values: [Option<f64>; 4], line: usize) {
-        let start = self.position;
-        for (axis, value) in values.iter().take(3).enumerate() {
-            if let Some(v) = *value {
-                self.position[axis] = if self.relative_xyz {
-                    self.position[axis] + v
-                } else {
-                    v
-                };
+    /// A `G92` with these axis values.
+    fn set_position(&mut self, axes: &Axes, line: usize) -> Result<(), GcodeError> {
+        let position = self.motion.position;
+        let mut target = position;
+        for (axis, value) in axes.xyz.iter().enumerate() {
+            if let Some((v, _)) = value {
+                target[axis] = *v;
             }
         }
-        let fed = match values[3] {
-            Some(v) if self.relative_e => v,
-            Some(v) => v - self.e,
-            None => 0.0,
-        };
-        self.e += fed;
-        if fed <= 0.0 || self.position == start {
-            return;
+        self.motion.position = self.motion.checked(target, axes, line)?;
+        if let Some((v, word)) = axes.e {
+            self.motion.e = super::motion::checked_filament(v, word, line)?;
         }
-        let z = self.position.z;
+        Ok(())
+    }
+
+    /// A `G0`/`G1` (`code` 0 or 1) or an arc (`G2` clockwise, `G3` counter-clockwise) with
+    /// these axis values: each extruding piece goes to `emit`.
+    fn motion(
+        &mut self,
+        code: u32,
+        axes: &Axes,
+        line: usize,
+        emit: &mut impl FnMut(usize, &Segment),
+    ) -> Result<(), GcodeError> {
+        let start = self.motion.position;
+        let mut end = start;
+        for (axis, value) in axes.xyz.iter().enumerate() {
+            if let Some((v, _)) = *value {
+                end[axis] = if self.relative_xyz { end[axis] + v } else { v };
+            }
+        }
+        let end = self.motion.checked(end, axes, line)?;
+        let fed = self.motion.feed(axes, self.relative_e, line)?;
+        let path = match code {
+            2 | 3 => self.motion.arc(code == 2, start, end, axes, line)?,
+            _ => None,
+        };
+        self.motion.position = end;
+        let moved = path.as_ref().map_or(end != start, |arc| arc.moves());
+        if fed <= 0.0 || !moved {
+            return Ok(());
+        }
+        self.motion.deposit(fed, axes, line)?;
+        let z = end.z;
         if self
             .layers
             .last()
@@ -328,24 +426,36 @@ impl State {
             Some(index) => index,
             None => self.object(None),
         };
-        self.objects[object].segments.push(Segment {
-            start: Point3::from(start),
-            end: Point3::from(self.position),
-            filament: fed,
-            layer: self.layers.len() - 1,
-            line,
-        });
+        let layer = self.layers.len() - 1;
+        let mut piece = |start: Vector3<f64>, end: Vector3<f64>, filament: f64| {
+            self.objects[object].segments += 1;
+            emit(
+                object,
+                &Segment {
+                    start: Point3::from(start),
+                    end: Point3::from(end),
+                    filament,
+                    layer,
+                    line,
+                },
+            );
+        };
+        match path {
+            None => piece(start, end, fed),
+            Some(arc) => arc.chords(fed, &mut piece),
+        }
+        Ok(())
     }
 
-    fn finish(mut self) -> Program {
+    fn finish(mut self) -> Outline {
         // Unlabelled extrusions come last when the file labels its objects.
-        if self.labelled {
-            if let Some(at) = self.objects.iter().position(|o| o.label.is_none()) {
+        if !self.labelled.is_empty() {
+            if let Some(at) = self.unlabelled {
                 let unlabelled = self.objects.remove(at);
                 self.objects.push(unlabelled);
             }
         }
-        Program {
+        Outline {
             objects: self.objects,
             layers: self.layers,
             pauses: self.pauses,

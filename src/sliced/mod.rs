@@ -20,6 +20,7 @@ use serde::Serialize;
 use thiserror::Error;
 
 pub use pauses::{FoundPause, PauseCheck, PlannedPause};
+use placement::NozzleBoxes;
 pub use placement::SlicedComponent;
 pub use voids::VoidCheck;
 
@@ -28,13 +29,21 @@ use crate::balance::{
 };
 use crate::compile::Compilation;
 use crate::fabrication::PrintPlan;
-use crate::gcode::{read_program, GcodeError, ReadOptions};
+use crate::gcode::{scan_program, GcodeError, ReadOptions};
 use crate::geometry::{PrintCorrection, Region};
+
+/// The largest G-code file `ballast verify --gcode` reads, bytes (1 GiB): the file is read
+/// whole, and its size is checked before it is.
+pub const MAX_GCODE_BYTES: u64 = 1 << 30;
+
+/// The filament diameters ballast reads a sliced file with, mm: 0.5 to 5 (printers feed 1.75,
+/// 2.85 or 3).
+pub const FILAMENT_DIAMETER_MM: std::ops::RangeInclusive<f64> = 0.5..=5.0;
 
 /// How to read the sliced file.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SlicedOptions {
-    /// Diameter of the filament, mm (1.75 unless told).
+    /// Diameter of the filament, mm (1.75 unless told), within [`FILAMENT_DIAMETER_MM`].
     pub filament_diameter: f64,
     /// The command the slicer pauses with (`M601` unless told).
     pub pause_gcode: String,
@@ -55,6 +64,13 @@ pub enum SlicedError {
     /// A line does not read.
     #[error(transparent)]
     Gcode(#[from] GcodeError),
+    /// The filament diameter is outside [`FILAMENT_DIAMETER_MM`].
+    #[error(
+        "a filament diameter of {0} mm is outside {low} to {high} mm",
+        low = FILAMENT_DIAMETER_MM.start(),
+        high = FILAMENT_DIAMETER_MM.end()
+    )]
+    FilamentDiameter(f64),
     /// Nothing is extruded.
     #[error("the G-code extrudes nothing")]
     Empty,
@@ -152,20 +168,30 @@ pub fn verify_gcode(
     gcode: &str,
     options: &SlicedOptions,
 ) -> Result<SlicedCheck, SlicedError> {
-    let program = read_program(
-        gcode,
-        &ReadOptions {
-            pause_gcode: options.pause_gcode.clone(),
-        },
-    )?;
-    if program.objects.iter().all(|o| o.segments.is_empty()) {
+    let range = FILAMENT_DIAMETER_MM;
+    if !range.contains(&options.filament_diameter) {
+        return Err(SlicedError::FilamentDiameter(options.filament_diameter));
+    }
+    let read = ReadOptions {
+        pause_gcode: options.pause_gcode.clone(),
+    };
+    let mm = compilation.project.units.from_millimetres(1.0);
+    // Two passes over the text, so that memory does not grow with the moves: the objects,
+    // layers, pauses and each object's extent first, then each extrusion mapped back.
+    let mut boxes = NozzleBoxes::new();
+    let outline = scan_program(gcode, &read, |id, segment| {
+        placement::grow_box(&mut boxes, id, segment, mm)
+    })?;
+    if outline.objects.iter().all(|o| o.segments == 0) {
         return Err(SlicedError::Empty);
     }
-    let placed = placement::place(compilation, plan, &program, options.filament_diameter)?;
-    let components: Vec<SlicedComponent> = placed.iter().map(|p| p.summary.clone()).collect();
-    let mm = compilation.project.units.from_millimetres(1.0);
-    let pauses = pauses::check(plan, &program, mm);
-    let voids = voids::check(compilation, &placed);
+    let mut placement = placement::place(compilation, plan, &outline, &boxes)?;
+    let mut voids = voids::start(compilation);
+    scan_program(gcode, &read, |id, segment| {
+        placement.count(compilation, &outline, &mut voids, (id, segment))
+    })?;
+    let components = placement.finish(compilation, options.filament_diameter);
+    let pauses = pauses::check(plan, &outline, mm);
     let bodies: Vec<ComponentBody> = compilation
         .meshes
         .iter()
@@ -194,7 +220,7 @@ pub fn verify_gcode(
         .collect();
     Ok(SlicedCheck {
         components,
-        layers: program.layers.len(),
+        layers: outline.layers.len(),
         pauses,
         voids,
         poses,

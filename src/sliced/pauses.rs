@@ -11,7 +11,7 @@ use std::collections::BTreeMap;
 use serde::Serialize;
 
 use crate::fabrication::PrintPlan;
-use crate::gcode::{PauseMark, Program};
+use crate::gcode::{Outline, PauseMark};
 
 /// A pause as the plan has it.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -56,7 +56,7 @@ pub struct PauseCheck {
 /// Every planned pause of `plan` against the pauses of `program` (heights `mm` project units
 /// per mm); two heights are one when they differ by less than a quarter of the plan's layer
 /// height.
-pub(super) fn check(plan: &PrintPlan, program: &Program, mm: f64) -> Vec<PauseCheck> {
+pub(super) fn check(plan: &PrintPlan, program: &Outline, mm: f64) -> Vec<PauseCheck> {
     let layer_height = plan.layer_height;
     let mut planned: BTreeMap<usize, PlannedPause> = BTreeMap::new();
     for pause in plan.components.iter().flat_map(|c| &c.pauses) {

@@ -10,13 +10,14 @@
 //! the nozzle's, at the top of the layer: each extrusion's material is taken half its layer's
 //! thickness lower. Then `to_bed` is undone.
 
-use nalgebra::{Point3, Vector3};
+use nalgebra::{Isometry3, Point3, Vector3};
 use serde::Serialize;
 
+use super::voids::{self, VoidCheck};
 use super::SlicedError;
 use crate::compile::Compilation;
 use crate::fabrication::PrintPlan;
-use crate::gcode::{filament_area, PrintedObject, Program};
+use crate::gcode::{filament_area, ObjectOutline, Outline, Segment};
 
 /// One component as the file prints it.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -46,31 +47,61 @@ pub struct SlicedComponent {
     pub centroid: [f64; 3],
 }
 
-/// A component's printed object, mapped back.
-#[derive(Debug, Clone)]
-pub(super) struct Placed {
-    /// What is reported.
-    pub summary: SlicedComponent,
-    /// Its extrusion segments' material centre lines, rest frame, with their line numbers.
-    pub segments: Vec<(Point3<f64>, Point3<f64>, usize)>,
+/// The bounding box of each printed object's nozzle path, project units, by
+/// [`ObjectOutline::id`]; `None` for an object with no extrusion.
+pub(super) type NozzleBoxes = Vec<Option<(Point3<f64>, Point3<f64>)>>;
+
+/// Grows `boxes` by `segment` of object `id` (project units at `mm` per mm), its start then its
+/// end: the first pass over the file.
+pub(super) fn grow_box(boxes: &mut NozzleBoxes, id: usize, segment: &Segment, mm: f64) {
+    if boxes.len() <= id {
+        boxes.resize(id + 1, None);
+    }
+    for p in [segment.start, segment.end] {
+        let p = Point3::from(p.coords * mm);
+        boxes[id] = Some(boxes[id].map_or((p, p), |(lo, hi)| (lo.inf(&p), hi.sup(&p))));
+    }
 }
 
-/// Every component's printed object in `program`, with filament of `filament_diameter` mm.
+/// A component's printed object, found: how its extrusions map back, and what they add up to.
+#[derive(Debug, Clone)]
+pub(super) struct Placed {
+    /// What is reported (the volume, mass and centroid once every extrusion is counted).
+    pub summary: SlicedComponent,
+    shift: Vector3<f64>,
+    to_rest: Isometry3<f64>,
+    /// Filament of the extrusions counted so far, mm.
+    filament: f64,
+    /// Their first moment in the rest frame, mm × project units.
+    moment: Vector3<f64>,
+}
+
+/// Every component's printed object in `outline` (with its nozzle `boxes`), placed; the
+/// extrusions are counted by [`Placement::count`], then [`Placement::finish`].
+pub(super) struct Placement {
+    /// One per component, in project order.
+    pub placed: Vec<Placed>,
+    /// Per object id, the components it is (usually none or one).
+    components_of: Vec<Vec<usize>>,
+    /// Per component, its capsules (indices into the design).
+    capsules_of: Vec<Vec<usize>>,
+    mm: f64,
+}
+
+/// Every component's printed object in `outline`, matched and placed on the bed.
 pub(super) fn place(
     compilation: &Compilation,
     plan: &PrintPlan,
-    program: &Program,
-    filament_diameter: f64,
-) -> Result<Vec<Placed>, SlicedError> {
+    outline: &Outline,
+    boxes: &NozzleBoxes,
+) -> Result<Placement, SlicedError> {
     let project = &compilation.project;
-    let objects = match_objects(compilation, program)?;
+    let objects = match_objects(compilation, outline)?;
     let mm = project.units.from_millimetres(1.0);
-    // Filament fed (mm) times its cross-section (mm²) is mm³: cubic project units at `mm³`.
-    let area = filament_area(filament_diameter) * mm.powi(3);
-    let density = project.material.density * project.units.cubic_in_cm3();
     let print = &project.print;
     let tolerance = 2.0 * print.extrusion_width + print.layer_height;
     let mut placed = Vec::with_capacity(objects.len());
+    let mut components_of = vec![Vec::new(); outline.objects.len()];
     for (index, object) in objects.into_iter().enumerate() {
         let name = project.component_name(index).to_string();
         let component = plan
@@ -84,22 +115,12 @@ pub(super) fn place(
             .map(|p| component.to_bed * p)
             .collect();
         let (planned_low, planned_high) = bounds(planned.iter().copied());
-        // Material centre lines on the bed, project units.
-        let bed: Vec<(Point3<f64>, Point3<f64>, f64, usize)> = object
-            .segments
-            .iter()
-            .map(|s| {
-                let lower = Vector3::new(0.0, 0.0, program.layer_thickness(s.layer) / 2.0);
-                (
-                    Point3::from((s.start - lower).coords * mm),
-                    Point3::from((s.end - lower).coords * mm),
-                    s.filament,
-                    s.line,
-                )
-            })
-            .collect();
-        let nozzle = object.segments.iter().flat_map(|s| [s.start, s.end]);
-        let (low, high) = bounds(nozzle.map(|p| Point3::from(p.coords * mm)));
+        let origin = Point3::origin();
+        let (low, high) = boxes
+            .get(object.id)
+            .copied()
+            .flatten()
+            .unwrap_or((origin, origin));
         let shift = Vector3::new(
             (low.x + high.x - planned_low.x - planned_high.x) / 2.0,
             (low.y + high.y - planned_low.y - planned_high.y) / 2.0,
@@ -122,23 +143,9 @@ pub(super) fn place(
                     planned_size.z
                 )
             });
-        let to_rest = component.to_bed.inverse();
-        let segments: Vec<(Point3<f64>, Point3<f64>, usize)> = bed
-            .iter()
-            .map(|(a, b, _, line)| (to_rest * (a - shift), to_rest * (b - shift), *line))
-            .collect();
-        let filament: f64 = bed.iter().map(|s| s.2).sum();
-        let moment: Vector3<f64> = segments
-            .iter()
-            .zip(&bed)
-            .map(|((a, b, _), s)| (a.coords + b.coords) * (s.2 / 2.0))
-            .sum();
-        let centroid = if filament > 0.0 {
-            Point3::from(moment / filament)
-        } else {
-            compilation.mass[index].centroid
-        };
-        let volume = filament * area;
+        if let Some(components) = components_of.get_mut(object.id) {
+            components.push(index);
+        }
         placed.push(Placed {
             summary: SlicedComponent {
                 component: name,
@@ -147,31 +154,110 @@ pub(super) fn place(
                 planned_size: planned_size.into(),
                 printed_size: printed_size.into(),
                 mismatch,
-                segments: object.segments.len(),
-                volume,
-                mass: volume * density,
-                centroid: centroid.into(),
+                segments: object.segments,
+                volume: 0.0,
+                mass: 0.0,
+                centroid: [0.0; 3],
             },
-            segments,
+            shift,
+            to_rest: component.to_bed.inverse(),
+            // The start of a sum of `f64`s, so the total is bit for bit that of summing a list.
+            filament: std::iter::empty::<f64>().sum(),
+            moment: Vector3::zeros(),
         });
     }
-    Ok(placed)
+    let mut capsules_of = vec![Vec::new(); placed.len()];
+    for (index, capsule) in compilation.design.capsules.iter().enumerate() {
+        if let Some(capsules) = capsules_of.get_mut(capsule.component) {
+            capsules.push(index);
+        }
+    }
+    Ok(Placement {
+        placed,
+        components_of,
+        capsules_of,
+        mm,
+    })
 }
+
+impl Placement {
+    /// Counts `segment` of object `id` (of a program whose layers `outline` has) in the deposit
+    /// of each component it is, and checks it against that component's capsule voids
+    /// (`voids`, as [`voids::start`] made them): the second pass over the file, in print order.
+    pub fn count(
+        &mut self,
+        compilation: &Compilation,
+        outline: &Outline,
+        voids: &mut [VoidCheck],
+        (id, segment): (usize, &Segment),
+    ) {
+        let Some(components) = self.components_of.get(id) else {
+            return;
+        };
+        let mm = self.mm;
+        // Material centre lines on the bed, project units.
+        let lower = Vector3::new(0.0, 0.0, outline.layer_thickness(segment.layer) / 2.0);
+        let a = Point3::from((segment.start - lower).coords * mm);
+        let b = Point3::from((segment.end - lower).coords * mm);
+        for &index in components {
+            let placed = &mut self.placed[index];
+            let a = placed.to_rest * (a - placed.shift);
+            let b = placed.to_rest * (b - placed.shift);
+            placed.filament += segment.filament;
+            placed.moment += (a.coords + b.coords) * (segment.filament / 2.0);
+            voids::visit(
+                compilation,
+                voids,
+                &self.capsules_of[index],
+                (&a, &b, segment.line),
+            );
+        }
+    }
+
+    /// Each component as the file prints it, with filament of `filament_diameter` mm.
+    pub fn finish(self, compilation: &Compilation, filament_diameter: f64) -> Vec<SlicedComponent> {
+        let project = &compilation.project;
+        // Filament fed (mm) times its cross-section (mm²) is mm³: cubic project units at `mm³`.
+        let area = filament_area(filament_diameter) * self.mm.powi(3);
+        let density = project.material.density * project.units.cubic_in_cm3();
+        self.placed
+            .into_iter()
+            .enumerate()
+            .map(|(index, placed)| {
+                let centroid = if placed.filament > 0.0 {
+                    Point3::from(placed.moment / placed.filament)
+                } else {
+                    compilation.mass[index].centroid
+                };
+                let volume = placed.filament * area;
+                SlicedComponent {
+                    volume,
+                    mass: volume * density,
+                    centroid: centroid.into(),
+                    ..placed.summary
+                }
+            })
+            .collect()
+    }
+}
+
+/// The most objects an error names.
+const MAX_NAMED_OBJECTS: usize = 10;
 
 /// The printed object of each component, in project order.
 fn match_objects<'a>(
     compilation: &Compilation,
-    program: &'a Program,
-) -> Result<Vec<&'a PrintedObject>, SlicedError> {
+    outline: &'a Outline,
+) -> Result<Vec<&'a ObjectOutline>, SlicedError> {
     let project = &compilation.project;
     let count = project.components.len();
-    let labelled: Vec<&PrintedObject> = program
+    let labelled: Vec<&ObjectOutline> = outline
         .objects
         .iter()
         .filter(|o| o.label.is_some())
         .collect();
     if labelled.is_empty() {
-        return match program.objects.first() {
+        return match outline.objects.first() {
             Some(object) if count == 1 => Ok(vec![object]),
             _ => Err(SlicedError::Unmatched(format!(
                 "the G-code labels no objects and the project has {count} components: slice \
@@ -179,7 +265,7 @@ fn match_objects<'a>(
             ))),
         };
     }
-    let by_name: Option<Vec<&PrintedObject>> = (0..count)
+    let by_name: Option<Vec<&ObjectOutline>> = (0..count)
         .map(|i| {
             let name = project.component_name(i);
             let mut found = labelled.iter().filter(|o| o.name() == Some(name));
@@ -195,11 +281,15 @@ fn match_objects<'a>(
     if labelled.len() == count {
         return Ok(labelled);
     }
-    let names: Vec<String> = labelled
+    let mut names: Vec<String> = labelled
         .iter()
+        .take(MAX_NAMED_OBJECTS)
         .filter_map(|o| o.label.as_deref())
         .map(|label| format!("`{label}`"))
         .collect();
+    if labelled.len() > MAX_NAMED_OBJECTS {
+        names.push(format!("{} more", labelled.len() - MAX_NAMED_OBJECTS));
+    }
     Err(SlicedError::Unmatched(format!(
         "the G-code prints {} objects ({}) and the project has {count} components, not all \
          named alike: name each printed object after its component",

@@ -2,9 +2,9 @@
 //! line, in the component's rest frame, passes closer to the capsule's axis than the capsule's
 //! radius less half the extrusion width.
 
+use nalgebra::Point3;
 use serde::Serialize;
 
-use super::placement::Placed;
 use crate::compile::Compilation;
 use crate::geometry::segment_segment_distance;
 
@@ -41,34 +41,42 @@ impl VoidCheck {
     }
 }
 
-/// Every capsule of the design against its component's extrusions in `placed`.
-pub(super) fn check(compilation: &Compilation, placed: &[Placed]) -> Vec<VoidCheck> {
+/// Every capsule of the design, nothing yet seen: one check per capsule, in design order, for
+/// [`visit`] to fill in.
+pub(super) fn start(compilation: &Compilation) -> Vec<VoidCheck> {
     let half_width = compilation.project.print.extrusion_width / 2.0;
     compilation
         .design
         .capsules
         .iter()
-        .map(|capsule| {
-            let limit = capsule.radius - half_width;
-            let mut check = VoidCheck {
-                capsule: capsule.name.clone(),
-                intrusions: 0,
-                closest: None,
-                limit,
-                first_line: None,
-            };
-            let segments = placed
-                .get(capsule.component)
-                .map_or(&[][..], |p| &p.segments[..]);
-            for (a, b, line) in segments {
-                let distance = segment_segment_distance(a, b, &capsule.from, &capsule.to);
-                check.closest = Some(check.closest.map_or(distance, |c: f64| c.min(distance)));
-                if distance < limit {
-                    check.intrusions += 1;
-                    check.first_line = check.first_line.or(Some(*line));
-                }
-            }
-            check
+        .map(|capsule| VoidCheck {
+            capsule: capsule.name.clone(),
+            intrusions: 0,
+            closest: None,
+            limit: capsule.radius - half_width,
+            first_line: None,
         })
         .collect()
+}
+
+/// One extrusion of line `line`, its material centre line from `a` to `b` in the rest frame
+/// of its component, against the capsules `capsules` (indices into the design) of that
+/// component; `checks` are [`start`]'s. The extrusions of each component are visited in print
+/// order.
+pub(super) fn visit(
+    compilation: &Compilation,
+    checks: &mut [VoidCheck],
+    capsules: &[usize],
+    (a, b, line): (&Point3<f64>, &Point3<f64>, usize),
+) {
+    for &index in capsules {
+        let capsule = &compilation.design.capsules[index];
+        let check = &mut checks[index];
+        let distance = segment_segment_distance(a, b, &capsule.from, &capsule.to);
+        check.closest = Some(check.closest.map_or(distance, |c: f64| c.min(distance)));
+        if distance < check.limit {
+            check.intrusions += 1;
+            check.first_line = check.first_line.or(Some(line));
+        }
+    }
 }

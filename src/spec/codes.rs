@@ -69,6 +69,16 @@ pub const GRID_TOO_FINE: &str = "ballast::optimize::grid_too_fine";
 pub const SOLUTION_INFILL: &str = "ballast::solution::infill";
 /// A G-code file given to `verify --gcode` has a move word whose value is not a number.
 pub const GCODE_NUMBER: &str = "ballast::gcode::not_a_number";
+/// A G-code move gives one axis twice (`E1e3` is `E1` then `e3`: G-code has no exponents).
+pub const GCODE_REPEATED: &str = "ballast::gcode::repeated_word";
+/// A G-code coordinate or filament length past what ballast reads (`docs/limits.md`).
+pub const GCODE_RANGE: &str = "ballast::gcode::out_of_range";
+/// A G-code `G2`/`G3` that is no arc ballast reads (no centre, another plane, full turns).
+pub const GCODE_ARC: &str = "ballast::gcode::not_an_arc";
+/// A G-code file with more pauses than ballast reads.
+pub const GCODE_PAUSES: &str = "ballast::gcode::too_many_pauses";
+/// A G-code object label or `M117` message longer than ballast reads.
+pub const GCODE_TEXT: &str = "ballast::gcode::too_long";
 /// A `rig` file that cannot be read as glTF.
 pub const RIG_UNREADABLE: &str = "ballast::rig::unreadable";
 /// A `rig`'s `nodes` list names a node the file does not have.
