@@ -151,12 +151,13 @@ pub fn render(
     source_name: &str,
     source: &str,
 ) -> String {
-    let project: Arc<str> = Arc::from(source);
+    let project: Arc<str> = Arc::from(drawable_source(source));
     let mut out = String::new();
     for (index, problem) in problems.iter().take(MAX_RENDERED_PROBLEMS).enumerate() {
         if index > 0 {
             out.push('\n');
         }
+        let problem = &printable_problem(problem);
         let (name, text) = match &problem.file {
             Some(file) => (file.name.as_str(), file.text.clone()),
             None => (source_name, project.clone()),
@@ -243,6 +244,41 @@ fn located(problem: &Problem, name: &str, text: &str) -> String {
         out.push_str(&format!("  help: {help}\n"));
     }
     out
+}
+
+/// `problem` with its message, labels, help, file name and file text fit for a terminal: the
+/// texts through [`printable`], the file's text through [`drawable_source`] (names and text a
+/// file supplied, such as a calibration file's, may hold escape sequences).
+fn printable_problem(problem: &Problem) -> Problem {
+    let mut problem = problem.clone();
+    problem.message = printable(&problem.message).into_owned();
+    problem.help = problem.help.map(|help| printable(&help).into_owned());
+    for (_, label) in &mut problem.labels {
+        *label = printable(label).into_owned();
+    }
+    if let Some(file) = &mut problem.file {
+        file.name = printable(&file.name).into_owned();
+        file.text = Arc::from(drawable_source(&file.text));
+    }
+    problem
+}
+
+/// `text` with every control character but line ends and tabs replaced by `?` of the same length
+/// in bytes, so spans into it still hold and none of it drives the terminal.
+pub fn drawable_source(text: &str) -> std::borrow::Cow<'_, str> {
+    let unsafe_char = |c: char| c.is_control() && !matches!(c, '\n' | '\r' | '\t');
+    if !text.chars().any(unsafe_char) {
+        return std::borrow::Cow::Borrowed(text);
+    }
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        if unsafe_char(c) {
+            out.extend(std::iter::repeat_n('?', c.len_utf8()));
+        } else {
+            out.push(c);
+        }
+    }
+    std::borrow::Cow::Owned(out)
 }
 
 /// `text` from a file (a G-code object label or `M117` message, a component name from a

@@ -297,3 +297,35 @@ fn verify_calibrate_writes_the_file_beside_the_project() {
         .iter()
         .all(|w| !w.code.starts_with("ballast::calibration")));
 }
+
+#[test]
+fn names_in_a_calibration_file_cannot_drive_the_terminal() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = t_shape_in(dir.path());
+    let plain = compiled(&path);
+    // A terminal title set, a bell, a cursor move, a C1 control: printed as escapes.
+    let name = "T\u{1b}]0;owned\u{7}\u{1b}[2J\u{9b}";
+    let text = written(&plain, "T").replace("\"T\"", &serde_json::to_string(name).unwrap());
+    std::fs::write(calibration_path(&path), &text).unwrap();
+    let read = compiled(&path);
+    assert!(read.warnings.iter().any(|w| w.code == CALIBRATION_UNKNOWN));
+    let shown = ballast::diagnostic::render_plain(&read.warnings, "t_shape.kdl", "");
+    assert!(shown.contains("T\\u{1b}]0;owned\\u{7}"), "{shown}");
+    assert!(
+        !shown.chars().any(|c| c.is_control() && c != '\n'),
+        "{shown:?}"
+    );
+    // The file drawn where it does not read: its text too.
+    std::fs::write(
+        calibration_path(&path),
+        "{\"calibration\": 1, \u{1b}[2J",
+    )
+    .unwrap();
+    let broken = compiled(&path);
+    let shown = ballast::diagnostic::render_plain(&broken.warnings, "t_shape.kdl", "");
+    assert!(shown.contains("calibration file"), "{shown}");
+    assert!(
+        !shown.chars().any(|c| c.is_control() && c != '\n'),
+        "{shown:?}"
+    );
+}

@@ -138,7 +138,10 @@ pub fn read_rig(path: &Path, policy: &ReadPolicy) -> Result<Rig, LoadError> {
     for node in document.nodes() {
         locals.push(local(node.transform())?);
         nodes.push(RigNode {
-            name: node.name().map(str::to_owned),
+            // Names become component names, printed in tables: no escape sequences.
+            name: node
+                .name()
+                .map(|name| crate::diagnostic::printable(name).into_owned()),
             has_mesh: node.mesh().is_some(),
             skinned: node.skin().is_some(),
             rest: hierarchy.world[node.index()],
