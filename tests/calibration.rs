@@ -316,11 +316,7 @@ fn names_in_a_calibration_file_cannot_drive_the_terminal() {
         "{shown:?}"
     );
     // The file drawn where it does not read: its text too.
-    std::fs::write(
-        calibration_path(&path),
-        "{\"calibration\": 1, \u{1b}[2J",
-    )
-    .unwrap();
+    std::fs::write(calibration_path(&path), "{\"calibration\": 1, \u{1b}[2J").unwrap();
     let broken = compiled(&path);
     let shown = ballast::diagnostic::render_plain(&broken.warnings, "t_shape.kdl", "");
     assert!(shown.contains("calibration file"), "{shown}");

@@ -284,21 +284,27 @@ fn absurd_coordinates_are_refused_at_their_span() {
     // A kilometre in metres is still a length; a little more is not.
     let metres = source
         .replace("units mm", "units m")
-        .replace("wall 1.2", "wall 1000")
-        .replace("clearance=0.2", "clearance=0.0002");
+        .replace("wall 1.2", "wall 0.0012")
+        .replace("clearance=0.2", "clearance=0.0002")
+        .replace(
+            "\noptimize tolerance=0.2\n",
+            "\ncapsule \"c\" component=\"T\" radius=0.001 {\n  from 0 0 1000\n  to 0 0 -1000\n}\n",
+        );
     assert!(problems(&metres)
         .iter()
         .all(|p| p.code != codes::OUT_OF_RANGE));
-    let further = metres.replace("wall 1000", "wall 1001");
+    let further = metres.replace("from 0 0 1000", "from 0 0 1001");
     assert_eq!(codes_of(&problems(&further)), [codes::OUT_OF_RANGE]);
 }
 
-/// The T's project without its `ball` and `material` lines, for tests that write their own.
-fn without_ball_or_material() -> String {
+/// The T's project without its `ball`, `material` and `wall` lines, for tests that write their
+/// own.
+fn without_ball_material_or_wall() -> String {
     let (_, source) = t_shape();
     let lines = [
         "\nball density=7.85 clearance=0.2\n",
         "\nmaterial \"PLA\" density=1.24\n",
+        "\nwall 1.2\n",
     ];
     lines.iter().fold(source, |text, line| {
         assert!(text.contains(line));
@@ -308,7 +314,7 @@ fn without_ball_or_material() -> String {
 
 #[test]
 fn print_settings_and_balls_outside_their_physical_range_are_refused_at_their_span() {
-    let source = without_ball_or_material();
+    let source = without_ball_material_or_wall();
     // Each asked the print model for gigabytes or placed capsules a kilometre wide.
     for (line, written) in [
         ("print layer-height=1e-9", "1e-9"),
@@ -321,6 +327,9 @@ fn print_settings_and_balls_outside_their_physical_range_are_refused_at_their_sp
         ("ball { diameters 0.1; }", "0.1"),
         ("ball density=100", "100"),
         ("material \"lead foam\" density=0.001", "0.001"),
+        ("ball min-angle=60", "60"),
+        ("wall (m)1", "(m)1"),
+        ("print solid-infill-below-area=2e6", "2e6"),
     ] {
         let edited = source.replace("\noptimize tolerance=0.2\n", &format!("\n{line}\n"));
         let found: Vec<Problem> = problems(&edited)
