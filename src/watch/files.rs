@@ -13,8 +13,9 @@ use crate::spec::model::Project;
 
 /// The files a build of the project at `project_path` reads: the project file itself, every
 /// component's mesh and, for a `.gltf` mesh, the external files its buffers are read from (only
-/// the mesh itself when it cannot be read), each as a [`watch_key`]. Only files `policy` lets a
-/// build read are listed (a mesh that does not exist yet is). Sorted and without duplicates.
+/// the mesh itself when it cannot be read), each as a [`watch_key`]. Only files in folders
+/// `policy` lets a build read are listed (a mesh that does not exist yet is, and so is one that
+/// is now a link to a device). Sorted and without duplicates.
 pub fn referenced_files(
     project_path: &Path,
     project: Option<&Project>,
@@ -28,7 +29,13 @@ pub fn referenced_files(
         let mut seen = BTreeSet::new();
         for component in &project.components {
             let mesh = &component.mesh.value;
-            if !seen.insert(mesh) || (mesh.exists() && !reader.allows(mesh)) {
+            // Judged by its folder: a mesh replaced by a link to a device stays watched, so
+            // putting the real file back is seen.
+            let folder = match mesh.parent() {
+                Some(folder) if !folder.as_os_str().is_empty() => folder,
+                _ => Path::new("."),
+            };
+            if !seen.insert(mesh) || (folder.exists() && !reader.allows(folder)) {
                 continue;
             }
             files.insert(watch_key(mesh));
