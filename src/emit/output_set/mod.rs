@@ -32,14 +32,13 @@ use std::fs;
 use std::io;
 use std::path::{Path, PathBuf};
 
-use serde::{Deserialize, Serialize};
-
 use super::atomic::{folder_of, sync_dir, write_atomic, write_temp, TempName};
 use crate::regular_file::{blake3_of, read_limited};
 
-/// The most bytes of a journal or manifest read: one names every output of a build, a few
-/// hundred bytes each.
-pub const MAX_RECORD_BYTES: u64 = 16 << 20;
+mod records;
+
+pub use records::{manifest_path, MAX_RECORD_BYTES};
+use records::{read_manifest, write_manifest, Journal, JournalEntry, WrittenFile, JOURNAL_FORMAT};
 
 /// Which files named by a journal or manifest (an earlier build's record, not trusted) a set
 /// may touch.
@@ -49,66 +48,6 @@ pub trait Scope {
     /// Whether `path`, a file of the previous set that the new one does not write, may be
     /// removed (it is then removed only if it still holds what was written to it).
     fn may_remove(&self, path: &Path) -> bool;
-}
-
-/// The journal's format number.
-const JOURNAL_FORMAT: u32 = 1;
-
-/// The manifest's format number.
-const MANIFEST_FORMAT: u32 = 1;
-
-/// What the journal holds: each temporary file (by name, in its target's folder) and its target,
-/// and the files of the previous set to remove.
-#[derive(Debug, Serialize, Deserialize)]
-struct Journal {
-    /// [`JOURNAL_FORMAT`].
-    ballast_output_set: u32,
-    /// In the order they are renamed.
-    files: Vec<JournalEntry>,
-    /// Files of the previous set that the new one does not have, each with the hash of the bytes
-    /// the previous set wrote to it.
-    #[serde(default)]
-    remove: Vec<WrittenFile>,
-}
-
-/// One file of the set.
-#[derive(Debug, Serialize, Deserialize)]
-struct JournalEntry {
-    /// The target, absolute.
-    target: String,
-    /// The temporary file's name, a sibling of the target.
-    temp: String,
-    /// The BLAKE3 hash of the new bytes, hexadecimal (absent in a journal of an older ballast).
-    #[serde(default)]
-    blake3: Option<String>,
-}
-
-/// What the manifest holds: the files of the set last written.
-#[derive(Debug, Serialize, Deserialize)]
-struct Manifest {
-    /// [`MANIFEST_FORMAT`].
-    ballast_output_manifest: u32,
-    /// In the set's order.
-    files: Vec<WrittenFile>,
-}
-
-/// A file ballast wrote and what it wrote to it.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-struct WrittenFile {
-    /// The file: relative to the manifest's folder in a manifest (so that a copied folder's
-    /// manifest names the copy's files), absolute in a journal or outside that folder.
-    path: String,
-    /// The BLAKE3 hash of the bytes written, hexadecimal; `None` when not known, and then the file
-    /// is never removed.
-    blake3: Option<String>,
-}
-
-/// The manifest beside `journal`: named like it, with `.manifest` appended. Unlike the journal it
-/// stays between builds.
-pub fn manifest_path(journal: &Path) -> PathBuf {
-    let mut name = journal.file_name().unwrap_or_default().to_os_string();
-    name.push(".manifest");
-    journal.with_file_name(name)
 }
 
 /// Replaces the files `files` (path, new bytes), in that order, as one set, with the journal at
@@ -308,46 +247,6 @@ fn complete<'a>(
     write_manifest(&manifest_path(journal), written)?;
     remove_journal(journal)?;
     Ok(removed)
-}
-
-/// The files the manifest at `path` names, absolute, with their hashes; none when there is no
-/// manifest or it does not read as one.
-fn read_manifest(path: &Path) -> Vec<(PathBuf, Option<String>)> {
-    let Some(manifest) = read_limited(path, MAX_RECORD_BYTES)
-        .ok()
-        .and_then(|text| serde_json::from_slice::<Manifest>(&text).ok())
-        .filter(|manifest| manifest.ballast_output_manifest == MANIFEST_FORMAT)
-    else {
-        return Vec::new();
-    };
-    let folder = folder_of(path);
-    manifest
-        .files
-        .into_iter()
-        .map(|file| (folder.join(&file.path), file.blake3))
-        .collect()
-}
-
-/// Writes the manifest at `path` naming `files` (absolute paths), relative to its folder where
-/// they are inside it.
-fn write_manifest(path: &Path, files: &[WrittenFile]) -> io::Result<()> {
-    let folder = folder_of(path);
-    let files = files
-        .iter()
-        .map(|file| WrittenFile {
-            path: Path::new(&file.path).strip_prefix(&folder).map_or_else(
-                |_| file.path.clone(),
-                |relative| relative.to_string_lossy().into_owned(),
-            ),
-            blake3: file.blake3.clone(),
-        })
-        .collect();
-    let text = serde_json::to_string_pretty(&Manifest {
-        ballast_output_manifest: MANIFEST_FORMAT,
-        files,
-    })
-    .map_err(io::Error::other)?;
-    write_atomic(path, text.as_bytes())
 }
 
 /// Whether `path` is a regular file (not a link, not a folder) that holds exactly the bytes of
