@@ -230,3 +230,20 @@ fn perimeters_or_solid_layers_thicker_than_the_part_print_it_solid_and_no_more()
         assert!(error < 0.02, "{volumes:?} against {volume}");
     }
 }
+
+#[test]
+fn a_part_flat_in_one_direction_gets_a_bounded_raster() {
+    // 100 mm long, a nanometre wide: the cell may not follow the width down (the raster would
+    // need 10¹⁴ cells along the length), nor the overlap's measure of it.
+    let flat = box_mesh(100.0, 1e-9, 10.0);
+    let volumes = print_volumes(&flat, &slicing(1.35, 0.3, 3));
+    assert!(volumes.solid.volume.is_finite() && volumes.sparse.volume.is_finite());
+    // At most one row of cells 100 mm / 4096 wide: the raster's resolution, not the part's.
+    let one_row = 100.0 / 4096.0 * 100.0 * 10.0;
+    assert!(
+        volumes.solid.volume + volumes.sparse.volume <= one_row * 1.01,
+        "{volumes:?}"
+    );
+    let overlap = ballast::geometry::overlap(&flat);
+    assert!(overlap.is_none_or(|o| o.volume.is_finite()));
+}

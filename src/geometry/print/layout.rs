@@ -16,6 +16,10 @@ const CELLS_PER_PERIMETER: f64 = 4.0;
 /// Cells across the part's narrower side, at least (before the budget coarsens them).
 const MIN_CELLS_ACROSS: f64 = 32.0;
 
+/// Cells along the part's wider side, at most: the budget alone allows any number along one
+/// side of a part without width in the other.
+const MAX_CELLS_ALONG: f64 = 4096.0;
+
 /// The print frame's axes: up (the build direction), and the raster's columns and rows.
 pub(super) const UP: usize = 2;
 pub(super) const U: usize = 0;
@@ -78,9 +82,11 @@ impl Layout {
         if !(width.is_finite() && depth.is_finite()) {
             return None;
         }
-        // Perimeters as thick as the part itself still leave the outline its cells.
+        // Perimeters as thick as the part itself still leave the outline its cells; a part
+        // flat in one direction still gets at most MAX_CELLS_ALONG cells along the other.
         let finest = (slicing.perimeter_thickness / CELLS_PER_PERIMETER)
-            .min(width.min(depth) / MIN_CELLS_ACROSS);
+            .min(width.min(depth) / MIN_CELLS_ACROSS)
+            .max(width.max(depth) / MAX_CELLS_ALONG);
         let budget = (width * depth * layers as f64 / CELL_BUDGET).sqrt();
         let mut cell = finest.max(budget);
         if !(cell > 0.0 && cell.is_finite()) {
