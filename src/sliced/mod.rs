@@ -25,7 +25,7 @@ pub use fit::{PlacementFit, MAX_FIT_RESIDUAL, MIN_FIT_COVERAGE, MIN_FIT_LAYERS, 
 pub use pauses::{FoundPause, PauseCheck, PlannedPause};
 pub use placement::SlicedComponent;
 use placement::{FitSamples, NozzleBoxes};
-pub use voids::VoidCheck;
+pub use voids::{VoidCheck, VOID_TOLERANCE};
 
 use crate::balance::{
     component_material, evaluate_pose, ComponentBody, GoalOutcome, PoseEvaluation,
