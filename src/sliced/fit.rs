@@ -308,3 +308,115 @@ fn measure(layers: &[FitLayer], shift: Vector2<f64>, inset: f64, band: f64) -> P
         spread: finite((normals / fitted).symmetric_eigenvalues().min()),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 20 × 20 × 10 box with its corner at the origin.
+    fn cube() -> (Vec<Point3<f64>>, Vec<[u32; 3]>) {
+        let positions = (0..8)
+            .map(|i| {
+                Point3::new(
+                    20.0 * f64::from(i & 1),
+                    20.0 * f64::from((i >> 1) & 1),
+                    10.0 * f64::from((i >> 2) & 1),
+                )
+            })
+            .collect();
+        let triangles = vec![
+            [0, 2, 1],
+            [1, 2, 3],
+            [4, 5, 6],
+            [5, 7, 6],
+            [0, 1, 4],
+            [1, 5, 4],
+            [2, 6, 3],
+            [3, 6, 7],
+            [0, 4, 2],
+            [2, 4, 6],
+            [1, 3, 5],
+            [3, 7, 5],
+        ];
+        (positions, triangles)
+    }
+
+    /// Samples of a square loop from `low` to `high`, moved by `shift`.
+    fn ring(low: f64, high: f64, shift: Vector2<f64>, out: &mut Vec<Sample>) {
+        let corners = [(low, low), (high, low), (high, high), (low, high)];
+        for k in 0..4 {
+            let (a, b) = (corners[k], corners[(k + 1) % 4]);
+            let a = Point3::new(a.0 + shift.x, a.1 + shift.y, 0.0);
+            let b = Point3::new(b.0 + shift.x, b.1 + shift.y, 0.0);
+            sample(&a, &b, 0.5, out);
+        }
+    }
+
+    fn layers(shift: Vector2<f64>, walls: bool) -> Vec<FitLayer> {
+        let (positions, triangles) = cube();
+        (0..5)
+            .map(|k| {
+                let mut samples = Vec::new();
+                if walls {
+                    // Outer and inner perimeters, then infill lines across.
+                    ring(0.225, 19.775, shift, &mut samples);
+                    ring(0.675, 19.325, shift, &mut samples);
+                    for i in 0..9 {
+                        let y = 2.0 + 2.0 * f64::from(i) + shift.y;
+                        let a = Point3::new(0.9 + shift.x, y, 0.0);
+                        let b = Point3::new(19.1 + shift.x, y, 0.0);
+                        sample(&a, &b, 0.5, &mut samples);
+                    }
+                } else {
+                    // One straight wall: it fixes x, not y.
+                    let a = Point3::new(0.225 + shift.x, 0.225 + shift.y, 0.0);
+                    let b = Point3::new(0.225 + shift.x, 19.775 + shift.y, 0.0);
+                    sample(&a, &b, 0.5, &mut samples);
+                }
+                FitLayer {
+                    outline: Outline2::cut(&positions, &triangles, 1.0 + 2.0 * k as f64, 0.9),
+                    samples,
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_moved_square_is_found_from_a_lopsided_start() {
+        let shift = Vector2::new(0.3, -0.2);
+        let found = fit(&layers(shift, true), Vector2::new(0.4, -0.1), 0.45);
+        assert!((found.shift[0] - 0.3).abs() < 1e-9, "{found:?}");
+        assert!((found.shift[1] + 0.2).abs() < 1e-9, "{found:?}");
+        assert!((found.inset - 0.225).abs() < 1e-6, "{found:?}");
+        assert_eq!(found.layers, 5);
+        assert_eq!(found.doubt(0.45), None);
+    }
+
+    #[test]
+    fn a_single_straight_wall_is_not_trusted() {
+        let found = fit(&layers(Vector2::zeros(), false), Vector2::zeros(), 0.45);
+        let doubt = found.doubt(0.45).expect("not trusted");
+        assert!(
+            doubt.contains("every direction") || doubt.contains("outline"),
+            "{doubt}"
+        );
+    }
+
+    #[test]
+    fn too_few_layers_are_not_trusted() {
+        let few = layers(Vector2::zeros(), true)
+            .into_iter()
+            .take(2)
+            .collect::<Vec<_>>();
+        let found = fit(&few, Vector2::zeros(), 0.45);
+        assert_eq!(found.layers, 2);
+        assert!(found.doubt(0.45).unwrap().contains("2 layers"));
+    }
+
+    #[test]
+    fn layers_are_spread_between_the_first_and_the_last() {
+        assert_eq!(fit_layers(0, 100), [1, 15, 29, 43, 57, 71, 85, 99]);
+        assert_eq!(fit_layers(3, 5), [4]);
+        assert_eq!(fit_layers(0, 0), [0]);
+    }
+}
