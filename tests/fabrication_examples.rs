@@ -46,6 +46,12 @@ fn every_example_sliced_from_its_3mf_is_as_planned() {
             &SlicedOptions::default(),
         )
         .unwrap_or_else(|error| panic!("{name}: {error}"));
+        for part in &check.components {
+            println!(
+                "{name} `{}`: shift ({:+.4}, {:+.4}), fit residual {:.4} on {} layers",
+                part.component, part.shift[0], part.shift[1], part.fit.residual, part.fit.layers
+            );
+        }
         // The file is as planned: every part where the plan put it, every planned pause after
         // its layer with its message and none other, no extrusion inside a void.
         failures.extend(

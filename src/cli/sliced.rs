@@ -69,7 +69,11 @@ pub fn run(
             }
         }
     } else {
-        print!("{}", table(&check, &file_name(path), &file_name(gcode)));
+        let no_shift = compilation.project.units.from_millimetres(NO_SHIFT_MM);
+        print!(
+            "{}",
+            table(&check, &file_name(path), &file_name(gcode), no_shift)
+        );
     }
     if calibrate {
         if let Err(message) = write_calibration(path, gcode, &compilation, &check) {
@@ -196,9 +200,12 @@ fn unreadable(error: &GcodeError, name: &str, text: &str) -> Problem {
         })
 }
 
+/// A shift shorter than this, mm, is printed as none: the part is where planned.
+const NO_SHIFT_MM: f64 = 0.01;
+
 /// The table: the parts found, the pauses, the voids, then per pose every goal computed beside
-/// sliced, and the failures.
-fn table(check: &SlicedCheck, project_name: &str, gcode_name: &str) -> String {
+/// sliced, and the failures; a shift shorter than `no_shift` (project units) is printed as none.
+fn table(check: &SlicedCheck, project_name: &str, gcode_name: &str, no_shift: f64) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,
@@ -215,13 +222,22 @@ fn table(check: &SlicedCheck, project_name: &str, gcode_name: &str) -> String {
                 format!("object `{}`", printable(label))
             });
         let [x, y, z] = component.centroid;
+        let [dx, dy] = component.shift;
+        let moved = if component.doubt.is_some() {
+            "its place on the bed not found (the plan's assumed)".to_string()
+        } else if dx.hypot(dy) < no_shift {
+            "where planned on the bed".to_string()
+        } else {
+            format!("moved on the bed by ({dx:+.2}, {dy:+.2})")
+        };
         let _ = writeln!(
             out,
-            "\ncomponent \"{}\": {object}, moved on the bed by ({:+.2}, {:+.2})\n  sliced {:.2} \
-             at ({x:.2}, {y:.2}, {z:.2}) in its rest frame, {} extrusions",
+            "\ncomponent \"{}\": {object}, {moved} (outer perimeter fitted on {} layers, \
+             residual {:.3})\n  sliced {:.2} at ({x:.2}, {y:.2}, {z:.2}) in its rest frame, {} \
+             extrusions",
             printable(&component.component),
-            component.shift[0],
-            component.shift[1],
+            component.fit.layers,
+            component.fit.residual,
             component.mass,
             component.segments
         );

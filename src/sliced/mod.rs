@@ -1,8 +1,9 @@
 //! The sliced file checked against the design: [`verify_gcode`] reads a G-code program sliced
 //! from a project's print files and, through the [`PrintPlan`] the files were made from,
 //!
-//! - finds each component's printed object and the shift the slicer gave it on the bed, and
-//!   maps its extrusions back to the component's rest frame (`placement.rs`);
+//! - finds each component's printed object and the shift the slicer gave it on the bed, by
+//!   fitting the outer perimeter of a few layers to the part's outline at those heights
+//!   (`fit.rs`), and maps its extrusions back to the component's rest frame (`placement.rs`);
 //! - re-evaluates every goal with each component's material replaced by what the file deposits
 //!   (mass = extruded volume × the material's density, at the deposit's centroid), the capsule
 //!   voids already empty in it and the balls at their ends as usual;
@@ -12,6 +13,7 @@
 //!
 //! `docs/fabrication.md` ("Checking the sliced file") says what is checked and how.
 
+mod fit;
 mod pauses;
 mod placement;
 mod voids;
@@ -19,10 +21,11 @@ mod voids;
 use serde::Serialize;
 use thiserror::Error;
 
+pub use fit::{PlacementFit, MAX_FIT_RESIDUAL, MIN_FIT_COVERAGE, MIN_FIT_LAYERS, MIN_FIT_SPREAD};
 pub use pauses::{FoundPause, PauseCheck, PlannedPause};
-use placement::NozzleBoxes;
 pub use placement::SlicedComponent;
-pub use voids::VoidCheck;
+use placement::{FitSamples, NozzleBoxes};
+pub use voids::{VoidCheck, VOID_TOLERANCE};
 
 use crate::balance::{
     component_material, evaluate_pose, ComponentBody, GoalOutcome, PoseEvaluation,
@@ -98,11 +101,13 @@ pub struct SlicedCheck {
 }
 
 impl SlicedCheck {
-    /// Every failure, one sentence each: a mismatched part, a pause problem, an extrusion in a
+    /// Every failure, one sentence each: a mismatched part, a part whose place on the bed is not
+    /// found, a pause problem, an extrusion in a
     /// void, a goal not met with the sliced mass. Empty when the file is as planned.
     pub fn failures(&self) -> Vec<String> {
         let mut failures = Vec::new();
         failures.extend(self.components.iter().filter_map(|c| c.mismatch.clone()));
+        failures.extend(self.components.iter().filter_map(|c| c.doubt.clone()));
         failures.extend(self.pauses.iter().filter_map(|p| p.problem.clone()));
         failures.extend(self.voids.iter().filter_map(VoidCheck::problem));
         for pose in &self.poses {
@@ -176,8 +181,9 @@ pub fn verify_gcode(
         pause_gcode: options.pause_gcode.clone(),
     };
     let mm = compilation.project.units.from_millimetres(1.0);
-    // Two passes over the text, so that memory does not grow with the moves: the objects,
-    // layers, pauses and each object's extent first, then each extrusion mapped back.
+    // Three passes over the text, so that memory does not grow with the moves: the objects,
+    // layers, pauses and each object's extent first, then the extrusions of the few layers each
+    // object's place is fitted on, then each extrusion mapped back.
     let mut boxes = NozzleBoxes::new();
     let outline = scan_program(gcode, &read, |id, segment| {
         placement::grow_box(&mut boxes, id, segment, mm)
@@ -185,7 +191,9 @@ pub fn verify_gcode(
     if outline.objects.iter().all(|o| o.segments == 0) {
         return Err(SlicedError::Empty);
     }
-    let mut placement = placement::place(compilation, plan, &outline, &boxes)?;
+    let mut samples = FitSamples::new(&boxes, mm);
+    scan_program(gcode, &read, |id, segment| samples.add(id, segment))?;
+    let mut placement = placement::place(compilation, plan, &outline, &boxes, samples)?;
     let mut voids = voids::start(compilation);
     scan_program(gcode, &read, |id, segment| {
         placement.count(compilation, &outline, &mut voids, (id, segment))

@@ -5,14 +5,17 @@
 //! the plan has parts; a file without labels holds one object, which is the plan's only part.
 //!
 //! A slicer may move a part on the bed (PrusaSlicer's command line centres or arranges what it
-//! loads): the shift is the offset, in x and y, between the centre of the object's extrusions'
-//! bounding box and the centre of the planned part's bounding box on the bed. G-code heights are
+//! loads): the shift is found by fitting the object's outer perimeter on a few layers to the
+//! planned part's outline at those heights (`fit.rs`), starting from the offset between the
+//! centres of the extrusions' and the planned part's bounding boxes; a fit that cannot be
+//! trusted is reported and the plan's place kept. G-code heights are
 //! the nozzle's, at the top of the layer: each extrusion's material is taken half its layer's
 //! thickness lower. Then `to_bed` is undone.
 
-use nalgebra::{Isometry3, Point3, Vector3};
+use nalgebra::{Isometry3, Point3, Vector2, Vector3};
 use serde::Serialize;
 
+use super::fit::{self, FitLayer, Outline2, PlacementFit, Sample};
 use super::voids::{self, VoidCheck};
 use super::SlicedError;
 use crate::compile::Compilation;
@@ -27,8 +30,13 @@ pub struct SlicedComponent {
     /// The label of the printed object found for it; `None` when the file labels no objects.
     pub object: Option<String>,
     /// How far the slicer moved the part on the bed from where the plan put it, x and y,
-    /// project units.
+    /// project units: the fit's shift when it is trusted, else none (the plan's place).
     pub shift: [f64; 2],
+    /// The part's place found from its outer perimeter (`fit.rs`).
+    pub fit: PlacementFit,
+    /// Why the fit is not trusted (and not applied), when it is not.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub doubt: Option<String>,
     /// Extent of the planned part on the bed, x, y, z, project units.
     pub planned_size: [f64; 3],
     /// Extent of the object's extrusions (the nozzle's path), x, y, z, project units.
@@ -47,9 +55,19 @@ pub struct SlicedComponent {
     pub centroid: [f64; 3],
 }
 
-/// The bounding box of each printed object's nozzle path, project units, by
-/// [`ObjectOutline::id`]; `None` for an object with no extrusion.
-pub(super) type NozzleBoxes = Vec<Option<(Point3<f64>, Point3<f64>)>>;
+/// Each printed object's extent by [`ObjectOutline::id`]; `None` for an object with no
+/// extrusion.
+pub(super) type NozzleBoxes = Vec<Option<Extent>>;
+
+/// The bounding box of a printed object's nozzle path, project units, and its first and last
+/// layers.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Extent {
+    low: Point3<f64>,
+    high: Point3<f64>,
+    first_layer: usize,
+    last_layer: usize,
+}
 
 /// Grows `boxes` by `segment` of object `id` (project units at `mm` per mm), its start then its
 /// end: the first pass over the file.
@@ -59,7 +77,64 @@ pub(super) fn grow_box(boxes: &mut NozzleBoxes, id: usize, segment: &Segment, mm
     }
     for p in [segment.start, segment.end] {
         let p = Point3::from(p.coords * mm);
-        boxes[id] = Some(boxes[id].map_or((p, p), |(lo, hi)| (lo.inf(&p), hi.sup(&p))));
+        let layer = segment.layer;
+        boxes[id] = Some(boxes[id].map_or(
+            Extent {
+                low: p,
+                high: p,
+                first_layer: layer,
+                last_layer: layer,
+            },
+            |e| Extent {
+                low: e.low.inf(&p),
+                high: e.high.sup(&p),
+                first_layer: e.first_layer.min(layer),
+                last_layer: e.last_layer.max(layer),
+            },
+        ));
+    }
+}
+
+/// Per printed object, the samples of its extrusions on the layers its placement is fitted on
+/// (`fit.rs`): the second pass over the file.
+pub(super) struct FitSamples {
+    /// Per object id, its fitted layers, each with its samples.
+    layers: Vec<Vec<(usize, Vec<Sample>)>>,
+    spacing: f64,
+    mm: f64,
+}
+
+impl FitSamples {
+    /// Nothing yet sampled, on the layers [`fit::fit_layers`] chooses for each object of
+    /// `boxes`, at `mm` project units per mm.
+    pub fn new(boxes: &NozzleBoxes, mm: f64) -> FitSamples {
+        let layers = boxes
+            .iter()
+            .map(|extent| match extent {
+                Some(e) => fit::fit_layers(e.first_layer, e.last_layer)
+                    .into_iter()
+                    .map(|layer| (layer, Vec::new()))
+                    .collect(),
+                None => Vec::new(),
+            })
+            .collect();
+        FitSamples {
+            layers,
+            spacing: fit::spacing(mm),
+            mm,
+        }
+    }
+
+    /// Samples `segment` of object `id` when it is on one of the object's fitted layers.
+    pub fn add(&mut self, id: usize, segment: &Segment) {
+        let Some(layers) = self.layers.get_mut(id) else {
+            return;
+        };
+        if let Some((_, samples)) = layers.iter_mut().find(|(l, _)| *l == segment.layer) {
+            let a = Point3::from(segment.start.coords * self.mm);
+            let b = Point3::from(segment.end.coords * self.mm);
+            fit::sample(&a, &b, self.spacing, samples);
+        }
     }
 }
 
@@ -94,12 +169,15 @@ pub(super) fn place(
     plan: &PrintPlan,
     outline: &Outline,
     boxes: &NozzleBoxes,
+    samples: FitSamples,
 ) -> Result<Placement, SlicedError> {
+    let mut samples = samples.layers;
     let project = &compilation.project;
     let objects = match_objects(compilation, outline)?;
     let mm = project.units.from_millimetres(1.0);
     let print = &project.print;
-    let tolerance = 2.0 * print.extrusion_width + print.layer_height;
+    let width = print.extrusion_width;
+    let tolerance = 2.0 * width + print.layer_height;
     let mut placed = Vec::with_capacity(objects.len());
     let mut components_of = vec![Vec::new(); outline.objects.len()];
     for (index, object) in objects.into_iter().enumerate() {
@@ -120,12 +198,38 @@ pub(super) fn place(
             .get(object.id)
             .copied()
             .flatten()
-            .unwrap_or((origin, origin));
-        let shift = Vector3::new(
+            .map_or((origin, origin), |e| (e.low, e.high));
+        // The fit starts from the offset between the two boxes' centres.
+        let start = Vector2::new(
             (low.x + high.x - planned_low.x - planned_high.x) / 2.0,
             (low.y + high.y - planned_low.y - planned_high.y) / 2.0,
-            0.0,
         );
+        let mesh = &compilation.meshes[index];
+        let layers: Vec<FitLayer> = samples
+            .get_mut(object.id)
+            .map(std::mem::take)
+            .unwrap_or_default()
+            .into_iter()
+            .map(|(layer, samples)| {
+                let z = (outline.layers[layer] - outline.layer_thickness(layer) / 2.0) * mm;
+                FitLayer {
+                    outline: Outline2::cut(&planned, &mesh.triangles, z, 2.0 * width),
+                    samples,
+                }
+            })
+            .collect();
+        let found = fit::fit(&layers, start, width);
+        let doubt = found.doubt(width).map(|why| {
+            format!(
+                "component `{name}`: its place on the bed is not found from the file ({why}): \
+                 the plan's place is assumed"
+            )
+        });
+        let shift = if doubt.is_none() {
+            Vector3::new(found.shift[0], found.shift[1], 0.0)
+        } else {
+            Vector3::zeros()
+        };
         let planned_size = planned_high - planned_low;
         let printed_size = Vector3::new(high.x - low.x, high.y - low.y, high.z);
         let mismatch = (0..3)
@@ -151,6 +255,8 @@ pub(super) fn place(
                 component: name,
                 object: object.label.clone(),
                 shift: [shift.x, shift.y],
+                fit: found,
+                doubt,
                 planned_size: planned_size.into(),
                 printed_size: printed_size.into(),
                 mismatch,
