@@ -122,6 +122,29 @@ pub(super) fn sample(a: &Point3<f64>, b: &Point3<f64>, spacing: f64, out: &mut V
             weight,
         });
     }
+    if out.len() >= 2 * MAX_LAYER_SAMPLES {
+        thin(out);
+    }
+}
+
+/// The most samples a fitted layer keeps before they are thinned: far more than a real layer's
+/// extrusions give at [`SAMPLE_SPACING_MM`] (a 200 mm square's outer perimeter is 1,600), so
+/// only a file of millions of moves on one layer is thinned, and its memory stays bounded.
+pub(super) const MAX_LAYER_SAMPLES: usize = 250_000;
+
+/// Keeps every other sample of `samples`, each standing for the length of the one dropped after
+/// it too: the same path, half the points.
+fn thin(samples: &mut Vec<Sample>) {
+    let mut kept = 0;
+    for index in (0..samples.len()).step_by(2) {
+        let extra = samples.get(index + 1).map_or(0.0, |next| next.weight);
+        samples[kept] = Sample {
+            at: samples[index].at,
+            weight: samples[index].weight + extra,
+        };
+        kept += 1;
+    }
+    samples.truncate(kept);
 }
 
 /// The sample spacing, project units, at `mm` project units per mm.
@@ -411,6 +434,18 @@ mod tests {
         let found = fit(&few, Vector2::zeros(), 0.45);
         assert_eq!(found.layers, 2);
         assert!(found.doubt(0.45).unwrap().contains("2 layers"));
+    }
+
+    #[test]
+    fn millions_of_samples_on_a_layer_are_thinned_keeping_their_length() {
+        let mut samples = Vec::new();
+        let (a, b) = (Point3::new(0.0, 0.0, 0.2), Point3::new(1.0, 0.0, 0.2));
+        for _ in 0..1_000_000 {
+            sample(&a, &b, 0.5, &mut samples);
+        }
+        assert!(samples.len() < 2 * MAX_LAYER_SAMPLES, "{}", samples.len());
+        let length: f64 = samples.iter().map(|s| s.weight).sum();
+        assert!((length - 1e6).abs() < 1e-6, "{length}");
     }
 
     #[test]
