@@ -60,6 +60,8 @@ pub use load::{load_mesh, load_mesh_with, LoadError, LoadedMesh, MeshFile, MeshS
 pub(crate) use load_files::FileReader;
 pub use load_files::{MeshLimits, ReadPolicy, DEFAULT_MAX_MESH_BYTES, DEFAULT_MAX_TRIANGLES};
 pub use mass::{mass_properties, MassProperties};
+#[cfg(test)]
+pub(crate) use mesh::box_at;
 pub use mesh::TriMesh;
 pub use print::{
     overlap, print_volumes, print_volumes_with_voids, Overlap, PrintRaster, PrintVolumes, Region,

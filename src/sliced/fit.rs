@@ -336,34 +336,6 @@ fn measure(layers: &[FitLayer], shift: Vector2<f64>, inset: f64, band: f64) -> P
 mod tests {
     use super::*;
 
-    /// A 20 × 20 × 10 box with its corner at the origin.
-    fn cube() -> (Vec<Point3<f64>>, Vec<[u32; 3]>) {
-        let positions = (0..8)
-            .map(|i| {
-                Point3::new(
-                    20.0 * f64::from(i & 1),
-                    20.0 * f64::from((i >> 1) & 1),
-                    10.0 * f64::from((i >> 2) & 1),
-                )
-            })
-            .collect();
-        let triangles = vec![
-            [0, 2, 1],
-            [1, 2, 3],
-            [4, 5, 6],
-            [5, 7, 6],
-            [0, 1, 4],
-            [1, 5, 4],
-            [2, 6, 3],
-            [3, 6, 7],
-            [0, 4, 2],
-            [2, 4, 6],
-            [1, 3, 5],
-            [3, 7, 5],
-        ];
-        (positions, triangles)
-    }
-
     /// Samples of a square loop from `low` to `high`, moved by `shift`.
     fn ring(low: f64, high: f64, shift: Vector2<f64>, out: &mut Vec<Sample>) {
         let corners = [(low, low), (high, low), (high, high), (low, high)];
@@ -376,7 +348,11 @@ mod tests {
     }
 
     fn layers(shift: Vector2<f64>, walls: bool) -> Vec<FitLayer> {
-        let (positions, triangles) = cube();
+        // A 20 × 20 × 10 box with its corner at the origin.
+        let crate::geometry::TriMesh {
+            positions,
+            triangles,
+        } = crate::geometry::box_at([0.0; 3], [20.0, 20.0, 10.0], 0);
         (0..5)
             .map(|k| {
                 let mut samples = Vec::new();

@@ -394,40 +394,7 @@ fn exact_axes(rotation: &Rotation3<f64>) -> Rotation3<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// An axis-aligned box from `low` to `high`, outward, its vertices from `first` on.
-    fn box_at(low: [f64; 3], high: [f64; 3], first: u32) -> TriMesh {
-        let positions = (0..8)
-            .map(|i| {
-                let pick = |bit: usize, axis: usize| {
-                    if i & bit != 0 {
-                        high[axis]
-                    } else {
-                        low[axis]
-                    }
-                };
-                Point3::new(pick(1, 0), pick(2, 1), pick(4, 2))
-            })
-            .collect();
-        let faces: [[u32; 3]; 12] = [
-            [0, 2, 1],
-            [1, 2, 3],
-            [4, 5, 6],
-            [5, 7, 6],
-            [0, 1, 4],
-            [1, 5, 4],
-            [2, 6, 3],
-            [3, 6, 7],
-            [0, 4, 2],
-            [2, 4, 6],
-            [1, 3, 5],
-            [3, 7, 5],
-        ];
-        TriMesh {
-            positions,
-            triangles: faces.iter().map(|f| f.map(|v| v + first)).collect(),
-        }
-    }
+    use crate::geometry::box_at;
 
     /// A box with a narrower box standing on it: a step whose top surface rings the upper box.
     fn stepped() -> TriMesh {
