@@ -10,7 +10,8 @@
 //! ([`capsule_shell`](super::capsule_shell)) and is corrected towards this material between
 //! solves.
 
-use std::sync::{Arc, OnceLock};
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex, OnceLock};
 
 use nalgebra::Rotation3;
 
@@ -84,6 +85,63 @@ pub struct PartPrints {
     pub solids: Vec<MassProperties>,
     /// Per component, its layers, once sliced.
     rasters: Vec<OnceLock<Arc<PrintRaster>>>,
+    /// The latest cuts.
+    cuts: CutCache,
+}
+
+/// Most cuts a [`CutCache`] holds before it starts again.
+const CACHED_CUTS: usize = 1024;
+
+/// A component's material with a set of voids cut, by component and the voids' bits: a design
+/// judged again, or a component whose capsules stayed where they were while another's moved, is
+/// not cut again. A copy starts empty, so prints changed after copying never see a stale cut.
+#[derive(Debug, Default)]
+struct CutCache(Mutex<HashMap<CutKey, PrintVolumes>>);
+
+/// A component's index and the bits of each void's ends and radius.
+type CutKey = (usize, Vec<[u64; 7]>);
+
+impl Clone for CutCache {
+    fn clone(&self) -> Self {
+        CutCache::default()
+    }
+}
+
+impl CutCache {
+    /// The material of component `index` with `voids` cut: the one kept, or `cut()`'s, kept.
+    fn get_or_cut(
+        &self,
+        index: usize,
+        voids: &[Void],
+        cut: impl FnOnce() -> PrintVolumes,
+    ) -> PrintVolumes {
+        let key = (
+            index,
+            voids
+                .iter()
+                .map(|v| {
+                    let [a, b, c] = [v.from.x, v.from.y, v.from.z].map(f64::to_bits);
+                    let [d, e, f] = [v.to.x, v.to.y, v.to.z].map(f64::to_bits);
+                    [a, b, c, d, e, f, v.radius.to_bits()]
+                })
+                .collect::<Vec<_>>(),
+        );
+        let lock = || {
+            self.0
+                .lock()
+                .unwrap_or_else(|poisoned| poisoned.into_inner())
+        };
+        if let Some(kept) = lock().get(&key) {
+            return *kept;
+        }
+        let volumes = cut();
+        let mut kept = lock();
+        if kept.len() >= CACHED_CUTS {
+            kept.clear();
+        }
+        kept.insert(key, volumes);
+        volumes
+    }
 }
 
 impl PartPrints {
@@ -105,6 +163,7 @@ impl PartPrints {
             print,
             solids,
             rasters,
+            cuts: CutCache::default(),
         }
     }
 
@@ -131,9 +190,12 @@ impl PartPrints {
             .map(|(index, bare)| {
                 let voids = component_voids(design, index);
                 match (meshes.get(index), self.to_print.get(index)) {
-                    (Some(mesh), Some(to_print)) if !voids.is_empty() => {
-                        self.cut_one(mesh, *to_print, bare, index, &voids)
-                    }
+                    (Some(mesh), Some(to_print)) if !voids.is_empty() => match self.print.model {
+                        MassModel::Fdm => self.cuts.get_or_cut(index, &voids, || {
+                            self.cut_one(mesh, *to_print, bare, index, &voids)
+                        }),
+                        MassModel::Uniform => self.cut_one(mesh, *to_print, bare, index, &voids),
+                    },
                     _ => *bare,
                 }
             })
