@@ -16,8 +16,8 @@ use crate::geometry::{DistanceGrid, Skeleton, TriMesh};
 use crate::objective::{GridInterior, Parameters};
 pub use crate::optimize::length_decimals;
 use crate::optimize::{
-    capsule_radius, choose, content_hash, default_cell, explain_conflicts, grid_scale, rank,
-    repair_seeds, run_heuristic, skeleton_seeds, Candidate, ConflictSpace, GoalRef, GridKey,
+    capsule_radius, choose, content_hash, default_cell, explain_conflicts, grid_scale, has_room,
+    rank, repair_seeds, run_heuristic, skeleton_seeds, Candidate, ConflictSpace, GoalRef, GridKey,
     Method, Origin, Outcome, Problem, Rules, SeedRepair, SeedSite, StartCapsule,
 };
 use crate::spec::model::{Optimize, Project};
@@ -177,9 +177,34 @@ pub fn prepare(
         }
         skeletons.push(workspace.cache.skeleton(mesh, key, &workspace.cancel)?);
     }
+    // The smallest capsule that holds a ball: the smallest listed ball with its clearance, or the
+    // optimizer's smallest radius when balls come in any size.
+    let ball = &project.ball;
+    let smallest = ball
+        .diameters
+        .iter()
+        .map(|diameter| diameter / 2.0 + ball.clearance)
+        .reduce(f64::min)
+        .unwrap_or(parameters.min_radius)
+        .max(parameters.min_radius);
+    let room: Vec<bool> = meshes
+        .iter()
+        .zip(&print.up)
+        .map(|(mesh, up)| {
+            has_room(
+                &mesh.positions,
+                up,
+                smallest,
+                project.wall,
+                ball.clearance,
+                print.grid.layer_height,
+            )
+        })
+        .collect();
     let (starts, sites) = skeleton_seeds(
         &skeletons,
         interior.as_ref(),
+        &room,
         parameters.min_radius,
         project.wall,
     );

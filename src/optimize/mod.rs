@@ -28,6 +28,6 @@ pub use grids::{content_hash, default_cell};
 pub use heuristic::{choose, run as run_heuristic, Candidate, Round};
 pub use problem::{Origin, Outcome, Problem, StartCapsule};
 pub use repair::{repair_seeds, Rules, SeedRepair};
-pub use seeds::{skeleton_seeds, SeedSite};
+pub use seeds::{has_room, skeleton_seeds, SeedSite};
 pub use solver::{solve, Bounds, Budget, Method, Solve};
 pub use stock::{capsule_radius, grid_scale, length_decimals, snap as snap_to_stock};
