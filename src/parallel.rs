@@ -11,16 +11,16 @@ const BLOCK: usize = 1024;
 /// `available_parallelism` threads. Each element depends only on its index, so the result does
 /// not depend on the thread count.
 pub(crate) fn map_nodes<T: Send>(count: usize, f: impl Fn(usize) -> T + Sync) -> Vec<T> {
-    map_blocks_on(threads(), BLOCK, count, f)
+    map_blocks_on(cores(), BLOCK, count, f)
 }
 
 /// As [`map_nodes`], one index at a time: for few, costly elements (a print layer).
 pub(crate) fn map_each<T: Send>(count: usize, f: impl Fn(usize) -> T + Sync) -> Vec<T> {
-    map_blocks_on(threads(), 1, count, f)
+    map_blocks_on(cores(), 1, count, f)
 }
 
-/// The cores available.
-fn threads() -> usize {
+/// The cores available: how many threads [`map_each`] runs at most.
+pub(crate) fn cores() -> usize {
     thread::available_parallelism().map_or(1, |n| n.get())
 }
 

@@ -96,6 +96,9 @@ pub fn optimization(
         }
     }
     let timings = &optimization.timings;
+    // Looking for conflicts runs whenever no design meets every goal, and can take longer than
+    // the search: its time is shown even when it names none.
+    let explained = !optimization.meets_goals && optimization.interrupted.is_none();
     let _ = writeln!(
         out,
         "  time: precompute {:.2} s{}, heuristic {:.2} s{}{}",
@@ -114,7 +117,7 @@ pub fn optimization(
         } else {
             format!(", exhaustive {:.2} s", timings.exhaustive)
         },
-        if optimization.conflicts.is_empty() && !optimization.conflicts_cut_short {
+        if !explained && optimization.conflicts.is_empty() && !optimization.conflicts_cut_short {
             String::new()
         } else {
             format!(", conflicts {:.2} s", timings.conflicts)

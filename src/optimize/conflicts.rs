@@ -12,6 +12,7 @@ use crate::cancel::Cancel;
 use crate::fabrication::PrintSetup;
 use crate::geometry::TriMesh;
 use crate::objective::GridInterior;
+use crate::parallel::{cores, map_each};
 use crate::spec::model::Project;
 
 /// One goal of one pose.
@@ -54,7 +55,7 @@ pub struct Space<'a> {
     pub starts: &'a [Vec<StartCapsule>],
     /// Turns a reached outcome into the design the solution file would hold, judged again: a
     /// set of goals counts as met only when that design meets it.
-    pub written: &'a dyn Fn(&Problem, &Outcome) -> Outcome,
+    pub written: &'a (dyn Fn(&Problem, &Outcome) -> Outcome + Sync),
 }
 
 /// Explains why the goals `unmet` (of `project`) were not met by optimizing for smaller sets of
@@ -114,15 +115,30 @@ pub fn explain(
             Method::Hybrid,
         )
         .with_cancel(cancel.clone());
-        let best = space
-            .starts
-            .iter()
-            .map(|start| {
+        // The starts are independent: solved side by side, as many at a time as there are
+        // cores, and compared in order. Only whether a set is met, and how far the best design
+        // falls short when none meets it, is used: once a batch holds a design that meets it,
+        // the starts after that batch can change neither.
+        let better = |a: &(bool, f64), b: &(bool, f64)| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1));
+        let mut best: Option<(bool, f64)> = None;
+        let batch = cores();
+        for first in (0..space.starts.len()).step_by(batch) {
+            let count = batch.min(space.starts.len() - first);
+            let reached = map_each(count, |i| {
+                let start = &space.starts[first + i];
                 let written = (space.written)(&problem, &problem.optimize(start));
                 (written.meets_goals, written.value.to_degrees())
-            })
-            .max_by(|a, b| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1)))
-            .unwrap_or((false, f64::INFINITY));
+            });
+            for result in reached {
+                if best.is_none_or(|best| better(&result, &best).is_ge()) {
+                    best = Some(result);
+                }
+            }
+            if best.is_some_and(|(met, _)| met) || cancel.is_cancelled() {
+                break;
+            }
+        }
+        let best = best.unwrap_or((false, f64::INFINITY));
         (!cancel.is_cancelled()).then_some(best)
     };
     let mut alone: Vec<(GoalRef, bool, f64)> = Vec::with_capacity(all.len());
