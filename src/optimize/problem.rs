@@ -270,13 +270,16 @@ impl<'a> Problem<'a> {
         // The grid's interpolant can overestimate the distance to a sharp feature by a fraction
         // of a cell: shrink any capsule that came too close, by the exact deficit, and re-judge.
         // A stock radius cannot shrink by a fraction of a cell, only to the next smaller ball:
-        // first the capsules are moved instead, solved again as if wider by their deficit.
+        // first the capsules are moved instead, solved again as if wider by their deficit. A
+        // deficit past a cell is not the interpolant's but a solve that ended outside the
+        // constraints; solving again from there rarely mends it and costs as much as the solve,
+        // so such a capsule is only shrunk.
         let listed = self.project.ball.is_listed();
         let mut widening = vec![0.0; start.len()];
         for attempt in 0..3 {
             let move_first = listed && attempt < 2;
             let mut shrunk = outcome.design.clone();
-            let mut changed = false;
+            let (mut changed, mut moving) = (false, false);
             for issue in &outcome.fabrication {
                 if let CapsuleIssue::TooCloseToSurface {
                     capsule,
@@ -293,9 +296,9 @@ impl<'a> Problem<'a> {
                     let deficit = (required - distance) * 1.01
                         + 1e-9 * c.radius.abs()
                         + self.rounding_slack();
-                    if move_first {
+                    if move_first && required - distance <= self.grid_cell(c.component) {
                         widening[capsule] += deficit;
-                        changed = true;
+                        moving = true;
                         continue;
                     }
                     let mut radius = c.radius - deficit;
@@ -310,10 +313,12 @@ impl<'a> Problem<'a> {
                     changed = true;
                 }
             }
-            if !changed {
+            if !changed && !moving {
                 break;
             }
-            if move_first {
+            // A capsule shrunk beside one moved is shrunk at a later attempt, if still too close
+            // where the move left it.
+            if moving {
                 shrunk = self.moved(&objective, &bounds, &layout, &outcome.design, &widening);
             }
             outcome = self.judge(shrunk);
@@ -347,6 +352,14 @@ impl<'a> Problem<'a> {
                 }
             })
             .collect()
+    }
+
+    /// The spacing of component `component`'s distance grid (0 without one).
+    fn grid_cell(&self, component: usize) -> f64 {
+        self.interior
+            .grids
+            .get(component)
+            .map_or(0.0, |grid| grid.cell())
     }
 
     /// `capsule` with `to` its upper end along its component's print direction, unless pinned.
