@@ -4,7 +4,7 @@
 use std::ops::RangeInclusive;
 
 use super::cells::{CellBox, Overlay, Planes};
-use super::distance::squared_distance_within;
+use super::distance::near_marked;
 use super::layout::Layout;
 use crate::parallel::map_each;
 
@@ -114,12 +114,9 @@ fn surface(layout: &Layout, area: &CellBox, fill: &[bool], next: Option<&[bool]>
     if reach <= 0.0 || !exposed.iter().any(|&e| e) {
         return exposed;
     }
-    let distance = squared_distance_within(&exposed, area.width(), area.height(), reach);
-    distance
-        .iter()
-        .zip(fill)
-        .map(|(d, &f)| f && *d <= reach * reach)
-        .collect()
+    let limit = reach * reach;
+    let near = near_marked(&exposed, area.width(), area.height(), reach, |d| d <= limit);
+    near.iter().zip(fill).map(|(&n, &f)| f && n).collect()
 }
 
 /// Sparse regions (4-connected) of a whole layer's `class` smaller than the minimum area

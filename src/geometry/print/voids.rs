@@ -4,7 +4,7 @@
 use nalgebra::Point3;
 
 use super::cells::CellBox;
-use super::distance::squared_distance_within;
+use super::distance::near_marked;
 use super::layout::{Layout, U, UP, V};
 use crate::geometry::distance::point_segment_distance;
 
@@ -108,11 +108,8 @@ impl Layout {
     /// `area` when `area` holds every hole cell.
     pub(super) fn near_hole(&self, hole: &[bool], area: &CellBox) -> Vec<bool> {
         let reach = self.slicing.perimeter_thickness / self.cell + 0.5;
-        let distance = squared_distance_within(hole, area.width(), area.height(), reach);
-        distance
-            .iter()
-            .zip(hole)
-            .map(|(&d, &h)| !h && d < reach * reach)
-            .collect()
+        let limit = reach * reach;
+        let near = near_marked(hole, area.width(), area.height(), reach, |d| d < limit);
+        near.iter().zip(hole).map(|(&n, &h)| n && !h).collect()
     }
 }
