@@ -58,42 +58,53 @@ pub(super) fn classify(
     let bottoms = surfaces(bottoms_from, high, |k| k.checked_sub(1));
     // A layer past the raster is outside: every cell under (or over) it is uncovered.
     let inside_at = |k: usize| inside.layer(k);
+    // Where `valid`'s rows lie in `area`'s.
+    let (width, from) = (valid.width(), valid.i.start - area.i.start);
+    let rows = valid.j.clone().map(|j| {
+        let start = (j - area.j.start) * area.width() + from;
+        start..start + width
+    });
     map_each(high - low + 1, |offset| {
         let k = low + offset;
         let here = layer(&inside, k);
         let rim = layer(&near, k);
-        let above: Vec<Option<&[bool]>> = (1..=top).map(|d| inside_at(k + d)).collect();
-        let below: Vec<Option<&[bool]>> = (1..=bottom)
-            .map(|d| k.checked_sub(d).and_then(inside_at))
+        // The solid layers above and below; `None` when one is past the raster.
+        let covering: Option<Vec<&[bool]>> = (1..=top)
+            .map(|d| inside_at(k + d))
+            .chain((1..=bottom).map(|d| k.checked_sub(d).and_then(inside_at)))
             .collect();
-        let top_surfaces: Vec<&[bool]> = (0..top).filter_map(|d| tops.layer(k + d)).collect();
-        let bottom_surfaces: Vec<&[bool]> = (0..bottom)
-            .filter_map(|d| k.checked_sub(d).and_then(|l| bottoms.layer(l)))
+        let surfaces: Vec<&[bool]> = (0..top)
+            .filter_map(|d| tops.layer(k + d))
+            .chain((0..bottom).filter_map(|d| k.checked_sub(d).and_then(|l| bottoms.layer(l))))
             .collect();
-        let uncovered = |layers: &[Option<&[bool]>], a: usize| {
-            layers
-                .iter()
-                .any(|cells| cells.is_none_or(|cells| !cells[a]))
-        };
-        valid
-            .cells()
-            .map(|(i, j)| {
-                let a = area.local(i, j).unwrap_or_default();
-                if !here[a] {
-                    return Cell::Outside;
+        let mut classes = Vec::with_capacity(valid.len());
+        let mut shell = vec![false; width];
+        for cells in rows.clone() {
+            // The perimeters, the cells some solid layer above or below leaves uncovered, and
+            // the surfaces.
+            match &covering {
+                Some(covering) => {
+                    shell.copy_from_slice(&rim[cells.clone()]);
+                    for layer in covering {
+                        for (s, &c) in shell.iter_mut().zip(&layer[cells.clone()]) {
+                            *s |= !c;
+                        }
+                    }
+                    for layer in &surfaces {
+                        for (s, &c) in shell.iter_mut().zip(&layer[cells.clone()]) {
+                            *s |= c;
+                        }
+                    }
                 }
-                let shell = rim[a]
-                    || uncovered(&above, a)
-                    || uncovered(&below, a)
-                    || top_surfaces.iter().any(|cells| cells[a])
-                    || bottom_surfaces.iter().any(|cells| cells[a]);
-                if shell {
-                    Cell::Solid
-                } else {
-                    Cell::Sparse
-                }
-            })
-            .collect()
+                None => shell.fill(true),
+            }
+            classes.extend(here[cells].iter().zip(&shell).map(|(&h, &s)| match (h, s) {
+                (false, _) => Cell::Outside,
+                (true, true) => Cell::Solid,
+                (true, false) => Cell::Sparse,
+            }));
+        }
+        classes
     })
 }
 
