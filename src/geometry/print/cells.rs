@@ -68,14 +68,6 @@ impl CellBox {
         (self.i.contains(&i) && self.j.contains(&j))
             .then(|| (j - self.j.start) * self.width() + (i - self.i.start))
     }
-
-    /// The raster's (`i`, `j`) of every cell of the box, in the box's order (row by row), without
-    /// the division per cell that finding one cell's (`i`, `j`) from its index takes.
-    pub(super) fn cells(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
-        self.j
-            .clone()
-            .flat_map(move |j| self.i.clone().map(move |i| (i, j)))
-    }
 }
 
 /// Per layer from `first` on, a set of the cells of `area` (each layer's cells in the box's

@@ -137,42 +137,45 @@ pub(super) fn fill_small_regions(layout: &Layout, class: &mut [Cell]) {
     if limit <= 0.0 {
         return;
     }
+    let columns = layout.columns;
     let cell_area = layout.cell * layout.cell;
     let mut seen = vec![false; class.len()];
     let mut stack = Vec::new();
     let mut region = Vec::new();
-    for start in 0..class.len() {
-        if seen[start] || class[start] != Cell::Sparse {
-            continue;
-        }
-        seen[start] = true;
-        stack.push(start);
-        region.clear();
-        while let Some(index) = stack.pop() {
-            region.push(index);
-            for next in neighbours(layout, index).into_iter().flatten() {
-                if !seen[next] && class[next] == Cell::Sparse {
-                    seen[next] = true;
-                    stack.push(next);
+    for j in 0..class.len() / columns {
+        for i in 0..columns {
+            let start = j * columns + i;
+            if seen[start] || class[start] != Cell::Sparse {
+                continue;
+            }
+            seen[start] = true;
+            stack.push((i, j));
+            region.clear();
+            while let Some(cell) = stack.pop() {
+                region.push(cell);
+                for (i, j) in neighbours(layout, cell).into_iter().flatten() {
+                    let next = j * columns + i;
+                    if !seen[next] && class[next] == Cell::Sparse {
+                        seen[next] = true;
+                        stack.push((i, j));
+                    }
                 }
             }
-        }
-        if (region.len() as f64) * cell_area < limit {
-            for &index in &region {
-                class[index] = Cell::Solid;
+            if (region.len() as f64) * cell_area < limit {
+                for &(i, j) in &region {
+                    class[j * columns + i] = Cell::Solid;
+                }
             }
         }
     }
 }
 
-/// The 4-connected neighbours of raster cell `index` (a layer's index).
-pub(super) fn neighbours(layout: &Layout, index: usize) -> [Option<usize>; 4] {
-    let columns = layout.columns;
-    let (i, j) = (index % columns, index / columns);
+/// The 4-connected neighbours of raster cell (`i`, `j`): left, right, up, down.
+pub(super) fn neighbours(layout: &Layout, (i, j): (usize, usize)) -> [Option<(usize, usize)>; 4] {
     [
-        (i > 0).then(|| index - 1),
-        (i + 1 < columns).then(|| index + 1),
-        (j > 0).then(|| index - columns),
-        (j + 1 < layout.rows).then(|| index + columns),
+        (i > 0).then(|| (i - 1, j)),
+        (i + 1 < layout.columns).then(|| (i + 1, j)),
+        (j > 0).then(|| (i, j - 1)),
+        (j + 1 < layout.rows).then(|| (i, j + 1)),
     ]
 }

@@ -286,17 +286,7 @@ impl PrintRaster {
             return empty_volumes();
         };
         let voids = self.in_print_frame(voids);
-        let layout = &layers.layout;
-        let mut totals = layers.totals;
-        for changed in layers.cut(&voids) {
-            let (k, bare) = (changed.layer, &layers.classes[changed.layer]);
-            for &(index, class) in &changed.cells {
-                let (i, j) = (index % layout.columns, index / layout.columns);
-                totals.add(-1, bare[index], i, j, k);
-                totals.add(1, class, i, j, k);
-            }
-        }
-        self.volumes_of(layout, &totals)
+        self.volumes_of(&layers.layout, &layers.cut(&voids))
     }
 
     /// `voids` (rest frame) turned into the print frame.

@@ -13,6 +13,7 @@ use std::ops::RangeInclusive;
 use super::cells::{CellBox, Overlay, Planes};
 use super::classes::{self, neighbours, Cell};
 use super::layout::Layout;
+use super::tally::Totals;
 use super::{Layers, Void};
 use crate::parallel::map_each;
 
@@ -29,23 +30,20 @@ enum Verdict {
     Large,
 }
 
-/// The cells of one layer whose class a cut changes.
-pub(super) struct Changed {
-    /// The layer.
-    pub(super) layer: usize,
-    /// Each changed cell's index in the layer and its class with the voids cut; no cell twice.
-    pub(super) cells: Vec<(usize, Cell)>,
-}
-
 impl Layers {
-    /// The cells whose class cutting `voids` (print frame) changes, per layer; none when the
-    /// voids cross no layer or miss the raster.
-    pub(super) fn cut(&self, voids: &[Void]) -> Vec<Changed> {
-        self.cut_window(voids).unwrap_or_default()
+    /// The solid and sparse cells of every layer with `voids` (print frame) cut: the bare
+    /// totals when the voids cross no layer or miss the raster.
+    pub(super) fn cut(&self, voids: &[Void]) -> Totals {
+        let mut totals = self.totals;
+        for change in self.cut_window(voids).unwrap_or_default() {
+            totals += change;
+        }
+        totals
     }
 
-    /// [`Layers::cut`], `None` for no change.
-    fn cut_window(&self, voids: &[Void]) -> Option<Vec<Changed>> {
+    /// Per layer the cut changes, the change in its solid and sparse cells; `None` for no
+    /// change.
+    fn cut_window(&self, voids: &[Void]) -> Option<Vec<Totals>> {
         let layout = &self.layout;
         let crossed: Vec<usize> = (0..layout.layers)
             .filter(|&k| {
@@ -78,9 +76,8 @@ impl Layers {
         let window = reach(layout, first, last);
         let low = *window.start();
         let unsettled = classes::classify(layout, inside, near, &area, &valid, window);
-        Some(map_each(unsettled.len(), |offset| Changed {
-            layer: low + offset,
-            cells: self.settle(low + offset, &valid, &unsettled[offset]),
+        Some(map_each(unsettled.len(), |offset| {
+            self.settle(low + offset, &valid, &unsettled[offset])
         }))
     }
 
@@ -123,20 +120,21 @@ impl Layers {
         (planes(inside), planes(near))
     }
 
-    /// The cells of layer `k` whose class changes when those of `valid`'s cells before the
-    /// small-region rule are replaced by `unsettled` (in `valid`'s order), with their new
-    /// class: the rule applied to every sparse region that reaches `valid` or its edge.
-    fn settle(&self, k: usize, valid: &CellBox, unsettled: &[Cell]) -> Vec<(usize, Cell)> {
+    /// The change in layer `k`'s solid and sparse cells when the classes of `valid`'s cells
+    /// before the small-region rule are replaced by `unsettled` (in `valid`'s order): the rule
+    /// applied to every sparse region that reaches `valid` or its edge.
+    fn settle(&self, k: usize, valid: &CellBox, unsettled: &[Cell]) -> Totals {
         let layout = &self.layout;
         let columns = layout.columns;
         let (bare_unsettled, bare) = (&self.unsettled[k], &self.classes[k]);
-        let at = |index: usize| (index % columns, index / columns);
+        // The layer's indices of a row of a box's cells.
+        let row =
+            |cells: &CellBox, j: usize| j * columns + cells.i.start..j * columns + cells.i.end;
         // Each cell's class before the rule: the bare layer's, `unsettled` over `valid`.
-        let mut rule_input = bare_unsettled.clone();
-        for ((i, j), &cell) in valid.cells().zip(unsettled) {
-            rule_input[j * columns + i] = cell;
+        let mut before_rule = bare_unsettled.clone();
+        for (j, cells) in valid.j.clone().zip(unsettled.chunks(valid.width())) {
+            before_rule[row(valid, j)].copy_from_slice(cells);
         }
-        let before_rule = |index: usize| rule_input[index];
         let mut verdict = vec![Verdict::Unseen; bare.len()];
         // The cells outside `valid` whose class the rule settles here.
         let mut settled = Vec::new();
@@ -145,16 +143,20 @@ impl Layers {
             let edge = valid.grown(1, layout);
             let cell_area = layout.cell * layout.cell;
             let mut flood = Flood::default();
-            for (i, j) in edge.cells() {
-                let start = j * columns + i;
-                if verdict[start] == Verdict::Unseen && before_rule(start) == Cell::Sparse {
-                    let region = flood.region(layout, start, &before_rule, &mut verdict, |n| {
+            for j in edge.j.clone() {
+                for (i, start) in edge.i.clone().zip(row(&edge, j)) {
+                    if verdict[start] != Verdict::Unseen || before_rule[start] != Cell::Sparse {
+                        continue;
+                    }
+                    let region = flood.region(layout, (i, j), &before_rule, &mut verdict, |n| {
                         (n as f64) * cell_area >= limit
                     });
-                    settled.extend(region.iter().copied().filter(|&c| {
-                        let (i, j) = at(c);
-                        !valid.contains(i, j)
-                    }));
+                    settled.extend(
+                        region
+                            .iter()
+                            .copied()
+                            .filter(|&(i, j)| !valid.contains(i, j)),
+                    );
                 }
             }
             // A region the bare layer filled solid that now joins a large one is reached by no
@@ -163,24 +165,33 @@ impl Layers {
                 |index: usize| bare_unsettled[index] == Cell::Sparse && bare[index] == Cell::Solid;
             let mut seen = vec![false; bare.len()];
             let mut stack = Vec::new();
-            for (i, j) in edge.cells() {
-                let start = j * columns + i;
-                if valid.contains(i, j) || seen[start] || !filled(start) {
-                    continue;
-                }
-                let of_region = verdict[start];
-                seen[start] = true;
-                stack.push(start);
-                while let Some(index) = stack.pop() {
-                    if verdict[index] == Verdict::Unseen {
-                        verdict[index] = of_region;
-                        settled.push(index);
+            for j in edge.j.clone() {
+                // The edge's columns outside `valid` in this row.
+                let outside = if valid.j.contains(&j) {
+                    [edge.i.start..valid.i.start, valid.i.end..edge.i.end]
+                } else {
+                    [edge.i.clone(), 0..0]
+                };
+                for i in outside.into_iter().flatten() {
+                    let start = j * columns + i;
+                    if seen[start] || !filled(start) {
+                        continue;
                     }
-                    for next in neighbours(layout, index).into_iter().flatten() {
-                        let (i, j) = at(next);
-                        if !seen[next] && !valid.contains(i, j) && filled(next) {
-                            seen[next] = true;
-                            stack.push(next);
+                    let of_region = verdict[start];
+                    seen[start] = true;
+                    stack.push((i, j));
+                    while let Some(cell) = stack.pop() {
+                        let index = cell.1 * columns + cell.0;
+                        if verdict[index] == Verdict::Unseen {
+                            verdict[index] = of_region;
+                            settled.push(cell);
+                        }
+                        for (i, j) in neighbours(layout, cell).into_iter().flatten() {
+                            let next = j * columns + i;
+                            if !seen[next] && !valid.contains(i, j) && filled(next) {
+                                seen[next] = true;
+                                stack.push((i, j));
+                            }
                         }
                     }
                 }
@@ -193,62 +204,69 @@ impl Layers {
             Verdict::Large => Cell::Sparse,
             Verdict::Unseen | Verdict::Queued => unreached,
         };
-        let mut changed = Vec::new();
-        let mut set = |index: usize, to: Cell| {
-            if to != bare[index] {
-                changed.push((index, to));
+        let mut change = Totals::default();
+        let mut set = |(i, j): (usize, usize), to: Cell| {
+            let was = bare[j * columns + i];
+            if to != was {
+                change.add(-1, was, i, j, k);
+                change.add(1, to, i, j, k);
             }
         };
-        for (i, j) in valid.cells() {
-            let index = j * columns + i;
-            set(index, class(index, before_rule(index)));
+        for j in valid.j.clone() {
+            for (i, index) in valid.i.clone().zip(row(valid, j)) {
+                set((i, j), class(index, before_rule[index]));
+            }
         }
         // Each settled cell lies outside `valid`, and a flood or a walk settles it once.
-        for index in settled {
-            set(index, class(index, bare[index]));
+        for (i, j) in settled {
+            let index = j * columns + i;
+            set((i, j), class(index, bare[index]));
         }
-        changed
+        change
     }
 }
 
 /// A flood over a layer's sparse cells, reused between regions.
 #[derive(Default)]
 struct Flood {
-    stack: Vec<usize>,
-    region: Vec<usize>,
+    stack: Vec<(usize, usize)>,
+    region: Vec<(usize, usize)>,
 }
 
 impl Flood {
-    /// The region of sparse cells (`class`) around `start`, each cell's verdict set: large as
-    /// soon as `large` holds for the cells reached or the flood meets a cell of a large region,
-    /// small when the whole region is reached first. A large region is left partly unreached.
+    /// The region of sparse cells (`class`, a layer's) around cell `start`, each cell's verdict
+    /// set: large as soon as `large` holds for the cells reached or the flood meets a cell of a
+    /// large region, small when the whole region is reached first. A large region is left
+    /// partly unreached.
     fn region(
         &mut self,
         layout: &Layout,
-        start: usize,
-        class: &impl Fn(usize) -> Cell,
+        start: (usize, usize),
+        class: &[Cell],
         verdict: &mut [Verdict],
         large: impl Fn(usize) -> bool,
-    ) -> &[usize] {
+    ) -> &[(usize, usize)] {
+        let columns = layout.columns;
         self.stack.clear();
         self.region.clear();
-        verdict[start] = Verdict::Queued;
+        verdict[start.1 * columns + start.0] = Verdict::Queued;
         self.stack.push(start);
         let mut is_large = false;
-        while let Some(index) = self.stack.pop() {
-            self.region.push(index);
+        while let Some(cell) = self.stack.pop() {
+            self.region.push(cell);
             if large(self.region.len()) {
                 is_large = true;
                 break;
             }
-            for next in neighbours(layout, index).into_iter().flatten() {
-                if class(next) != Cell::Sparse {
+            for (i, j) in neighbours(layout, cell).into_iter().flatten() {
+                let next = j * columns + i;
+                if class[next] != Cell::Sparse {
                     continue;
                 }
                 match verdict[next] {
                     Verdict::Unseen => {
                         verdict[next] = Verdict::Queued;
-                        self.stack.push(next);
+                        self.stack.push((i, j));
                     }
                     Verdict::Large => is_large = true,
                     Verdict::Queued | Verdict::Small => {}
@@ -264,8 +282,8 @@ impl Flood {
         } else {
             Verdict::Small
         };
-        for &index in &self.region {
-            verdict[index] = outcome;
+        for &(i, j) in &self.region {
+            verdict[j * columns + i] = outcome;
         }
         &self.region
     }
