@@ -47,13 +47,12 @@ impl Layout {
             let Some(cover) = cover else {
                 continue;
             };
+            // Every cell of the cover is tested (the test is the same, set or not), row by row.
             for j in cover.j {
-                for i in cover.i.clone() {
-                    if let Some(local) = area.local(i, j) {
-                        if !cells[local] && void.contains(&self.point_at(i, j, z)) {
-                            cells[local] = true;
-                        }
-                    }
+                let start = (j - area.j.start) * area.width() + cover.i.start - area.i.start;
+                let row = &mut cells[start..start + cover.i.len()];
+                for (cell, i) in row.iter_mut().zip(cover.i.clone()) {
+                    *cell |= void.contains(&self.point_at(i, j, z));
                 }
             }
         }

@@ -10,8 +10,8 @@
 
 use std::ops::RangeInclusive;
 
-use super::cells::{CellBox, Overlay, Planes};
-use super::classes::{self, neighbours, Cell};
+use super::cells::{CellBox, Overlay, Planes, Rows};
+use super::classes::{neighbours, Cell, Classifier};
 use super::layout::Layout;
 use super::tally::Totals;
 use super::{Layers, Void};
@@ -28,6 +28,18 @@ enum Verdict {
     Small,
     /// In a sparse region at least the minimum area: sparse.
     Large,
+}
+
+impl Verdict {
+    /// The class of a cell with this verdict: the rule's when it reached the cell, else
+    /// `unreached`.
+    fn class(self, unreached: Cell) -> Cell {
+        match self {
+            Verdict::Small => Cell::Solid,
+            Verdict::Large => Cell::Sparse,
+            Verdict::Unseen | Verdict::Queued => unreached,
+        }
+    }
 }
 
 impl Layers {
@@ -63,21 +75,22 @@ impl Layers {
         let margin = (slicing.surface_margin / layout.cell).ceil();
         let area = valid.grown(margin as usize + 2, layout);
         let (inside, near) = self.cut_planes(voids, first..=last, &area);
-        let inside = Overlay {
+        let overlay = |bare, planes| Overlay {
             columns: layout.columns,
-            bare: &self.inside,
-            planes: &inside,
+            bare,
+            planes,
         };
-        let near = Overlay {
-            columns: layout.columns,
-            bare: &self.near,
-            planes: &near,
-        };
+        let (inside, near) = (overlay(&self.inside, &inside), overlay(&self.near, &near));
         let window = reach(layout, first, last);
         let low = *window.start();
-        let unsettled = classes::classify(layout, inside, near, &area, &valid, window);
-        Some(map_each(unsettled.len(), |offset| {
-            self.settle(low + offset, &valid, &unsettled[offset])
+        let count = window.clone().count();
+        let classifier = Classifier::new(layout, inside, near, window);
+        Some(map_each(count, |offset| {
+            let k = low + offset;
+            // Each cell's class before the rule: the bare layer's, re-classified over `valid`.
+            let mut before_rule = self.unsettled[k].clone();
+            classifier.layer(k, &valid, &mut before_rule);
+            self.settle(k, &valid, &before_rule)
         }))
     }
 
@@ -93,23 +106,25 @@ impl Layers {
         let first = *crossed.start();
         let cut: Vec<(Vec<bool>, Vec<bool>)> = map_each(crossed.count(), |offset| {
             let k = first + offset;
-            let bare = |layer: &[bool]| -> Vec<bool> {
-                let mut cells = Vec::with_capacity(area.len());
-                for j in area.j.clone() {
-                    let row = j * layout.columns;
-                    cells.extend_from_slice(&layer[row + area.i.start..row + area.i.end]);
-                }
-                cells
-            };
-            let (bare_inside, bare_near) = (bare(&self.inside[k]), bare(&self.near[k]));
+            let bare_inside = Rows::bare(&self.inside[k], layout.columns, area);
+            let bare_near = Rows::bare(&self.near[k], layout.columns, area);
             let mut hole = layout.in_voids(k, voids, area);
-            for (h, &inside) in hole.iter_mut().zip(&bare_inside) {
-                *h &= inside;
+            for (y, row) in hole.chunks_mut(area.width()).enumerate() {
+                for (h, &inside) in row.iter_mut().zip(bare_inside.row(y)) {
+                    *h &= inside;
+                }
             }
             let around = layout.near_hole(&hole, area);
-            let inside = bare_inside.iter().zip(&hole).map(|(&b, &h)| b && !h);
-            let near = bare_near.iter().zip(&around).map(|(&b, &a)| b || a);
-            (inside.collect(), near.collect())
+            let (mut inside, mut near) = (
+                Vec::with_capacity(area.len()),
+                Vec::with_capacity(area.len()),
+            );
+            let rows = hole.chunks(area.width()).zip(around.chunks(area.width()));
+            for (y, (hole, around)) in rows.enumerate() {
+                inside.extend(bare_inside.row(y).iter().zip(hole).map(|(&b, &h)| b && !h));
+                near.extend(bare_near.row(y).iter().zip(around).map(|(&b, &a)| b || a));
+            }
+            (inside, near)
         });
         let (inside, near) = cut.into_iter().unzip();
         let planes = |layers| Planes {
@@ -120,21 +135,16 @@ impl Layers {
         (planes(inside), planes(near))
     }
 
-    /// The change in layer `k`'s solid and sparse cells when the classes of `valid`'s cells
-    /// before the small-region rule are replaced by `unsettled` (in `valid`'s order): the rule
-    /// applied to every sparse region that reaches `valid` or its edge.
-    fn settle(&self, k: usize, valid: &CellBox, unsettled: &[Cell]) -> Totals {
+    /// The change in layer `k`'s solid and sparse cells when its classes before the
+    /// small-region rule are `before_rule` (the whole layer's, changed only in `valid`): the
+    /// rule applied to every sparse region that reaches `valid` or its edge.
+    fn settle(&self, k: usize, valid: &CellBox, before_rule: &[Cell]) -> Totals {
         let layout = &self.layout;
         let columns = layout.columns;
         let (bare_unsettled, bare) = (&self.unsettled[k], &self.classes[k]);
         // The layer's indices of a row of a box's cells.
         let row =
             |cells: &CellBox, j: usize| j * columns + cells.i.start..j * columns + cells.i.end;
-        // Each cell's class before the rule: the bare layer's, `unsettled` over `valid`.
-        let mut before_rule = bare_unsettled.clone();
-        for (j, cells) in valid.j.clone().zip(unsettled.chunks(valid.width())) {
-            before_rule[row(valid, j)].copy_from_slice(cells);
-        }
         let mut verdict = vec![Verdict::Unseen; bare.len()];
         // The cells outside `valid` whose class the rule settles here.
         let mut settled = Vec::new();
@@ -144,11 +154,14 @@ impl Layers {
             let cell_area = layout.cell * layout.cell;
             let mut flood = Flood::default();
             for j in edge.j.clone() {
-                for (i, start) in edge.i.clone().zip(row(&edge, j)) {
-                    if verdict[start] != Verdict::Unseen || before_rule[start] != Cell::Sparse {
+                let cells = row(&edge, j);
+                let sparse = before_rule[cells.clone()].iter().enumerate();
+                for (offset, _) in sparse.filter(|&(_, &class)| class == Cell::Sparse) {
+                    let (i, start) = (edge.i.start + offset, cells.start + offset);
+                    if verdict[start] != Verdict::Unseen {
                         continue;
                     }
-                    let region = flood.region(layout, (i, j), &before_rule, &mut verdict, |n| {
+                    let region = flood.region(layout, (i, j), before_rule, &mut verdict, |n| {
                         (n as f64) * cell_area >= limit
                     });
                     settled.extend(
@@ -163,9 +176,11 @@ impl Layers {
             // stopped flood, but each of its parts outside `valid` holds a cell of the edge.
             let filled =
                 |index: usize| bare_unsettled[index] == Cell::Sparse && bare[index] == Cell::Solid;
-            let mut seen = vec![false; bare.len()];
+            // Without such parts when the edge is all inside `valid` (the whole raster).
+            let ring = if edge == *valid { 0..0 } else { edge.j.clone() };
+            let mut seen = vec![false; if ring.is_empty() { 0 } else { bare.len() }];
             let mut stack = Vec::new();
-            for j in edge.j.clone() {
+            for j in ring {
                 // The edge's columns outside `valid` in this row.
                 let outside = if valid.j.contains(&j) {
                     [edge.i.start..valid.i.start, valid.i.end..edge.i.end]
@@ -199,28 +214,28 @@ impl Layers {
         }
         // A cell the rule reached takes its verdict; one it did not keeps its class before the
         // rule inside `valid`, the bare layer's outside.
-        let class = |index: usize, unreached: Cell| match verdict[index] {
-            Verdict::Small => Cell::Solid,
-            Verdict::Large => Cell::Sparse,
-            Verdict::Unseen | Verdict::Queued => unreached,
-        };
         let mut change = Totals::default();
-        let mut set = |(i, j): (usize, usize), to: Cell| {
-            let was = bare[j * columns + i];
+        let mut set = |(i, j): (usize, usize), was: Cell, to: Cell| {
             if to != was {
                 change.add(-1, was, i, j, k);
                 change.add(1, to, i, j, k);
             }
         };
         for j in valid.j.clone() {
-            for (i, index) in valid.i.clone().zip(row(valid, j)) {
-                set((i, j), class(index, before_rule[index]));
+            let cells = row(valid, j);
+            let verdicts = verdict[cells.clone()]
+                .iter()
+                .zip(&before_rule[cells.clone()]);
+            for (i, ((verdict, &unreached), &was)) in
+                valid.i.clone().zip(verdicts.zip(&bare[cells]))
+            {
+                set((i, j), was, verdict.class(unreached));
             }
         }
         // Each settled cell lies outside `valid`, and a flood or a walk settles it once.
         for (i, j) in settled {
             let index = j * columns + i;
-            set((i, j), class(index, bare[index]));
+            set((i, j), bare[index], verdict[index].class(bare[index]));
         }
         change
     }
@@ -258,19 +273,33 @@ impl Flood {
                 is_large = true;
                 break;
             }
-            for (i, j) in neighbours(layout, cell).into_iter().flatten() {
-                let next = j * columns + i;
-                if class[next] != Cell::Sparse {
-                    continue;
+            let (i, j) = cell;
+            let index = j * columns + i;
+            let mut reach = |next: (usize, usize), at: usize| {
+                if class[at] != Cell::Sparse {
+                    return;
                 }
-                match verdict[next] {
+                match verdict[at] {
                     Verdict::Unseen => {
-                        verdict[next] = Verdict::Queued;
-                        self.stack.push((i, j));
+                        verdict[at] = Verdict::Queued;
+                        self.stack.push(next);
                     }
                     Verdict::Large => is_large = true,
                     Verdict::Queued | Verdict::Small => {}
                 }
+            };
+            // The 4-connected neighbours: left, right, up, down.
+            if i > 0 {
+                reach((i - 1, j), index - 1);
+            }
+            if i + 1 < columns {
+                reach((i + 1, j), index + 1);
+            }
+            if j > 0 {
+                reach((i, j - 1), index - columns);
+            }
+            if j + 1 < layout.rows {
+                reach((i, j + 1), index + columns);
             }
             if is_large {
                 break;
