@@ -107,6 +107,10 @@ fn row_gaps(row: &[bool]) -> Option<Vec<u32>> {
 fn marked_box(marked: &[bool], columns: usize) -> Option<(Range<usize>, Range<usize>)> {
     let mut found: Option<(Range<usize>, Range<usize>)> = None;
     for (row, line) in marked.chunks(columns).enumerate() {
+        // A scan without a short cut first (vectorized): most rows hold no marked cell.
+        if !line.iter().fold(false, |any, &m| any | m) {
+            continue;
+        }
         let (Some(first), Some(last)) =
             (line.iter().position(|&m| m), line.iter().rposition(|&m| m))
         else {

@@ -178,7 +178,8 @@ impl Layers {
                 |index: usize| bare_unsettled[index] == Cell::Sparse && bare[index] == Cell::Solid;
             // Without such parts when the edge is all inside `valid` (the whole raster).
             let ring = if edge == *valid { 0..0 } else { edge.j.clone() };
-            let mut seen = vec![false; if ring.is_empty() { 0 } else { bare.len() }];
+            // Allocated at the first filled cell of the ring: most layers have none.
+            let mut seen = Vec::new();
             let mut stack = Vec::new();
             for j in ring {
                 // The edge's columns outside `valid` in this row.
@@ -189,7 +190,13 @@ impl Layers {
                 };
                 for i in outside.into_iter().flatten() {
                     let start = j * columns + i;
-                    if seen[start] || !filled(start) {
+                    if !filled(start) {
+                        continue;
+                    }
+                    if seen.is_empty() {
+                        seen = vec![false; bare.len()];
+                    }
+                    if seen[start] {
                         continue;
                     }
                     let of_region = verdict[start];
