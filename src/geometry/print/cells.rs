@@ -62,20 +62,6 @@ impl CellBox {
     pub(super) fn len(&self) -> usize {
         self.width() * self.height()
     }
-
-    /// The box's index of the raster cell (`i`, `j`), when it lies in the box.
-    pub(super) fn local(&self, i: usize, j: usize) -> Option<usize> {
-        (self.i.contains(&i) && self.j.contains(&j))
-            .then(|| (j - self.j.start) * self.width() + (i - self.i.start))
-    }
-
-    /// The raster's (`i`, `j`) of every cell of the box, in the box's order (row by row), without
-    /// the division per cell that finding one cell's (`i`, `j`) from its index takes.
-    pub(super) fn cells(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
-        self.j
-            .clone()
-            .flat_map(move |j| self.i.clone().map(move |i| (i, j)))
-    }
 }
 
 /// Per layer from `first` on, a set of the cells of `area` (each layer's cells in the box's
@@ -88,12 +74,6 @@ pub(super) struct Planes {
 }
 
 impl Planes {
-    /// Whether cell (`i`, `j`) of layer `k` is in the set; `None` when the planes do not hold it.
-    pub(super) fn get(&self, k: usize, i: usize, j: usize) -> Option<bool> {
-        let layer = self.layers.get(k.checked_sub(self.first)?)?;
-        Some(layer[self.area.local(i, j)?])
-    }
-
     /// Layer `k`'s cells, when held.
     pub(super) fn layer(&self, k: usize) -> Option<&[bool]> {
         let layer = self.layers.get(k.checked_sub(self.first)?)?;
@@ -101,8 +81,8 @@ impl Planes {
     }
 }
 
-/// Cell sets over every layer of the raster: `planes` where they hold a cell, else `bare`
-/// (one full layer each).
+/// Cell sets over every layer of the raster, read over the planes' area: `planes` where they
+/// hold a layer, else `bare` (one full layer each).
 #[derive(Clone, Copy)]
 pub(super) struct Overlay<'a> {
     pub(super) columns: usize,
@@ -110,35 +90,63 @@ pub(super) struct Overlay<'a> {
     pub(super) planes: &'a Planes,
 }
 
-impl Overlay<'_> {
-    /// Layer `k`'s cells of `area`, in its order (none for a layer past the raster).
-    pub(super) fn over(&self, k: usize, area: &CellBox) -> Vec<bool> {
-        let mut cells = Vec::with_capacity(area.len());
-        if let Some(layer) = self.planes.layer(k).filter(|_| self.planes.area == *area) {
-            cells.extend_from_slice(layer);
-            return cells;
-        }
-        let held = self.planes.layer(k).is_some();
-        for j in area.j.clone() {
-            match self.bare.get(k) {
-                Some(layer) if !held => {
-                    let row = j * self.columns;
-                    cells.extend_from_slice(&layer[row + area.i.start..row + area.i.end]);
-                }
-                _ => cells.extend(area.i.clone().map(|i| self.get(k, i, j))),
-            }
-        }
-        cells
+impl<'a> Overlay<'a> {
+    /// The box the cells are read over.
+    pub(super) fn area(&self) -> &'a CellBox {
+        &self.planes.area
     }
 
-    /// Whether cell (`i`, `j`) of layer `k` is in the set (false for a layer past the raster).
-    pub(super) fn get(&self, k: usize, i: usize, j: usize) -> bool {
-        match self.planes.get(k, i, j) {
-            Some(cell) => cell,
-            None => self
-                .bare
-                .get(k)
-                .is_some_and(|layer| layer[j * self.columns + i]),
+    /// Layer `k`'s cells of the planes' area; `None` for a layer past the raster.
+    pub(super) fn rows(&self, k: usize) -> Option<Rows<'a>> {
+        let area = self.area();
+        match self.planes.layer(k) {
+            Some(layer) => Some(Rows::held(layer, area)),
+            None => Some(Rows::bare(self.bare.get(k)?, self.columns, area)),
         }
+    }
+}
+
+/// One layer's cells of a box, borrowed from a set held over the box or over the whole
+/// raster: the box's rows, each a slice.
+#[derive(Clone, Copy)]
+pub(super) struct Rows<'a> {
+    cells: &'a [bool],
+    /// Where the box's first row starts in `cells`.
+    start: usize,
+    /// From one row's start to the next's.
+    stride: usize,
+    width: usize,
+}
+
+impl<'a> Rows<'a> {
+    /// The rows of `cells`, held over `area` (in its order).
+    pub(super) fn held(cells: &'a [bool], area: &CellBox) -> Rows<'a> {
+        Rows {
+            cells,
+            start: 0,
+            stride: area.width(),
+            width: area.width(),
+        }
+    }
+
+    /// The rows of `area` in `cells`, a whole layer of a raster `columns` wide.
+    pub(super) fn bare(cells: &'a [bool], columns: usize, area: &CellBox) -> Rows<'a> {
+        Rows {
+            cells,
+            start: area.j.start * columns + area.i.start,
+            stride: columns,
+            width: area.width(),
+        }
+    }
+
+    /// Row `y` of the box (counted from its first row).
+    pub(super) fn row(&self, y: usize) -> &'a [bool] {
+        let start = self.start + y * self.stride;
+        &self.cells[start..start + self.width]
+    }
+
+    /// Columns `columns` of row `y` of the box (both counted from the box's first).
+    pub(super) fn part(&self, y: usize, columns: Range<usize>) -> &'a [bool] {
+        &self.row(y)[columns]
     }
 }

@@ -37,7 +37,7 @@ mod window;
 
 use crate::parallel::map_each;
 use cells::{CellBox, Overlay, Planes};
-use classes::Cell;
+use classes::{Cell, Classifier};
 use layout::Layout;
 use tally::Totals;
 pub use voids::Void;
@@ -286,17 +286,7 @@ impl PrintRaster {
             return empty_volumes();
         };
         let voids = self.in_print_frame(voids);
-        let layout = &layers.layout;
-        let mut totals = layers.totals;
-        for changed in layers.cut(&voids) {
-            let (k, bare) = (changed.layer, &layers.classes[changed.layer]);
-            for &(index, class) in &changed.cells {
-                let (i, j) = (index % layout.columns, index / layout.columns);
-                totals.add(-1, bare[index], i, j, k);
-                totals.add(1, class, i, j, k);
-            }
-        }
-        self.volumes_of(layout, &totals)
+        self.volumes_of(&layers.layout, &layers.cut(&voids))
     }
 
     /// `voids` (rest frame) turned into the print frame.
@@ -339,13 +329,19 @@ impl Layers {
             bare,
             planes: &none,
         };
-        let all = 0..=layout.layers - 1;
-        let unsettled = classes::classify(&layout, over(&inside), over(&near), &whole, &whole, all);
-        let classes = map_each(layout.layers, |k| {
-            let mut class = unsettled[k].clone();
-            classes::fill_small_regions(&layout, &mut class);
-            class
-        });
+        let (unsettled, classes): (Vec<Vec<Cell>>, Vec<Vec<Cell>>) = {
+            let all = 0..=layout.layers - 1;
+            let classifier = Classifier::new(&layout, over(&inside), over(&near), all);
+            map_each(layout.layers, |k| {
+                let mut unsettled = vec![Cell::Outside; whole.len()];
+                classifier.layer(k, &whole, &mut unsettled);
+                let mut class = unsettled.clone();
+                classes::fill_small_regions(&layout, &mut class);
+                (unsettled, class)
+            })
+            .into_iter()
+            .unzip()
+        };
         let mut totals = Totals::default();
         for (k, class) in classes.iter().enumerate() {
             totals.add_layer(&layout, k, class);

@@ -2,6 +2,8 @@
 //! indices, in integers. A cut adds and takes away only the cells it changes, and the volumes
 //! are the same bits whatever order the cells were added in.
 
+use std::ops::AddAssign;
+
 use nalgebra::Point3;
 
 use super::classes::Cell;
@@ -24,6 +26,16 @@ impl CellSums {
         self.i += sign * i as i64;
         self.j += sign * j as i64;
         self.k += sign * k as i64;
+    }
+}
+
+impl AddAssign for CellSums {
+    /// Counts the cells of `other` too.
+    fn add_assign(&mut self, other: CellSums) {
+        self.count += other.count;
+        self.i += other.i;
+        self.j += other.j;
+        self.k += other.k;
     }
 }
 
@@ -79,6 +91,14 @@ impl Tally {
     }
 }
 
+impl AddAssign for Tally {
+    /// Counts the cells of `other` too.
+    fn add_assign(&mut self, other: Tally) {
+        self.first += other.first;
+        self.upper += other.upper;
+    }
+}
+
 /// The solid and the sparse cells of some layers.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub(super) struct Totals {
@@ -112,5 +132,13 @@ impl Totals {
             self.solid.region(layout, fallback),
             self.sparse.region(layout, fallback),
         )
+    }
+}
+
+impl AddAssign for Totals {
+    /// Counts the cells of `other` too (a change: some counted no longer).
+    fn add_assign(&mut self, other: Totals) {
+        self.solid += other.solid;
+        self.sparse += other.sparse;
     }
 }

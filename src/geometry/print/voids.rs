@@ -4,7 +4,7 @@
 use nalgebra::Point3;
 
 use super::cells::CellBox;
-use super::distance::squared_distance_within;
+use super::distance::near_marked;
 use super::layout::{Layout, U, UP, V};
 use crate::geometry::distance::point_segment_distance;
 
@@ -47,13 +47,12 @@ impl Layout {
             let Some(cover) = cover else {
                 continue;
             };
+            // Every cell of the cover is tested (the test is the same, set or not), row by row.
             for j in cover.j {
-                for i in cover.i.clone() {
-                    if let Some(local) = area.local(i, j) {
-                        if !cells[local] && void.contains(&self.point_at(i, j, z)) {
-                            cells[local] = true;
-                        }
-                    }
+                let start = (j - area.j.start) * area.width() + cover.i.start - area.i.start;
+                let row = &mut cells[start..start + cover.i.len()];
+                for (cell, i) in row.iter_mut().zip(cover.i.clone()) {
+                    *cell |= void.contains(&self.point_at(i, j, z));
                 }
             }
         }
@@ -108,11 +107,8 @@ impl Layout {
     /// `area` when `area` holds every hole cell.
     pub(super) fn near_hole(&self, hole: &[bool], area: &CellBox) -> Vec<bool> {
         let reach = self.slicing.perimeter_thickness / self.cell + 0.5;
-        let distance = squared_distance_within(hole, area.width(), area.height(), reach);
-        distance
-            .iter()
-            .zip(hole)
-            .map(|(&d, &h)| !h && d < reach * reach)
-            .collect()
+        let limit = reach * reach;
+        let near = near_marked(hole, area.width(), area.height(), reach, |d| d < limit);
+        near.iter().zip(hole).map(|(&n, &h)| n && !h).collect()
     }
 }

@@ -10,9 +10,10 @@
 
 use std::ops::RangeInclusive;
 
-use super::cells::{CellBox, Overlay, Planes};
-use super::classes::{self, neighbours, Cell};
+use super::cells::{CellBox, Overlay, Planes, Rows};
+use super::classes::{neighbours, Cell, Classifier};
 use super::layout::Layout;
+use super::tally::Totals;
 use super::{Layers, Void};
 use crate::parallel::map_each;
 
@@ -29,23 +30,32 @@ enum Verdict {
     Large,
 }
 
-/// The cells of one layer whose class a cut changes.
-pub(super) struct Changed {
-    /// The layer.
-    pub(super) layer: usize,
-    /// Each changed cell's index in the layer and its class with the voids cut; no cell twice.
-    pub(super) cells: Vec<(usize, Cell)>,
+impl Verdict {
+    /// The class of a cell with this verdict: the rule's when it reached the cell, else
+    /// `unreached`.
+    fn class(self, unreached: Cell) -> Cell {
+        match self {
+            Verdict::Small => Cell::Solid,
+            Verdict::Large => Cell::Sparse,
+            Verdict::Unseen | Verdict::Queued => unreached,
+        }
+    }
 }
 
 impl Layers {
-    /// The cells whose class cutting `voids` (print frame) changes, per layer; none when the
-    /// voids cross no layer or miss the raster.
-    pub(super) fn cut(&self, voids: &[Void]) -> Vec<Changed> {
-        self.cut_window(voids).unwrap_or_default()
+    /// The solid and sparse cells of every layer with `voids` (print frame) cut: the bare
+    /// totals when the voids cross no layer or miss the raster.
+    pub(super) fn cut(&self, voids: &[Void]) -> Totals {
+        let mut totals = self.totals;
+        for change in self.cut_window(voids).unwrap_or_default() {
+            totals += change;
+        }
+        totals
     }
 
-    /// [`Layers::cut`], `None` for no change.
-    fn cut_window(&self, voids: &[Void]) -> Option<Vec<Changed>> {
+    /// Per layer the cut changes, the change in its solid and sparse cells; `None` for no
+    /// change.
+    fn cut_window(&self, voids: &[Void]) -> Option<Vec<Totals>> {
         let layout = &self.layout;
         let crossed: Vec<usize> = (0..layout.layers)
             .filter(|&k| {
@@ -65,22 +75,22 @@ impl Layers {
         let margin = (slicing.surface_margin / layout.cell).ceil();
         let area = valid.grown(margin as usize + 2, layout);
         let (inside, near) = self.cut_planes(voids, first..=last, &area);
-        let inside = Overlay {
+        let overlay = |bare, planes| Overlay {
             columns: layout.columns,
-            bare: &self.inside,
-            planes: &inside,
+            bare,
+            planes,
         };
-        let near = Overlay {
-            columns: layout.columns,
-            bare: &self.near,
-            planes: &near,
-        };
+        let (inside, near) = (overlay(&self.inside, &inside), overlay(&self.near, &near));
         let window = reach(layout, first, last);
         let low = *window.start();
-        let unsettled = classes::classify(layout, inside, near, &area, &valid, window);
-        Some(map_each(unsettled.len(), |offset| Changed {
-            layer: low + offset,
-            cells: self.settle(low + offset, &valid, &unsettled[offset]),
+        let count = window.clone().count();
+        let classifier = Classifier::new(layout, inside, near, window);
+        Some(map_each(count, |offset| {
+            let k = low + offset;
+            // Each cell's class before the rule: the bare layer's, re-classified over `valid`.
+            let mut before_rule = self.unsettled[k].clone();
+            classifier.layer(k, &valid, &mut before_rule);
+            self.settle(k, &valid, &before_rule)
         }))
     }
 
@@ -96,23 +106,25 @@ impl Layers {
         let first = *crossed.start();
         let cut: Vec<(Vec<bool>, Vec<bool>)> = map_each(crossed.count(), |offset| {
             let k = first + offset;
-            let bare = |layer: &[bool]| -> Vec<bool> {
-                let mut cells = Vec::with_capacity(area.len());
-                for j in area.j.clone() {
-                    let row = j * layout.columns;
-                    cells.extend_from_slice(&layer[row + area.i.start..row + area.i.end]);
-                }
-                cells
-            };
-            let (bare_inside, bare_near) = (bare(&self.inside[k]), bare(&self.near[k]));
+            let bare_inside = Rows::bare(&self.inside[k], layout.columns, area);
+            let bare_near = Rows::bare(&self.near[k], layout.columns, area);
             let mut hole = layout.in_voids(k, voids, area);
-            for (h, &inside) in hole.iter_mut().zip(&bare_inside) {
-                *h &= inside;
+            for (y, row) in hole.chunks_mut(area.width()).enumerate() {
+                for (h, &inside) in row.iter_mut().zip(bare_inside.row(y)) {
+                    *h &= inside;
+                }
             }
             let around = layout.near_hole(&hole, area);
-            let inside = bare_inside.iter().zip(&hole).map(|(&b, &h)| b && !h);
-            let near = bare_near.iter().zip(&around).map(|(&b, &a)| b || a);
-            (inside.collect(), near.collect())
+            let (mut inside, mut near) = (
+                Vec::with_capacity(area.len()),
+                Vec::with_capacity(area.len()),
+            );
+            let rows = hole.chunks(area.width()).zip(around.chunks(area.width()));
+            for (y, (hole, around)) in rows.enumerate() {
+                inside.extend(bare_inside.row(y).iter().zip(hole).map(|(&b, &h)| b && !h));
+                near.extend(bare_near.row(y).iter().zip(around).map(|(&b, &a)| b || a));
+            }
+            (inside, near)
         });
         let (inside, near) = cut.into_iter().unzip();
         let planes = |layers| Planes {
@@ -123,20 +135,16 @@ impl Layers {
         (planes(inside), planes(near))
     }
 
-    /// The cells of layer `k` whose class changes when those of `valid`'s cells before the
-    /// small-region rule are replaced by `unsettled` (in `valid`'s order), with their new
-    /// class: the rule applied to every sparse region that reaches `valid` or its edge.
-    fn settle(&self, k: usize, valid: &CellBox, unsettled: &[Cell]) -> Vec<(usize, Cell)> {
+    /// The change in layer `k`'s solid and sparse cells when its classes before the
+    /// small-region rule are `before_rule` (the whole layer's, changed only in `valid`): the
+    /// rule applied to every sparse region that reaches `valid` or its edge.
+    fn settle(&self, k: usize, valid: &CellBox, before_rule: &[Cell]) -> Totals {
         let layout = &self.layout;
         let columns = layout.columns;
         let (bare_unsettled, bare) = (&self.unsettled[k], &self.classes[k]);
-        let at = |index: usize| (index % columns, index / columns);
-        // Each cell's class before the rule: the bare layer's, `unsettled` over `valid`.
-        let mut rule_input = bare_unsettled.clone();
-        for ((i, j), &cell) in valid.cells().zip(unsettled) {
-            rule_input[j * columns + i] = cell;
-        }
-        let before_rule = |index: usize| rule_input[index];
+        // The layer's indices of a row of a box's cells.
+        let row =
+            |cells: &CellBox, j: usize| j * columns + cells.i.start..j * columns + cells.i.end;
         let mut verdict = vec![Verdict::Unseen; bare.len()];
         // The cells outside `valid` whose class the rule settles here.
         let mut settled = Vec::new();
@@ -145,42 +153,67 @@ impl Layers {
             let edge = valid.grown(1, layout);
             let cell_area = layout.cell * layout.cell;
             let mut flood = Flood::default();
-            for (i, j) in edge.cells() {
-                let start = j * columns + i;
-                if verdict[start] == Verdict::Unseen && before_rule(start) == Cell::Sparse {
-                    let region = flood.region(layout, start, &before_rule, &mut verdict, |n| {
+            for j in edge.j.clone() {
+                let cells = row(&edge, j);
+                let sparse = before_rule[cells.clone()].iter().enumerate();
+                for (offset, _) in sparse.filter(|&(_, &class)| class == Cell::Sparse) {
+                    let (i, start) = (edge.i.start + offset, cells.start + offset);
+                    if verdict[start] != Verdict::Unseen {
+                        continue;
+                    }
+                    let region = flood.region(layout, (i, j), before_rule, &mut verdict, |n| {
                         (n as f64) * cell_area >= limit
                     });
-                    settled.extend(region.iter().copied().filter(|&c| {
-                        let (i, j) = at(c);
-                        !valid.contains(i, j)
-                    }));
+                    settled.extend(
+                        region
+                            .iter()
+                            .copied()
+                            .filter(|&(i, j)| !valid.contains(i, j)),
+                    );
                 }
             }
             // A region the bare layer filled solid that now joins a large one is reached by no
             // stopped flood, but each of its parts outside `valid` holds a cell of the edge.
             let filled =
                 |index: usize| bare_unsettled[index] == Cell::Sparse && bare[index] == Cell::Solid;
-            let mut seen = vec![false; bare.len()];
+            // Without such parts when the edge is all inside `valid` (the whole raster).
+            let ring = if edge == *valid { 0..0 } else { edge.j.clone() };
+            // Allocated at the first filled cell of the ring: most layers have none.
+            let mut seen = Vec::new();
             let mut stack = Vec::new();
-            for (i, j) in edge.cells() {
-                let start = j * columns + i;
-                if valid.contains(i, j) || seen[start] || !filled(start) {
-                    continue;
-                }
-                let of_region = verdict[start];
-                seen[start] = true;
-                stack.push(start);
-                while let Some(index) = stack.pop() {
-                    if verdict[index] == Verdict::Unseen {
-                        verdict[index] = of_region;
-                        settled.push(index);
+            for j in ring {
+                // The edge's columns outside `valid` in this row.
+                let outside = if valid.j.contains(&j) {
+                    [edge.i.start..valid.i.start, valid.i.end..edge.i.end]
+                } else {
+                    [edge.i.clone(), 0..0]
+                };
+                for i in outside.into_iter().flatten() {
+                    let start = j * columns + i;
+                    if !filled(start) {
+                        continue;
                     }
-                    for next in neighbours(layout, index).into_iter().flatten() {
-                        let (i, j) = at(next);
-                        if !seen[next] && !valid.contains(i, j) && filled(next) {
-                            seen[next] = true;
-                            stack.push(next);
+                    if seen.is_empty() {
+                        seen = vec![false; bare.len()];
+                    }
+                    if seen[start] {
+                        continue;
+                    }
+                    let of_region = verdict[start];
+                    seen[start] = true;
+                    stack.push((i, j));
+                    while let Some(cell) = stack.pop() {
+                        let index = cell.1 * columns + cell.0;
+                        if verdict[index] == Verdict::Unseen {
+                            verdict[index] = of_region;
+                            settled.push(cell);
+                        }
+                        for (i, j) in neighbours(layout, cell).into_iter().flatten() {
+                            let next = j * columns + i;
+                            if !seen[next] && !valid.contains(i, j) && filled(next) {
+                                seen[next] = true;
+                                stack.push((i, j));
+                            }
                         }
                     }
                 }
@@ -188,71 +221,92 @@ impl Layers {
         }
         // A cell the rule reached takes its verdict; one it did not keeps its class before the
         // rule inside `valid`, the bare layer's outside.
-        let class = |index: usize, unreached: Cell| match verdict[index] {
-            Verdict::Small => Cell::Solid,
-            Verdict::Large => Cell::Sparse,
-            Verdict::Unseen | Verdict::Queued => unreached,
-        };
-        let mut changed = Vec::new();
-        let mut set = |index: usize, to: Cell| {
-            if to != bare[index] {
-                changed.push((index, to));
+        let mut change = Totals::default();
+        let mut set = |(i, j): (usize, usize), was: Cell, to: Cell| {
+            if to != was {
+                change.add(-1, was, i, j, k);
+                change.add(1, to, i, j, k);
             }
         };
-        for (i, j) in valid.cells() {
-            let index = j * columns + i;
-            set(index, class(index, before_rule(index)));
+        for j in valid.j.clone() {
+            let cells = row(valid, j);
+            let verdicts = verdict[cells.clone()]
+                .iter()
+                .zip(&before_rule[cells.clone()]);
+            for (i, ((verdict, &unreached), &was)) in
+                valid.i.clone().zip(verdicts.zip(&bare[cells]))
+            {
+                set((i, j), was, verdict.class(unreached));
+            }
         }
         // Each settled cell lies outside `valid`, and a flood or a walk settles it once.
-        for index in settled {
-            set(index, class(index, bare[index]));
+        for (i, j) in settled {
+            let index = j * columns + i;
+            set((i, j), bare[index], verdict[index].class(bare[index]));
         }
-        changed
+        change
     }
 }
 
 /// A flood over a layer's sparse cells, reused between regions.
 #[derive(Default)]
 struct Flood {
-    stack: Vec<usize>,
-    region: Vec<usize>,
+    stack: Vec<(usize, usize)>,
+    region: Vec<(usize, usize)>,
 }
 
 impl Flood {
-    /// The region of sparse cells (`class`) around `start`, each cell's verdict set: large as
-    /// soon as `large` holds for the cells reached or the flood meets a cell of a large region,
-    /// small when the whole region is reached first. A large region is left partly unreached.
+    /// The region of sparse cells (`class`, a layer's) around cell `start`, each cell's verdict
+    /// set: large as soon as `large` holds for the cells reached or the flood meets a cell of a
+    /// large region, small when the whole region is reached first. A large region is left
+    /// partly unreached.
     fn region(
         &mut self,
         layout: &Layout,
-        start: usize,
-        class: &impl Fn(usize) -> Cell,
+        start: (usize, usize),
+        class: &[Cell],
         verdict: &mut [Verdict],
         large: impl Fn(usize) -> bool,
-    ) -> &[usize] {
+    ) -> &[(usize, usize)] {
+        let columns = layout.columns;
         self.stack.clear();
         self.region.clear();
-        verdict[start] = Verdict::Queued;
+        verdict[start.1 * columns + start.0] = Verdict::Queued;
         self.stack.push(start);
         let mut is_large = false;
-        while let Some(index) = self.stack.pop() {
-            self.region.push(index);
+        while let Some(cell) = self.stack.pop() {
+            self.region.push(cell);
             if large(self.region.len()) {
                 is_large = true;
                 break;
             }
-            for next in neighbours(layout, index).into_iter().flatten() {
-                if class(next) != Cell::Sparse {
-                    continue;
+            let (i, j) = cell;
+            let index = j * columns + i;
+            let mut reach = |next: (usize, usize), at: usize| {
+                if class[at] != Cell::Sparse {
+                    return;
                 }
-                match verdict[next] {
+                match verdict[at] {
                     Verdict::Unseen => {
-                        verdict[next] = Verdict::Queued;
+                        verdict[at] = Verdict::Queued;
                         self.stack.push(next);
                     }
                     Verdict::Large => is_large = true,
                     Verdict::Queued | Verdict::Small => {}
                 }
+            };
+            // The 4-connected neighbours: left, right, up, down.
+            if i > 0 {
+                reach((i - 1, j), index - 1);
+            }
+            if i + 1 < columns {
+                reach((i + 1, j), index + 1);
+            }
+            if j > 0 {
+                reach((i, j - 1), index - columns);
+            }
+            if j + 1 < layout.rows {
+                reach((i, j + 1), index + columns);
             }
             if is_large {
                 break;
@@ -264,8 +318,8 @@ impl Flood {
         } else {
             Verdict::Small
         };
-        for &index in &self.region {
-            verdict[index] = outcome;
+        for &(i, j) in &self.region {
+            verdict[j * columns + i] = outcome;
         }
         &self.region
     }
