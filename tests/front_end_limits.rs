@@ -355,10 +355,11 @@ fn print_settings_and_balls_outside_their_physical_range_are_refused_at_their_sp
 fn a_design_no_listed_ball_fits_is_refused_and_not_written() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/sheared_cylinder.kdl");
     let source = std::fs::read_to_string(&path).unwrap();
-    // 90 mm balls in a cylinder 30 mm thick: every capsule the optimizer can size sticks out.
+    // 40 mm balls in a cylinder 30 mm thick and 80 mm high along its print direction: high
+    // enough for a capsule to be seeded, but every capsule the optimizer can size sticks out.
     let line = "ball density=7.85 clearance=0.2\n";
     assert!(source.contains(line));
-    let edited = source.replace(line, "ball density=7.85 clearance=0.2 { diameters 90; }\n");
+    let edited = source.replace(line, "ball density=7.85 clearance=0.2 { diameters 40; }\n");
     let options = CompileOptions {
         optimize: Some(OptimizeOptions::default()),
         ..CompileOptions::default()
@@ -374,4 +375,32 @@ fn a_design_no_listed_ball_fits_is_refused_and_not_written() {
         .unwrap_or_else(|| panic!("{found:?}"));
     assert!(problem.is_error());
     assert!(labelled(&edited, std::slice::from_ref(problem)).starts_with("optimize"));
+}
+
+#[test]
+fn a_part_too_low_for_any_listed_ball_is_not_seeded_and_nothing_unfit_is_made() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/sheared_cylinder.kdl");
+    let source = std::fs::read_to_string(&path).unwrap();
+    // 90 mm balls in a cylinder 80 mm high along its print direction: no capsule holding one
+    // can lie inside it and rise to take its ball at a pause, so none is seeded, and the build
+    // ends with the design without capsules, its goals missed, rather than an unfit design.
+    let line = "ball density=7.85 clearance=0.2\n";
+    let edited = source.replace(line, "ball density=7.85 clearance=0.2 { diameters 90; }\n");
+    let options = CompileOptions {
+        optimize: Some(OptimizeOptions::default()),
+        ..CompileOptions::default()
+    };
+    let compilation = match compile_with(&edited, &path, &options, &mut Workspace::new()) {
+        Ok(compilation) => compilation,
+        Err(Failure::Invalid(problems)) => panic!("{problems:?}"),
+        Err(Failure::Cancelled) => panic!("cancelled"),
+    };
+    assert!(compilation.design.capsules.is_empty());
+    let optimization = compilation.optimization.as_ref().expect("optimized");
+    assert!(!optimization.meets_goals);
+    assert!(
+        !optimization.seeds.is_empty(),
+        "the skeleton's sites are listed"
+    );
+    assert!(optimization.seeds.iter().all(|site| !site.seeded));
 }

@@ -149,7 +149,7 @@ fn started_from(starts: &Starts) -> String {
         parts.push(count(starts.pinned, "pinned capsule"));
     }
     match parts.split_last() {
-        None => "no capsule (no skeleton segment is deep enough to seed one)".to_string(),
+        None => "no capsule (no skeleton segment lies deep enough, in a part with room for the smallest capsule that holds a ball, to seed one)".to_string(),
         Some((last, [])) => last.clone(),
         Some((last, rest)) => format!("{} and {last}", rest.join(", ")),
     }
