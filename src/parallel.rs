@@ -2,14 +2,16 @@
 //! count: the distance grid's nodes, the print raster's layers, the optimizer's independent
 //! solves.
 
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::thread;
 
 /// Nodes per block handed to one thread at a time.
 const BLOCK: usize = 1024;
 
-/// `(0..count).map(f).collect()`, with blocks of `BLOCK` indices dealt round-robin to up to
-/// `available_parallelism` threads. Each element depends only on its index, so the result does
-/// not depend on the thread count.
+/// `(0..count).map(f).collect()`, with blocks of `BLOCK` indices handed out to up to
+/// `available_parallelism` threads, each taking the next block as it finishes one. Each element
+/// depends only on its index, so the result does not depend on the thread count or on which
+/// thread computed what.
 pub(crate) fn map_nodes<T: Send>(count: usize, f: impl Fn(usize) -> T + Sync) -> Vec<T> {
     map_blocks_on(cores(), BLOCK, count, f)
 }
@@ -24,7 +26,9 @@ pub(crate) fn cores() -> usize {
     thread::available_parallelism().map_or(1, |n| n.get())
 }
 
-/// [`map_nodes`] on `threads` threads (at least one), in blocks of `block` indices.
+/// [`map_nodes`] on `threads` threads (at least one), in blocks of `block` indices. A thread
+/// takes the next block not yet taken whenever it is free, so a costly element (a solve that
+/// runs long) holds up one thread, not every block dealt to it after.
 fn map_blocks_on<T: Send>(
     threads: usize,
     block: usize,
@@ -34,15 +38,23 @@ fn map_blocks_on<T: Send>(
     let threads = threads.max(1);
     let block = block.max(1);
     let blocks = count.div_ceil(block);
-    let f = &f;
-    let per_thread: Vec<Vec<Vec<T>>> = thread::scope(|scope| {
+    let next = AtomicUsize::new(0);
+    let (f, next) = (&f, &next);
+    let done: Vec<Vec<(usize, Vec<T>)>> = thread::scope(|scope| {
         let handles: Vec<_> = (0..threads.min(blocks))
-            .map(|t| {
+            .map(|_| {
                 scope.spawn(move || {
-                    (t..blocks)
-                        .step_by(threads)
-                        .map(|b| (b * block..((b + 1) * block).min(count)).map(f).collect())
-                        .collect()
+                    let mut done = Vec::new();
+                    loop {
+                        let b = next.fetch_add(1, Ordering::Relaxed);
+                        if b >= blocks {
+                            return done;
+                        }
+                        done.push((
+                            b,
+                            (b * block..((b + 1) * block).min(count)).map(f).collect(),
+                        ));
+                    }
                 })
             })
             .collect();
@@ -51,11 +63,12 @@ fn map_blocks_on<T: Send>(
             .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
             .collect()
     });
-    let mut iters: Vec<_> = per_thread.into_iter().map(Vec::into_iter).collect();
-    let mut out = Vec::with_capacity(count);
-    for b in 0..blocks {
-        out.extend(iters[b % threads].next().into_iter().flatten());
+    let mut in_order: Vec<Option<Vec<T>>> = (0..blocks).map(|_| None).collect();
+    for (b, values) in done.into_iter().flatten() {
+        in_order[b] = Some(values);
     }
+    let mut out = Vec::with_capacity(count);
+    out.extend(in_order.into_iter().flatten().flatten());
     out
 }
 
