@@ -17,8 +17,9 @@ use crate::objective::{GridInterior, Parameters};
 pub use crate::optimize::length_decimals;
 use crate::optimize::{
     capsule_radius, choose, content_hash, default_cell, explain_conflicts, grid_scale, has_room,
-    rank, repair_seeds, run_heuristic, skeleton_seeds, Candidate, ConflictSpace, GoalRef, GridKey,
-    Method, Origin, Outcome, Problem, Rules, SeedRepair, SeedSite, StartCapsule,
+    rank, repair_seeds, run_heuristic, skeleton_seeds, smallest_capsule_radius, Candidate,
+    ConflictSpace, GoalRef, GridKey, Method, Origin, Outcome, Problem, Rules, SeedRepair, SeedSite,
+    StartCapsule,
 };
 use crate::spec::model::{Optimize, Project};
 
@@ -177,16 +178,9 @@ pub fn prepare(
         }
         skeletons.push(workspace.cache.skeleton(mesh, key, &workspace.cancel)?);
     }
-    // The smallest capsule that holds a ball: the smallest listed ball with its clearance, or the
-    // optimizer's smallest radius when balls come in any size.
     let ball = &project.ball;
-    let smallest = ball
-        .diameters
-        .iter()
-        .map(|diameter| diameter / 2.0 + ball.clearance)
-        .reduce(f64::min)
-        .unwrap_or(parameters.min_radius)
-        .max(parameters.min_radius);
+    let scale = grid_scale(length_decimals(meshes));
+    let smallest = smallest_capsule_radius(ball, parameters.min_radius, scale);
     let room: Vec<bool> = meshes
         .iter()
         .zip(&print.up)

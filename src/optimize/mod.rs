@@ -30,4 +30,6 @@ pub use problem::{Origin, Outcome, Problem, StartCapsule};
 pub use repair::{repair_seeds, Rules, SeedRepair};
 pub use seeds::{has_room, skeleton_seeds, SeedSite};
 pub use solver::{solve, Bounds, Budget, Method, Solve};
-pub use stock::{capsule_radius, grid_scale, length_decimals, snap as snap_to_stock};
+pub use stock::{
+    capsule_radius, grid_scale, length_decimals, smallest_capsule_radius, snap as snap_to_stock,
+};

@@ -7,7 +7,7 @@
 use nalgebra::{Point3, Vector3};
 
 use super::problem::StartCapsule;
-use super::stock::capsule_radius;
+use super::stock::smallest_capsule_radius;
 use crate::design::{Design, PlacedCapsule};
 use crate::fabrication::{check_design, CapsuleIssue, PrintSetup};
 use crate::geometry::TriMesh;
@@ -147,27 +147,11 @@ fn placed_capsule(seed: &StartCapsule, ball: &Ball) -> PlacedCapsule {
     }
 }
 
-/// The radius of the smallest capsule the optimizer makes: its smallest radius, or the smallest
-/// listed ball plus the clearance when that is more.
-fn smallest_radius(rules: &Rules) -> f64 {
-    let ball = rules.ball;
-    let listed = ball
-        .diameters
-        .iter()
-        .map(|d| d / 2.0)
-        .min_by(f64::total_cmp)
-        .map(|b| capsule_radius(ball, b, rules.scale));
-    match listed {
-        Some(radius) => radius.max(rules.min_radius),
-        None => rules.min_radius,
-    }
-}
-
 /// `seed` wide enough to hold a ball (at least the smallest radius) and at least as long as its
 /// radius, about the same centre and along the same axis.
 fn shaped(seed: &StartCapsule, rules: &Rules) -> StartCapsule {
     let radius = if seed.radius < rules.min_radius || rules.ball.radius_for(seed.radius).is_none() {
-        smallest_radius(rules)
+        smallest_capsule_radius(rules.ball, rules.min_radius, rules.scale)
     } else {
         seed.radius
     };
@@ -180,7 +164,7 @@ fn shaped(seed: &StartCapsule, rules: &Rules) -> StartCapsule {
 
 /// `seed` as the smallest capsule, as long as twice its radius, about the same centre.
 fn smallest(seed: &StartCapsule, rules: &Rules) -> StartCapsule {
-    let radius = smallest_radius(rules);
+    let radius = smallest_capsule_radius(rules.ball, rules.min_radius, rules.scale);
     resized(seed, radius, 2.0 * radius)
 }
 

@@ -40,6 +40,21 @@ pub fn capsule_radius(ball: &Ball, ball_radius: f64, scale: f64) -> f64 {
     }
 }
 
+/// The radius of the smallest capsule the optimizer makes: `min_radius`, or the capsule of the
+/// smallest listed ball ([`capsule_radius`] on the grid of `scale`) when that is more.
+pub fn smallest_capsule_radius(ball: &Ball, min_radius: f64, scale: f64) -> f64 {
+    let listed = ball
+        .diameters
+        .iter()
+        .map(|d| d / 2.0)
+        .min_by(f64::total_cmp)
+        .map(|b| capsule_radius(ball, b, scale));
+    match listed {
+        Some(radius) => radius.max(min_radius),
+        None => min_radius,
+    }
+}
+
 /// The stock capsule radius for a capsule the optimizer left at `radius`: the largest listed ball
 /// that fits, or the next larger one when it is nearer and `allowed` accepts its capsule radius;
 /// the next larger one when none fits. Each as [`capsule_radius`], with its ball radius. `None`

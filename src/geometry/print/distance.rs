@@ -22,16 +22,9 @@ pub(super) fn near_marked(
     within: impl Fn(f64) -> bool,
 ) -> Vec<bool> {
     let mut near = vec![false; marked.len()];
-    let Some((i, j)) = marked_box(marked, columns) else {
+    let Some((i, j)) = grown_marked_box(marked, columns, rows, reach) else {
         return near;
     };
-    let grow = if reach.is_finite() {
-        reach.max(0.0).ceil() as usize + 1
-    } else {
-        columns.max(rows)
-    };
-    let i = i.start.saturating_sub(grow)..(i.end + grow).min(columns);
-    let j = j.start.saturating_sub(grow)..(j.end + grow).min(rows);
     let width = i.len();
     let runs = half_widths(&within, width, j.len());
     if runs.is_empty() {
@@ -102,6 +95,27 @@ fn row_gaps(row: &[bool]) -> Option<Vec<u32>> {
     Some(gaps)
 }
 
+/// The box of the marked cells (columns and rows, half-open) grown by `reach` and a cell on every
+/// side (the whole raster for an infinite or NaN reach), within the raster; `None` without a
+/// marked cell.
+fn grown_marked_box(
+    marked: &[bool],
+    columns: usize,
+    rows: usize,
+    reach: f64,
+) -> Option<(Range<usize>, Range<usize>)> {
+    let (i, j) = marked_box(marked, columns)?;
+    let grow = if reach.is_finite() {
+        reach.max(0.0).ceil() as usize + 1
+    } else {
+        columns.max(rows)
+    };
+    Some((
+        i.start.saturating_sub(grow)..(i.end + grow).min(columns),
+        j.start.saturating_sub(grow)..(j.end + grow).min(rows),
+    ))
+}
+
 /// The columns and rows (half-open) of the smallest box holding every marked cell; `None`
 /// without one.
 fn marked_box(marked: &[bool], columns: usize) -> Option<(Range<usize>, Range<usize>)> {
@@ -161,16 +175,9 @@ mod tests {
         reach: f64,
     ) -> Vec<f64> {
         let mut distance = vec![f64::INFINITY; marked.len()];
-        let Some((i, j)) = marked_box(marked, columns) else {
+        let Some((i, j)) = grown_marked_box(marked, columns, rows, reach) else {
             return distance;
         };
-        let grow = if reach.is_finite() {
-            reach.max(0.0).ceil() as usize + 1
-        } else {
-            columns.max(rows)
-        };
-        let i = i.start.saturating_sub(grow)..(i.end + grow).min(columns);
-        let j = j.start.saturating_sub(grow)..(j.end + grow).min(rows);
         let (width, height) = (i.len(), j.len());
         let mut held = Vec::with_capacity(width * height);
         for row in j.clone() {
