@@ -579,7 +579,8 @@ fn goals_met(outcome: &Outcome) -> Vec<GoalRef> {
 /// The starts for explaining conflicts, all in the design space the build searched: with a
 /// capsule count asked for, the chosen candidate (that count) where the heuristic left it and as
 /// its round started, and with one movable capsule, each seed alone beside the pinned ones;
-/// otherwise every candidate the heuristic reached, where it left it and as its round started.
+/// otherwise every candidate of at most the chosen count, where the heuristic left it and as its
+/// round started. Fewest capsules first.
 fn conflict_starts(
     seeds: &[StartCapsule],
     candidates: &[Candidate],
@@ -594,6 +595,9 @@ fn conflict_starts(
     };
     for (i, candidate) in candidates.iter().enumerate() {
         if requested.is_some() && i != chosen {
+            continue;
+        }
+        if candidate.capsules > candidates[chosen].capsules {
             continue;
         }
         add(seeds_for(seeds, candidate));
@@ -612,6 +616,10 @@ fn conflict_starts(
             add(start);
         }
     }
+    // Fewest capsules first: the cheapest solves, and a set of goals stops at the first batch
+    // that meets it. Whether a set is met, and the shortfall of one that is not (the best over
+    // every start), do not depend on the order.
+    starts.sort_by_key(Vec::len);
     starts
 }
 
