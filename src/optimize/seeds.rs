@@ -10,7 +10,7 @@ use super::problem::{Origin, StartCapsule};
 
 /// The most capsules seeded from skeletons: the first round optimizes them all together, and its
 /// time grows faster than their number.
-pub const MAX_SEEDS: usize = 8;
+pub const MAX_SEEDS: usize = 6;
 use crate::geometry::Skeleton;
 use crate::objective::InteriorDistance;
 
