@@ -6,6 +6,9 @@
 //! Run with `cargo bench --bench precompute`; a mesh that is missing is skipped with a note. The
 //! shared meshes are looked for in `BALLAST_SHARED_MESHES` when set.
 //! `BALLAST_BENCH_FILTER=word` keeps only the meshes whose label contains it.
+//! `BALLAST_BENCH_EXPORT=folder` also writes each mesh as benched (`LABEL.obj`) and its grid
+//! (`LABEL.grid.json`: origin, cell, dims; `LABEL.grid.f64`: the node values, little-endian, x
+//! fastest), for `benches/igl_compare.py` to time libigl on the same nodes.
 
 mod support;
 
@@ -72,12 +75,48 @@ fn main() {
         let skeleton = Skeleton::from_grid(&mesh, &grid);
         let skeleton_time = clock.elapsed().as_secs_f64();
         std::hint::black_box(skeleton);
+        if let Some(folder) = std::env::var_os("BALLAST_BENCH_EXPORT") {
+            export(&PathBuf::from(folder), label, &mesh, &grid).expect("writing the export");
+        }
         let nodes: usize = grid.dims().iter().product();
         println!(
             "| {label} | {} | {cell:.3} | {nodes} | {grid_time:.3} | {skeleton_time:.3} |",
             mesh.triangles.len()
         );
     }
+}
+
+/// Writes `mesh` and `grid` into `folder` as `label.obj`, `label.grid.json` and `label.grid.f64`.
+fn export(
+    folder: &std::path::Path,
+    label: &str,
+    mesh: &TriMesh,
+    grid: &DistanceGrid,
+) -> std::io::Result<()> {
+    use std::fmt::Write as _;
+    let mut obj = String::new();
+    for p in &mesh.positions {
+        let _ = writeln!(obj, "v {:?} {:?} {:?}", p.x, p.y, p.z);
+    }
+    for t in &mesh.triangles {
+        let _ = writeln!(obj, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
+    }
+    std::fs::write(folder.join(format!("{label}.obj")), obj)?;
+    let origin = grid.origin();
+    let dims = grid.dims();
+    let header = format!(
+        "{{\"origin\": [{:?}, {:?}, {:?}], \"cell\": {:?}, \"dims\": [{}, {}, {}]}}\n",
+        origin.x,
+        origin.y,
+        origin.z,
+        grid.cell(),
+        dims[0],
+        dims[1],
+        dims[2]
+    );
+    std::fs::write(folder.join(format!("{label}.grid.json")), header)?;
+    let bytes: Vec<u8> = grid.values().iter().flat_map(|v| v.to_le_bytes()).collect();
+    std::fs::write(folder.join(format!("{label}.grid.f64")), bytes)
 }
 
 /// The folder of the shared meshes: `BALLAST_SHARED_MESHES`, or `../shared/meshes` beside the
