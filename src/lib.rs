@@ -32,6 +32,7 @@ pub mod design;
 pub mod diagnostic;
 pub mod emit;
 pub mod fabrication;
+pub mod file_identity;
 pub mod gcode;
 pub mod geometry;
 pub mod objective;

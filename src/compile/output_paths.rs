@@ -16,6 +16,7 @@ use super::{calibration_path, output_path};
 use crate::diagnostic::Problem;
 use crate::emit::output_set::same_file;
 use crate::emit::print_files::file_name;
+use crate::file_identity::identity;
 use crate::geometry::{external_buffer_paths, ReadPolicy};
 use crate::spec::model::Project;
 
@@ -146,17 +147,7 @@ impl FileIndex {
 
 /// The device and inode of the existing file at `path` (links followed).
 fn inode(path: &Path) -> Option<(u64, u64)> {
-    let metadata = std::fs::metadata(path).ok()?;
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::MetadataExt;
-        Some((metadata.dev(), metadata.ino()))
-    }
-    #[cfg(not(unix))]
-    {
-        let _ = metadata;
-        None
-    }
+    identity(&std::fs::metadata(path).ok()?)
 }
 
 /// The problems of the output paths of `project`, read from `project_path` with text `source`,

@@ -8,6 +8,7 @@ use notify::event::{AccessKind, AccessMode};
 use notify::EventKind;
 
 use crate::compile::lexical;
+use crate::file_identity::identity;
 use crate::geometry::{external_buffer_paths, FileReader, ReadPolicy};
 use crate::spec::model::Project;
 
@@ -122,16 +123,7 @@ pub fn anchor_folders(folders: &BTreeSet<PathBuf>) -> BTreeSet<PathBuf> {
 /// elsewhere only whether it exists). `None` when there is no folder there.
 pub fn folder_identity(path: &Path) -> Option<(u64, u64)> {
     let metadata = std::fs::metadata(path).ok().filter(|m| m.is_dir())?;
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::MetadataExt;
-        Some((metadata.dev(), metadata.ino()))
-    }
-    #[cfg(not(unix))]
-    {
-        let _ = metadata;
-        Some((0, 0))
-    }
+    Some(identity(&metadata).unwrap_or((0, 0)))
 }
 
 #[cfg(test)]

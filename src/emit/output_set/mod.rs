@@ -33,6 +33,7 @@ use std::io;
 use std::path::{Path, PathBuf};
 
 use super::atomic::{folder_of, sync_dir, write_atomic, write_temp, TempName};
+use crate::file_identity::identity;
 use crate::regular_file::{blake3_of, read_limited};
 
 mod records;
@@ -267,15 +268,9 @@ pub fn same_file(a: &Path, b: &Path) -> bool {
     let (Ok(first), Ok(second)) = (fs::metadata(a), fs::metadata(b)) else {
         return false;
     };
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::MetadataExt;
-        (first.dev(), first.ino()) == (second.dev(), second.ino())
-    }
-    #[cfg(not(unix))]
-    {
-        let _ = (first, second);
-        matches!((a.canonicalize(), b.canonicalize()), (Ok(a), Ok(b)) if a == b)
+    match (identity(&first), identity(&second)) {
+        (Some(first), Some(second)) => first == second,
+        _ => matches!((a.canonicalize(), b.canonicalize()), (Ok(a), Ok(b)) if a == b),
     }
 }
 
