@@ -14,7 +14,7 @@ use std::time::{Duration, Instant};
 use ballast::compile::{finish_interrupted_outputs, journal_path};
 use ballast::emit::atomic::TempName;
 use ballast::spec::parse_project;
-use cli_support::{ballast, build};
+use cli_support::{ballast, build, build_ok};
 
 /// The T shape with a written capsule, evaluated in two poses; `density` tells one version of
 /// the project from the other (it changes the report, the glTF file and the print settings).
@@ -280,13 +280,7 @@ fn an_output_the_build_no_longer_writes_is_removed_and_said() {
     let root = dir.path();
     let build_dir = root.join("build");
     fs::write(&path, with_output(1.24, "gltf \"build/first.glb\"")).unwrap();
-    let first = build(&path);
-    assert_eq!(
-        first.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&first.stderr)
-    );
+    build_ok(&path);
     let old = build_dir.join("first.glb");
     assert!(old.exists());
     // A killed build of the old set left a temporary file of it.
@@ -302,9 +296,7 @@ fn an_output_the_build_no_longer_writes_is_removed_and_said() {
 
     // Renamed: the old file would look like this build's model.
     fs::write(&path, with_output(1.30, "gltf \"build/second.glb\"")).unwrap();
-    let second = build(&path);
-    let printed = String::from_utf8_lossy(&second.stdout).into_owned();
-    assert_eq!(second.status.code(), Some(0), "{printed}");
+    let printed = build_ok(&path);
     assert!(!old.exists(), "{printed}");
     assert!(build_dir.join("second.glb").exists());
     assert!(
@@ -325,9 +317,7 @@ fn an_output_the_build_no_longer_writes_is_removed_and_said() {
     // A file of the last set that someone changed since is theirs now: it stays.
     fs::write(build_dir.join("second.glb"), b"edited by hand").unwrap();
     fs::write(&path, with_output(1.24, "gltf \"build/third.glb\"")).unwrap();
-    let third = build(&path);
-    let printed = String::from_utf8_lossy(&third.stdout).into_owned();
-    assert_eq!(third.status.code(), Some(0), "{printed}");
+    let printed = build_ok(&path);
     assert_eq!(
         fs::read(build_dir.join("second.glb")).unwrap(),
         b"edited by hand"
@@ -336,8 +326,7 @@ fn an_output_the_build_no_longer_writes_is_removed_and_said() {
 
     // The same build again removes nothing, and a file ballast never wrote is never removed.
     fs::write(build_dir.join("notes.md"), b"mine").unwrap();
-    let again = build(&path);
-    assert!(!String::from_utf8_lossy(&again.stdout).contains("removed "));
+    assert!(!build_ok(&path).contains("removed "));
     assert_eq!(fs::read(build_dir.join("notes.md")).unwrap(), b"mine");
     assert!(build_dir.join("third.glb").exists());
 }
@@ -374,7 +363,7 @@ fn a_forged_journal_or_manifest_removes_and_replaces_nothing_outside_the_outputs
     let (dir, path) = folder();
     let root = dir.path();
     fs::write(&path, text(1.24)).unwrap();
-    assert_eq!(build(&path).status.code(), Some(0));
+    build_ok(&path);
     // Files the project does not write: one in another folder, one in the project's folder
     // with an output's suffix, and the project and its mesh themselves (also by another
     // spelling, through /proc).

@@ -22,6 +22,20 @@ pub fn build(path: &Path) -> Output {
     ballast(&["build", path.to_str().expect("a UTF-8 path")])
 }
 
+/// `ballast build` of the project at `path`, which must succeed (exit status 0: every goal met);
+/// what it printed on standard output.
+pub fn build_ok(path: &Path) -> String {
+    let output = build(path);
+    assert_eq!(
+        output.status.code(),
+        Some(0),
+        "{}{}",
+        stdout(&output),
+        stderr(&output)
+    );
+    stdout(&output)
+}
+
 /// What `output` printed on standard output.
 pub fn stdout(output: &Output) -> String {
     String::from_utf8_lossy(&output.stdout).into_owned()
