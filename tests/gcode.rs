@@ -1,6 +1,6 @@
 //! The G-code reader on hand-written programs whose deposit is known.
 
-use ballast::gcode::{read_deposit, read_program, ReadOptions};
+use ballast::gcode::{read_deposit, read_program, LayerDialect, ReadOptions};
 use nalgebra::Point3;
 
 const AREA: f64 = std::f64::consts::PI * 1.75 * 1.75 / 4.0;
@@ -211,4 +211,133 @@ fn many_labels_each_one_object_in_first_seen_order() {
         assert_eq!(object.name(), Some(format!("part{i}").as_str()));
         assert_eq!(object.segments.len(), 2);
     }
+}
+
+/// Where each layer starts, as PrusaSlicer (and SuperSlicer, OrcaSlicer) mark it: after
+/// `;LAYER_CHANGE` and the `;Z:`/`;HEIGHT:` comments that follow it, whatever comes before the
+/// layer's first extrusion (the Z move, a travel).
+#[test]
+fn prusaslicer_layer_changes_start_layers_after_their_height_comments() {
+    let program = "\
+M83
+;LAYER_CHANGE
+;Z:0.35
+;HEIGHT:0.35
+G1 Z.35 F7800
+G1 X1 Y1
+G1 X10 E1
+G1 X10 Y10 E1
+;LAYER_CHANGE
+;Z:0.65
+;HEIGHT:0.3
+;BEFORE_LAYER_CHANGE
+G1 Z.65 F7800
+G1 X0 E1
+";
+    let read = read_program(program, &ReadOptions::default()).unwrap();
+    assert_eq!(read.layers, [0.35, 0.65]);
+    let starts: Vec<_> = read.layer_starts.iter().map(|s| s.insert_before).collect();
+    assert_eq!(starts, [5, 12]);
+    let marker = read.layer_starts[1].marker.unwrap();
+    assert_eq!(marker.line, 9);
+    assert_eq!(marker.dialect, LayerDialect::LayerChange);
+    assert_eq!((marker.height, marker.thickness), (Some(0.65), Some(0.3)));
+    assert_eq!(marker.number, None);
+}
+
+/// Bambu Studio's spelling: `; CHANGE_LAYER`, `; Z_HEIGHT:`, `; LAYER_HEIGHT:`.
+#[test]
+fn bambu_studio_change_layer_markers() {
+    let program = "\
+M83
+; CHANGE_LAYER
+; Z_HEIGHT: 0.2
+; LAYER_HEIGHT: 0.2
+G1 E-.8 F1800
+; layer num/total_layer_count: 1/2
+G1 Z.2
+G1 X10 E1
+; CHANGE_LAYER
+; Z_HEIGHT: 0.4
+; LAYER_HEIGHT: 0.2
+G1 Z.4
+G1 X0 E1
+";
+    let read = read_program(program, &ReadOptions::default()).unwrap();
+    assert_eq!(read.layers, [0.2, 0.4]);
+    let starts: Vec<_> = read.layer_starts.iter().map(|s| s.insert_before).collect();
+    assert_eq!(starts, [5, 12]);
+    let marker = read.layer_starts[0].marker.unwrap();
+    assert_eq!(marker.dialect, LayerDialect::ChangeLayer);
+    assert_eq!((marker.height, marker.thickness), (Some(0.2), Some(0.2)));
+}
+
+/// Cura: `;LAYER_COUNT:` is no layer, `;LAYER:n` (from 0) starts one, and the move up to the
+/// next layer comes before its marker; `;MESH:NAME` labels objects, `;MESH:NONMESH` ends them,
+/// and an object named after its STL file is named without its folders and `.stl`.
+#[test]
+fn cura_layer_numbers_and_mesh_labels() {
+    let program = "\
+;FLAVOR:Marlin
+M82 ;absolute extrusion mode
+G92 E0
+;LAYER_COUNT:2
+;LAYER:0
+M107
+G0 F3600 X44 Y44 Z0.35
+;TYPE:SKIRT
+G1 F1800 X45 Y44 E1
+;TYPE:WALL-OUTER
+;MESH:/tmp/build/box-stl/box.stl
+G1 X55 Y44 E2
+;MESH:lid.STL
+G1 X55 Y54 E3
+;MESH:NONMESH
+G0 F600 X55 Y54 Z0.65
+;TIME_ELAPSED:10.5
+;LAYER:1
+;TYPE:WALL-INNER
+;MESH:/tmp/build/box-stl/box.stl
+G1 X45 Y54 E4
+";
+    let read = read_program(program, &ReadOptions::default()).unwrap();
+    assert_eq!(read.layers, [0.35, 0.65]);
+    let starts: Vec<_> = read.layer_starts.iter().map(|s| s.insert_before).collect();
+    assert_eq!(starts, [6, 19]);
+    let numbers: Vec<_> = read
+        .layer_starts
+        .iter()
+        .map(|s| s.marker.map(|m| (m.dialect, m.number)))
+        .collect();
+    assert_eq!(
+        numbers,
+        [
+            Some((LayerDialect::LayerNumber, Some(0))),
+            Some((LayerDialect::LayerNumber, Some(1)))
+        ]
+    );
+    let names: Vec<_> = read.objects.iter().map(|o| o.name()).collect();
+    assert_eq!(names, [Some("box"), Some("lid"), None]);
+    let counts: Vec<_> = read.objects.iter().map(|o| o.segments.len()).collect();
+    assert_eq!(counts, [2, 1, 1]);
+}
+
+/// A layer without a marker starts at its first extrusion; a marker followed by extrusions at
+/// the current height (no new layer) is dropped, not given to the next layer.
+#[test]
+fn layers_without_markers_start_at_their_first_extrusion() {
+    let program = "\
+G1 Z0.3
+G1 X1 E1
+;LAYER_CHANGE
+;Z:0.3
+G1 X2 E2
+G1 Z0.6
+G1 X3 E3
+";
+    let read = read_program(program, &ReadOptions::default()).unwrap();
+    assert_eq!(read.layers, [0.3, 0.6]);
+    let starts: Vec<_> = read.layer_starts.iter().map(|s| s.insert_before).collect();
+    assert_eq!(starts, [2, 7]);
+    assert!(read.layer_starts.iter().all(|s| s.marker.is_none()));
 }

@@ -6,7 +6,8 @@
 //! `R`, in the XY plane, split into chords), `G90`/`G91` (absolute or relative positions, `E`
 //! included, as Marlin does), `M82`/`M83` (absolute or relative `E`), `G92` (setting positions),
 //! `M117` (a message on the printer's screen), the pause command (`M601` unless told otherwise)
-//! and the comments slicers label objects with (see [`read_program`]). Words are read as the
+//! the comments slicers label objects with (see [`read_program`]) and those they start each layer
+//! with (`layers.rs`). Words are read as the
 //! firmware reads them (`words.rs`): with or without spaces, either case, a line number `N` and
 //! checksum `*` dropped. Everything else (temperatures, fans, other comments) is skipped. A move
 //! that extrudes (`E` grows) while it moves in `X`, `Y` or `Z` deposits the filament it feeds
@@ -18,10 +19,12 @@
 //!
 //! The module knows G-code and nothing of ballast: positions are the printer's, in mm.
 
+mod layers;
 mod motion;
 mod program;
 mod words;
 
+pub use layers::{LayerDialect, LayerMarker, LayerStart};
 pub use program::{
     read_program, scan_program, ObjectOutline, Outline, PauseMark, PrintedObject, Program,
     ReadOptions, Segment,

@@ -6,6 +6,7 @@ use std::collections::HashMap;
 
 use nalgebra::{Point3, Vector3};
 
+use super::layers::{layer_comment, LayerComment, LayerStart, PendingMarker};
 use super::motion::{Axes, Motion};
 use super::words::{command, split_line, Pattern};
 use super::{GcodeError, GcodeErrorKind, MAX_PAUSES, MAX_TEXT_BYTES};
@@ -37,6 +38,8 @@ pub struct Program {
     /// The nozzle height of each layer, in print order: a layer begins when a move extrudes at
     /// a height other than the current layer's.
     pub layers: Vec<f64>,
+    /// Where each layer of [`Program::layers`] starts (`layers.rs`).
+    pub layer_starts: Vec<LayerStart>,
     /// The pauses, in print order.
     pub pauses: Vec<PauseMark>,
 }
@@ -56,6 +59,8 @@ pub struct Outline {
     pub objects: Vec<ObjectOutline>,
     /// As [`Program::layers`].
     pub layers: Vec<f64>,
+    /// As [`Program::layer_starts`].
+    pub layer_starts: Vec<LayerStart>,
     /// As [`Program::pauses`].
     pub pauses: Vec<PauseMark>,
 }
@@ -98,25 +103,40 @@ impl ObjectOutline {
 #[derive(Debug, Clone, PartialEq)]
 pub struct PrintedObject {
     /// The object's label as the slicer wrote it (PrusaSlicer: `NAME id:N copy M`; OrcaSlicer:
-    /// the unique label id); `None` for extrusions outside any label.
+    /// the unique label id; Cura: the mesh's file); `None` for extrusions outside any label.
     pub label: Option<String>,
     /// Its extrusion segments, in print order.
     pub segments: Vec<Segment>,
 }
 
 impl PrintedObject {
-    /// The object's name: the label without PrusaSlicer's ` id:N copy M` suffix.
+    /// The object's name: the label without PrusaSlicer's ` id:N copy M` suffix, and for an
+    /// object loaded from an STL file (slicers name it after the file), the file's name without
+    /// its folders and `.stl`.
     pub fn name(&self) -> Option<&str> {
         self.label.as_deref().map(object_name)
     }
 }
 
-/// `label` without PrusaSlicer's ` id:N copy M` suffix.
+/// `label` without PrusaSlicer's ` id:N copy M` suffix, and without the folders and `.stl` of
+/// a label that names an STL file.
 fn object_name(label: &str) -> &str {
-    label
+    let name = label
         .rfind(" id:")
         .filter(|&at| label[at..].contains(" copy "))
-        .map_or(label, |at| &label[..at])
+        .map_or(label, |at| &label[..at]);
+    let stem = name
+        .len()
+        .checked_sub(4)
+        .filter(|&at| name.is_char_boundary(at) && name[at..].eq_ignore_ascii_case(".stl"));
+    match stem {
+        Some(at) => {
+            let file = &name[..at];
+            file.rfind(['/', '\\'])
+                .map_or(file, |slash| &file[slash + 1..])
+        }
+        None => name,
+    }
 }
 
 /// One extruding move, or one chord of an extruding arc.
@@ -156,8 +176,9 @@ const SAME_LAYER: f64 = 1e-6;
 ///
 /// Objects are told apart by the comments slicers write around each object's moves:
 /// PrusaSlicer's `; printing object NAME` … `; stop printing object NAME` (its
-/// `gcode_label_objects` setting) and OrcaSlicer's `; start printing object, unique label id:
-/// N` … `; stop printing object, unique label id: N`. A file without such comments may label
+/// `gcode_label_objects` setting), OrcaSlicer's `; start printing object, unique label id:
+/// N` … `; stop printing object, unique label id: N`, and Cura's `;MESH:NAME` before each
+/// object's moves (`;MESH:NONMESH` before moves of no object). A file without such comments may label
 /// its objects for the firmware instead: `M486 S<n>` starts object `n` (named by an `A` word on
 /// that line or an earlier one for `n`, else labelled `n`), `M486 S-1` ends it.
 pub fn read_program(text: &str, options: &ReadOptions) -> Result<Program, GcodeError> {
@@ -182,6 +203,7 @@ pub fn read_program(text: &str, options: &ReadOptions) -> Result<Program, GcodeE
     Ok(Program {
         objects,
         layers: outline.layers,
+        layer_starts: outline.layer_starts,
         pauses: outline.pauses,
     })
 }
@@ -212,6 +234,9 @@ pub fn scan_program(
         }
         let code = code.trim();
         if code.is_empty() {
+            if let Some(layer) = layer_comment(comment) {
+                state.layer_comment(line, layer);
+            }
             continue;
         }
         if !pause.is_empty() && pause.matches(code) {
@@ -260,6 +285,10 @@ fn checked_text(text: &str, line: usize) -> Result<&str, GcodeError> {
 /// `Some(Some(label))` when `comment` starts an object, `Some(None)` when it ends one.
 fn label_change(comment: &str) -> Option<Option<&str>> {
     let comment = comment.trim();
+    if let Some(mesh) = comment.strip_prefix("MESH:") {
+        let mesh = mesh.trim();
+        return Some((mesh != "NONMESH").then_some(mesh));
+    }
     if let Some(id) = comment.strip_prefix("start printing object, unique label id:") {
         return Some(Some(id.trim()));
     }
@@ -300,6 +329,9 @@ struct State {
     /// Index into `objects` of the labelled object printing now.
     current: Option<usize>,
     layers: Vec<f64>,
+    layer_starts: Vec<LayerStart>,
+    /// The layer marker read since the last extrusion, if any.
+    marker: Option<PendingMarker>,
     pauses: Vec<PauseMark>,
     message: Option<String>,
 }
@@ -347,6 +379,20 @@ impl State {
             .entry(id)
             .or_insert_with(|| label.clone());
         self.current = Some(self.object(Some(&label)));
+    }
+
+    /// A comment line `line` that says `comment` about layers.
+    fn layer_comment(&mut self, line: usize, comment: LayerComment) {
+        match comment {
+            LayerComment::Start(dialect, number) => {
+                self.marker = Some(PendingMarker::new(line, dialect, number));
+            }
+            LayerComment::Height(_) | LayerComment::Thickness(_) => {
+                if let Some(marker) = &mut self.marker {
+                    marker.follow(line, comment);
+                }
+            }
+        }
     }
 
     fn pause(&mut self, line: usize) -> Result<(), GcodeError> {
@@ -414,6 +460,13 @@ impl State {
             .is_none_or(|last| (last - z).abs() > SAME_LAYER)
         {
             self.layers.push(z);
+            self.layer_starts.push(self.marker.take().map_or(
+                LayerStart {
+                    insert_before: line,
+                    marker: None,
+                },
+                PendingMarker::start,
+            ));
             for pause in self.pauses.iter_mut().rev() {
                 if pause.resume_height.is_some() {
                     break;
@@ -422,6 +475,8 @@ impl State {
             }
         }
         self.message = None;
+        // A marker followed by extrusions at the layer's own height starts no layer.
+        self.marker = None;
         let object = match self.current {
             Some(index) => index,
             None => self.object(None),
@@ -458,6 +513,7 @@ impl State {
         Outline {
             objects: self.objects,
             layers: self.layers,
+            layer_starts: self.layer_starts,
             pauses: self.pauses,
         }
     }
