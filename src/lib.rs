@@ -19,6 +19,8 @@
 //! - [`verify`]: every goal re-measured by a rigid-body simulation, independent of [`balance`].
 //! - [`sliced`]: a sliced G-code file checked against the design: the goals with its mass, its
 //!   pauses, its voids.
+//! - [`pauses`]: the print plan's pauses put into a sliced G-code file, at the layers of their
+//!   heights.
 //! - [`watch`]: watch mode's loop: rebuild once per burst of changes to a project's files.
 //!
 //! `docs/architecture.md` describes the whole pipeline, including the stages still to come.
@@ -38,6 +40,7 @@ pub mod geometry;
 pub mod objective;
 pub mod optimize;
 mod parallel;
+pub mod pauses;
 pub mod regular_file;
 pub mod sliced;
 pub mod spec;
