@@ -4,6 +4,8 @@ use std::path::PathBuf;
 
 use clap::{Parser, Subcommand};
 
+use crate::pauses::PauseCommand;
+
 /// ballast: design 3D-printed objects that balance, with steel balls rolling in capsules.
 #[derive(Debug, Parser)]
 #[command(name = "ballast", version, about, long_about = None)]
@@ -79,6 +81,43 @@ pub enum Command {
         /// component, which every later build adds to the mass model.
         #[arg(long, requires = "gcode")]
         calibrate: bool,
+        /// Read the solution file from this folder (where `build --out-dir` wrote it) instead of
+        /// the path the project names.
+        #[arg(long, value_name = "DIR")]
+        out_dir: Option<PathBuf>,
+    },
+    /// Put the print plan's pauses into a G-code file sliced from the project's print files by
+    /// any slicer (PrusaSlicer, SuperSlicer, OrcaSlicer, Bambu Studio, Cura), then check the
+    /// result as `verify --gcode` does.
+    ///
+    /// Each pause goes before the first layer printed after it, found by its height (the plan's
+    /// resume height), right after the slicer's layer marker (`;LAYER_CHANGE`, `; CHANGE_LAYER`,
+    /// `;LAYER:n`): `M117` with the insertion sheet's message, then the pause command. A pause
+    /// the file already has there (the same command) is kept and none added. The output is
+    /// written atomically; the input is left as it is unless OUT is IN.
+    ///
+    /// Exit status: 0 written, and the result is as planned and every goal is met with its mass;
+    /// 1 written, but some check fails; 2 invalid project, or nothing written (an unreadable
+    /// file, or a planned pause at a height the file has no layer at).
+    Pauses {
+        /// The project file (.kdl).
+        project: PathBuf,
+        /// Where meshes may be read from, and how large they may be.
+        #[command(flatten)]
+        inputs: InputArgs,
+        /// The G-code file sliced from the project's print files.
+        #[arg(long, value_name = "IN")]
+        gcode: PathBuf,
+        /// Where to write the G-code with the pauses (IN itself is replaced atomically).
+        #[arg(short, long, value_name = "OUT")]
+        output: PathBuf,
+        /// The printer's pause command: `M601` (Prusa firmware, Marlin), `M0` (Marlin),
+        /// `M400 U1` (Bambu Lab), `PAUSE` (Klipper), or any one line of G-code.
+        #[arg(long, value_name = "GCODE", default_value = "M601", value_parser = pause_command)]
+        pause_gcode: PauseCommand,
+        /// Diameter of the filament the G-code feeds, mm, 0.5 to 5.
+        #[arg(long, value_name = "MM", default_value_t = 1.75, value_parser = filament_mm)]
+        filament_diameter: f64,
         /// Read the solution file from this folder (where `build --out-dir` wrote it) instead of
         /// the path the project names.
         #[arg(long, value_name = "DIR")]
@@ -266,4 +305,9 @@ fn filament_mm(text: &str) -> Result<f64, String> {
             range.end()
         )),
     }
+}
+
+/// A pause command: one line of G-code (`crate::pauses::PauseCommand`).
+fn pause_command(text: &str) -> Result<PauseCommand, String> {
+    PauseCommand::new(text)
 }

@@ -11,6 +11,7 @@ mod check;
 mod diagnostics;
 mod new;
 mod optimization_table;
+mod pauses;
 mod poses;
 mod progress;
 mod sliced;
@@ -101,6 +102,27 @@ pub fn run() -> i32 {
                 }
             }
         }
+        Command::Pauses {
+            project,
+            inputs,
+            gcode,
+            output,
+            pause_gcode,
+            filament_diameter,
+            out_dir,
+        } => pauses::run(
+            &pauses::PausesRun {
+                project: &project,
+                gcode: &gcode,
+                output: &output,
+                command: &pause_gcode,
+                filament_diameter,
+            },
+            &CompileOptions {
+                out_dir,
+                ..input_options(&inputs)
+            },
+        ),
         Command::Build {
             project,
             inputs,

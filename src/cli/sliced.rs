@@ -32,33 +32,15 @@ pub fn run(
         return EXIT_INVALID;
     };
     let shown_path = printable(&gcode.display().to_string()).into_owned();
-    let text = match read_limited(gcode, MAX_GCODE_BYTES) {
-        // Text that is not UTF-8 (a label in another encoding) is read with its bad bytes
-        // replaced: no number or command holds one.
-        Ok(bytes) => String::from_utf8(bytes)
-            .unwrap_or_else(|error| String::from_utf8_lossy(error.as_bytes()).into_owned()),
-        Err(error) => {
-            eprintln!(
-                "error: cannot read {shown_path}: {}",
-                printable(&error.to_string())
-            );
-            if error.kind() == std::io::ErrorKind::FileTooLarge {
-                eprintln!("  help: ballast reads G-code files of at most 1 GiB (docs/limits.md)");
-            }
-            return EXIT_INVALID;
-        }
+    let Some(bytes) = read_gcode(gcode, &shown_path) else {
+        return EXIT_INVALID;
     };
-    let check = match verify_gcode(&compilation, &compilation.print_plan, &text, sliced) {
-        Ok(check) => check,
-        Err(SlicedError::Gcode(error)) => {
-            let problem = unreadable(&error, &shown_path, &text);
-            eprint!("{}", render_for_terminal(&[problem], &shown_path, ""));
-            return EXIT_INVALID;
-        }
-        Err(error) => {
-            eprintln!("error: {shown_path}: {}", printable(&error.to_string()));
-            return EXIT_INVALID;
-        }
+    // Text that is not UTF-8 (a label in another encoding) is read with its bad bytes
+    // replaced: no number or command holds one.
+    let text = String::from_utf8(bytes)
+        .unwrap_or_else(|error| String::from_utf8_lossy(error.as_bytes()).into_owned());
+    let Some(check) = check_gcode(&compilation, &text, &shown_path, sliced) else {
+        return EXIT_INVALID;
     };
     if json {
         match serde_json::to_string_pretty(&check) {
@@ -85,6 +67,46 @@ pub fn run(
         EXIT_MET
     } else {
         EXIT_UNMET
+    }
+}
+
+/// The bytes of the G-code file at `path` (shown as `shown_path`), within
+/// [`MAX_GCODE_BYTES`]; `None`, said on standard error, when it cannot be read.
+pub(super) fn read_gcode(path: &Path, shown_path: &str) -> Option<Vec<u8>> {
+    match read_limited(path, MAX_GCODE_BYTES) {
+        Ok(bytes) => Some(bytes),
+        Err(error) => {
+            eprintln!(
+                "error: cannot read {shown_path}: {}",
+                printable(&error.to_string())
+            );
+            if error.kind() == std::io::ErrorKind::FileTooLarge {
+                eprintln!("  help: ballast reads G-code files of at most 1 GiB (docs/limits.md)");
+            }
+            None
+        }
+    }
+}
+
+/// The G-code `text` (of the file shown as `shown_path`) checked against `compilation`'s print
+/// plan; `None`, said on standard error, when it cannot be checked at all.
+pub(super) fn check_gcode(
+    compilation: &Compilation,
+    text: &str,
+    shown_path: &str,
+    sliced: &SlicedOptions,
+) -> Option<SlicedCheck> {
+    match verify_gcode(compilation, &compilation.print_plan, text, sliced) {
+        Ok(check) => Some(check),
+        Err(SlicedError::Gcode(error)) => {
+            let problem = unreadable(&error, shown_path, text);
+            eprint!("{}", render_for_terminal(&[problem], shown_path, ""));
+            None
+        }
+        Err(error) => {
+            eprintln!("error: {shown_path}: {}", printable(&error.to_string()));
+            None
+        }
     }
 }
 
@@ -149,7 +171,7 @@ const MAX_LINES_BEFORE_DRAWN: usize = 1 << 20;
 /// The diagnostic for a G-code line that does not read, pointed at the word: drawn with the
 /// line before and after it, each [`printable`], the lines above left empty (a few bytes each,
 /// however long the file).
-fn unreadable(error: &GcodeError, name: &str, text: &str) -> Problem {
+pub(super) fn unreadable(error: &GcodeError, name: &str, text: &str) -> Problem {
     let (code, label) = match error.kind {
         GcodeErrorKind::NotANumber => (codes::GCODE_NUMBER, "not a number"),
         GcodeErrorKind::Repeated => (codes::GCODE_REPEATED, "an axis given again"),
@@ -201,11 +223,16 @@ fn unreadable(error: &GcodeError, name: &str, text: &str) -> Problem {
 }
 
 /// A shift shorter than this, mm, is printed as none: the part is where planned.
-const NO_SHIFT_MM: f64 = 0.01;
+pub(super) const NO_SHIFT_MM: f64 = 0.01;
 
 /// The table: the parts found, the pauses, the voids, then per pose every goal computed beside
 /// sliced, and the failures; a shift shorter than `no_shift` (project units) is printed as none.
-fn table(check: &SlicedCheck, project_name: &str, gcode_name: &str, no_shift: f64) -> String {
+pub(super) fn table(
+    check: &SlicedCheck,
+    project_name: &str,
+    gcode_name: &str,
+    no_shift: f64,
+) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,

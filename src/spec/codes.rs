@@ -79,6 +79,12 @@ pub const GCODE_ARC: &str = "ballast::gcode::not_an_arc";
 pub const GCODE_PAUSES: &str = "ballast::gcode::too_many_pauses";
 /// A G-code object label or `M117` message longer than ballast reads.
 pub const GCODE_TEXT: &str = "ballast::gcode::too_long";
+/// `pauses`: a planned pause's resume height is no layer of the G-code file (its layers are
+/// not the plan's), or the file extrudes nothing.
+pub const PAUSES_NO_LAYER: &str = "ballast::pauses::no_layer";
+/// `pauses`: the G-code file prints layers at a planned resume height more than once (objects
+/// printed one at a time).
+pub const PAUSES_REPEATED_HEIGHT: &str = "ballast::pauses::repeated_height";
 /// A `rig` file that cannot be read as glTF.
 pub const RIG_UNREADABLE: &str = "ballast::rig::unreadable";
 /// A `rig`'s `nodes` list names a node the file does not have.

@@ -1,5 +1,5 @@
 //! Meshes for print tests (capsules, bodies with capsule voids), binary STL, the example
-//! projects, and the PrusaSlicer command line when it is installed.
+//! projects, and the PrusaSlicer and CuraEngine command lines when they are installed.
 #![allow(dead_code)]
 
 use std::f64::consts::PI;
@@ -276,6 +276,87 @@ pub fn slice_with(input: &Path, args: &[&str]) -> String {
         String::from_utf8_lossy(&status.stderr)
     );
     std::fs::read_to_string(&output).expect("read G-code")
+}
+
+/// Whether `CuraEngine` (Debian's `cura-engine`) runs here.
+pub fn cura_available() -> bool {
+    Command::new("CuraEngine")
+        .arg("help")
+        .output()
+        .is_ok_and(|out| out.status.success())
+}
+
+/// The Cura settings ballast's print settings at their defaults come to (3 perimeters, 3 top
+/// and 3 bottom solid layers, 0.45 mm extrusions, layers of 0.3 mm over a first of 0.35 mm),
+/// with `infill` (a fraction) as Cura's grid infill: its lines `2 × width / infill` apart, as
+/// Cura computes `infill_line_distance` from `infill_sparse_density`. Parts stay where the STL
+/// files put them (`machine_center_is_zero`) on a 250 × 210 mm bed; a skirt, no support,
+/// filament of 1.75 mm.
+pub fn cura_settings(infill: f64) -> Vec<(String, String)> {
+    let width = 0.45;
+    let fixed = [
+        ("layer_height", "0.3"),
+        ("layer_height_0", "0.35"),
+        ("line_width", "0.45"),
+        ("wall_line_width_0", "0.45"),
+        ("wall_line_width_x", "0.45"),
+        ("skin_line_width", "0.45"),
+        ("infill_line_width", "0.45"),
+        ("skirt_brim_line_width", "0.45"),
+        ("wall_line_count", "3"),
+        ("top_layers", "3"),
+        ("bottom_layers", "3"),
+        ("initial_bottom_layers", "3"),
+        ("infill_pattern", "grid"),
+        ("material_diameter", "1.75"),
+        ("machine_center_is_zero", "true"),
+        ("machine_width", "250"),
+        ("machine_depth", "210"),
+        ("machine_height", "210"),
+        ("adhesion_type", "skirt"),
+        ("support_enable", "false"),
+    ];
+    let mut settings: Vec<(String, String)> = fixed
+        .iter()
+        .map(|(key, value)| (key.to_string(), value.to_string()))
+        .collect();
+    settings.push((
+        "infill_sparse_density".to_string(),
+        format!("{}", infill * 100.0),
+    ));
+    settings.push((
+        "infill_line_distance".to_string(),
+        format!("{}", 2.0 * width / infill),
+    ));
+    settings
+}
+
+/// The G-code CuraEngine writes for the STL files `inputs` (one mesh group, each file an object
+/// that Cura labels `;MESH:<path>`), written to `output`: every setting from
+/// `tests/data/cura/defaults.def.json` (Cura 4.13's printer and extruder settings at their
+/// default values), then `settings`.
+pub fn slice_with_cura(inputs: &[&Path], settings: &[(String, String)], output: &Path) -> String {
+    let definition =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/cura/defaults.def.json");
+    let mut command = Command::new("CuraEngine");
+    command.arg("slice").arg("-j").arg(&definition);
+    for (key, value) in settings {
+        command.arg("-s").arg(format!("{key}={value}"));
+    }
+    for input in inputs {
+        command.arg("-l").arg(input);
+    }
+    let status = command
+        .arg("-o")
+        .arg(output)
+        .output()
+        .expect("run CuraEngine");
+    assert!(
+        status.status.success(),
+        "CuraEngine failed: {}",
+        String::from_utf8_lossy(&status.stderr)
+    );
+    std::fs::read_to_string(output).expect("read G-code")
 }
 
 /// The G-code of the PrusaSlicer project `ballast build` writes for `compilation`, written as
