@@ -28,6 +28,10 @@ use std::collections::BTreeMap;
 
 use thiserror::Error;
 
+mod splice;
+
+use splice::{line_break, splice};
+
 use crate::fabrication::PrintPlan;
 use crate::gcode::{scan_program, GcodeError, LayerStart, Outline, ReadOptions};
 
@@ -210,15 +214,7 @@ pub fn insert_pauses(
     if outline.layers.is_empty() {
         return Err(PausesError::Empty);
     }
-    let line_break: &[u8] = if bytes
-        .iter()
-        .position(|&b| b == b'\n')
-        .is_some_and(|at| at > 0 && bytes[at - 1] == b'\r')
-    {
-        b"\r\n"
-    } else {
-        b"\n"
-    };
+    let line_break = line_break(bytes);
     // Per pause: its layer, and the line its lines go before (none when it is kept).
     let mut placed = Vec::with_capacity(pauses.len());
     for pause in pauses {
@@ -348,50 +344,6 @@ fn printer_text(message: &str) -> String {
             c => c,
         })
         .collect()
-}
-
-/// The number of lines in each addition.
-fn line_count(bytes: &[u8]) -> usize {
-    bytes.iter().filter(|&&b| b == b'\n').count()
-}
-
-/// `bytes` with each of `additions` (1-based line, lines to put before it; sorted by line) put
-/// in, and the map from a line of the input to its line in the output.
-fn splice(bytes: &[u8], additions: &[(usize, Vec<u8>)]) -> (Vec<u8>, impl Fn(usize) -> usize) {
-    let extra: usize = additions.iter().map(|(_, lines)| lines.len()).sum();
-    let mut output = Vec::with_capacity(bytes.len() + extra);
-    let mut line = 1;
-    let mut copied = 0;
-    let mut pending = additions.iter().peekable();
-    while let Some((_, lines)) = pending.next_if(|(before, _)| *before <= 1) {
-        output.extend_from_slice(lines);
-    }
-    for (at, _) in bytes.iter().enumerate().filter(|(_, &b)| b == b'\n') {
-        // `at + 1` starts line `line + 1`.
-        line += 1;
-        while let Some((before, lines)) = pending.peek() {
-            if *before > line {
-                break;
-            }
-            output.extend_from_slice(&bytes[copied..=at]);
-            copied = at + 1;
-            output.extend_from_slice(lines);
-            pending.next();
-        }
-    }
-    output.extend_from_slice(&bytes[copied..]);
-    let shifts: Vec<(usize, usize)> = additions
-        .iter()
-        .map(|(before, lines)| (*before, line_count(lines)))
-        .collect();
-    let shift = move |line: usize| {
-        line + shifts
-            .iter()
-            .filter(|(before, _)| *before <= line)
-            .map(|(_, count)| count)
-            .sum::<usize>()
-    };
-    (output, shift)
 }
 
 #[cfg(test)]
