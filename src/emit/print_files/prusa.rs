@@ -184,7 +184,9 @@ fn config(settings: &PrintSettings) -> String {
 }
 
 /// The pauses of every part by the height the print resumes at; parts pausing at the same
-/// height share one pause with their messages joined.
+/// height share one pause with their messages joined by ` / ` (not `;`, which would start a
+/// comment in the `M117` line PrusaSlicer writes: the printer, and `verify --gcode`, would see
+/// the first part's message alone).
 pub(super) fn plate_pauses(parts: &[BedPart]) -> Vec<(f64, String)> {
     let mut by_height: BTreeMap<String, (f64, Vec<String>)> = BTreeMap::new();
     for part in parts {
@@ -204,7 +206,7 @@ pub(super) fn plate_pauses(parts: &[BedPart]) -> Vec<(f64, String)> {
     }
     by_height
         .into_values()
-        .map(|(height, messages)| (height, messages.join("; ")))
+        .map(|(height, messages)| (height, messages.join(" / ")))
         .collect()
 }
 
@@ -263,7 +265,7 @@ mod tests {
         assert_eq!(pauses.len(), 2);
         assert_eq!(
             pauses[0].1,
-            "block: Insert one 5 mm steel ball into capsule `tip`; \
+            "block: Insert one 5 mm steel ball into capsule `tip` / \
              other: Insert one 5 mm steel ball into capsule `tip`"
         );
         assert!((pauses[0].0 - 7.55).abs() < 1e-6 && (pauses[1].0 - 10.55).abs() < 1e-6);
