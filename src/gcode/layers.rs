@@ -106,18 +106,17 @@ impl PendingMarker {
     }
 
     /// A height comment `comment` on line `line`: taken when it directly follows the marker or
-    /// its other height comments; whether it was.
-    pub fn follow(&mut self, line: usize, comment: LayerComment) -> bool {
+    /// its other height comments, passed over otherwise.
+    pub fn follow(&mut self, line: usize, comment: LayerComment) {
         if line != self.insert_before {
-            return false;
+            return;
         }
         match comment {
             LayerComment::Height(z) => self.marker.height = Some(z),
             LayerComment::Thickness(t) => self.marker.thickness = Some(t),
-            LayerComment::Start(..) => return false,
+            LayerComment::Start(..) => return,
         }
         self.insert_before = line + 1;
-        true
     }
 
     /// The start of the layer it marks.
@@ -179,10 +178,10 @@ mod tests {
     #[test]
     fn only_height_comments_right_after_the_marker_move_the_insertion() {
         let mut pending = PendingMarker::new(10, LayerDialect::LayerChange, None);
-        assert!(pending.follow(11, LayerComment::Height(0.65)));
-        assert!(pending.follow(12, LayerComment::Thickness(0.3)));
+        pending.follow(11, LayerComment::Height(0.65));
+        pending.follow(12, LayerComment::Thickness(0.3));
         // A height comment further on belongs to something else.
-        assert!(!pending.follow(14, LayerComment::Height(9.0)));
+        pending.follow(14, LayerComment::Height(9.0));
         let start = pending.start();
         assert_eq!(start.insert_before, 13);
         let marker = start.marker.unwrap();

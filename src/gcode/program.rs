@@ -178,9 +178,9 @@ const SAME_LAYER: f64 = 1e-6;
 /// PrusaSlicer's `; printing object NAME` … `; stop printing object NAME` (its
 /// `gcode_label_objects` setting), OrcaSlicer's `; start printing object, unique label id:
 /// N` … `; stop printing object, unique label id: N`, and Cura's `;MESH:NAME` before each
-/// object's moves (`;MESH:NONMESH` before moves of no object). A file without such comments may label
-/// its objects for the firmware instead: `M486 S<n>` starts object `n` (named by an `A` word on
-/// that line or an earlier one for `n`, else labelled `n`), `M486 S-1` ends it.
+/// object's moves (`;MESH:NONMESH` before moves of no object). A file without such comments
+/// may label its objects for the firmware instead: `M486 S<n>` starts object `n` (named by an
+/// `A` word on that line or an earlier one for `n`, else labelled `n`), `M486 S-1` ends it.
 pub fn read_program(text: &str, options: &ReadOptions) -> Result<Program, GcodeError> {
     let mut segments: Vec<Vec<Segment>> = Vec::new();
     let outline = scan_program(text, options, |id, segment| {
