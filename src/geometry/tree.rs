@@ -127,12 +127,32 @@ impl TriangleTree {
         )
     }
 
-    /// [`distance_to_point`](Self::distance_to_point) when the distance is known to be below
-    /// `bound` (which only prunes the search sooner): the same value, bit for bit, as long as
-    /// the bound holds; `bound` itself when no triangle is nearer than it.
-    pub(crate) fn distance_to_point_below(&self, p: &Point3<f64>, bound: f64) -> f64 {
-        self.nearest_below(
-            bound,
+    /// The distance from `p` to the surface and the nearest triangle (an index into
+    /// [`triangles`](Self::triangles)), `None` without triangles.
+    pub(crate) fn nearest_to_point(&self, p: &Point3<f64>) -> (f64, Option<usize>) {
+        self.nearest_from(
+            (f64::INFINITY, None),
+            |bounds| bounds.distance_to_point(p),
+            |tri| point_triangle_distance(p, tri),
+        )
+    }
+
+    /// [`nearest_to_point`](Self::nearest_to_point) when the distance is known to be below
+    /// `bound`, and `hint` is a triangle likely near `p` (a neighbouring point's nearest): both
+    /// only prune the search sooner. The same distance, bit for bit, as long as the bound
+    /// holds; `(bound, None)` when no triangle is nearer than it.
+    pub(crate) fn nearest_to_point_below(
+        &self,
+        p: &Point3<f64>,
+        bound: f64,
+        hint: Option<usize>,
+    ) -> (f64, Option<usize>) {
+        let start = match hint.map(|t| (point_triangle_distance(p, &self.triangles[t]), t)) {
+            Some((distance, t)) if distance < bound => (distance, Some(t)),
+            _ => (bound, None),
+        };
+        self.nearest_from(
+            start,
             |bounds| bounds.distance_to_point(p),
             |tri| point_triangle_distance(p, tri),
         )
@@ -191,19 +211,22 @@ impl TriangleTree {
         lower_bound: impl Fn(&Aabb) -> f64,
         exact: impl Fn(&[Point3<f64>; 3]) -> f64,
     ) -> f64 {
-        self.nearest_below(f64::INFINITY, lower_bound, exact)
+        self.nearest_from((f64::INFINITY, None), lower_bound, exact)
+            .0
     }
 
-    /// [`nearest`](Self::nearest), starting from `bound` as the best so far.
-    fn nearest_below(
+    /// [`nearest`](Self::nearest), starting from `start` as the best so far (a value and the
+    /// triangle that reached it, if any), and the triangle reaching the minimum (the first
+    /// visited among equals; `start`'s when none beats it).
+    fn nearest_from(
         &self,
-        bound: f64,
+        start: (f64, Option<usize>),
         lower_bound: impl Fn(&Aabb) -> f64,
         exact: impl Fn(&[Point3<f64>; 3]) -> f64,
-    ) -> f64 {
-        let mut best = bound;
+    ) -> (f64, Option<usize>) {
+        let (mut best, mut nearest) = start;
         if self.nodes.is_empty() {
-            return best;
+            return (best, nearest);
         }
         // A depth-first stack that pushes the farther child first, so the nearer is visited next.
         let mut stack = vec![(lower_bound(&self.nodes[0].bounds), 0)];
@@ -225,16 +248,19 @@ impl TriangleTree {
                     }
                 }
                 None => {
-                    for tri in &self.triangles[node.first..node.first + node.count] {
-                        best = best.min(exact(tri));
+                    for t in node.first..node.first + node.count {
+                        let distance = exact(&self.triangles[t]);
+                        if distance < best {
+                            (best, nearest) = (distance, Some(t));
+                        }
                     }
                     if best == 0.0 {
-                        return best;
+                        return (best, nearest);
                     }
                 }
             }
         }
-        best
+        (best, nearest)
     }
 }
 

@@ -1,6 +1,7 @@
 //! The unsigned distance at every grid node, block by block: one tree query at each block's
 //! centre bounds the distance of all its nodes, so a block near a few triangles takes them alone
-//! and every other node's search starts from that bound.
+//! and every other node's search starts from that bound and from the nearest triangle of the
+//! node before it.
 
 use nalgebra::{Point3, Vector3};
 
@@ -51,7 +52,8 @@ pub(super) fn node_distances(
         // Rounding slack, so the bound is strictly above every node's distance.
         let half_diagonal = (hi - lo).norm() / 2.0;
         let slack = 1e-9 * (half_diagonal + cell);
-        let reach = tree.distance_to_point(&centre) + half_diagonal + slack;
+        let (centre_distance, mut hint) = tree.nearest_to_point(&centre);
+        let reach = centre_distance + half_diagonal + slack;
         let mut nearby = Vec::new();
         tree.triangles_near_box(&lo, &hi, reach, &mut nearby);
         let few = nearby.len() <= MAX_NEARBY;
@@ -67,7 +69,12 @@ pub(super) fn node_distances(
                             .map(|&t| point_triangle_distance(&p, &triangles[t]))
                             .fold(f64::INFINITY, f64::min)
                     } else {
-                        tree.distance_to_point_below(&p, reach)
+                        // The last node's nearest triangle starts the search: a neighbour's
+                        // is often this node's too, and then only boxes nearer than it are
+                        // opened.
+                        let (distance, nearest) = tree.nearest_to_point_below(&p, reach, hint);
+                        hint = nearest.or(hint);
+                        distance
                     };
                     values.push(d);
                 }
