@@ -266,6 +266,34 @@ fn labelled_objects_and_a_skirt_outside_them() {
     assert!((part.shift[1] - 25.0).abs() < 0.1, "{:?}", part.shift);
 }
 
+#[test]
+fn a_skirt_around_an_unlabelled_object_is_named_as_the_cause() {
+    if skip() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let compilation = project(dir.path());
+    let gcode = sliced(
+        dir.path(),
+        &[
+            "--skirts",
+            "1",
+            "--skirt-distance",
+            "3",
+            "--no-gcode-label-objects",
+        ],
+    );
+    let check = check(&compilation, &plan(LAYERS_DONE, MESSAGE), &gcode);
+    let part = &check.components[0];
+    assert_eq!(part.object, None);
+    let mismatch = part
+        .mismatch
+        .as_deref()
+        .expect("the skirt widens the object");
+    assert!(mismatch.contains("labels no object"), "{mismatch}");
+    assert!(mismatch.contains("skirt"), "{mismatch}");
+}
+
 /// The goals of the t_shape example that the sliced mass misses: none. With its calibration file
 /// the T stands on its sides 2.57° and 2.51° computed, 2.52° and 2.57° sliced, over its 2° limit
 /// (`SHORT_WITH_THE_SLICED_MASS` in `tests/fabrication_examples.rs`). The test fails when the list

@@ -232,21 +232,31 @@ pub(super) fn place(
         };
         let planned_size = planned_high - planned_low;
         let printed_size = Vector3::new(high.x - low.x, high.y - low.y, high.z);
-        let mismatch = (0..3)
-            .any(|axis| (planned_size[axis] - printed_size[axis]).abs() > tolerance)
-            .then(|| {
-                format!(
-                    "component `{name}`: the printed object measures {:.2} × {:.2} × {:.2}, the \
-                     planned part {:.2} × {:.2} × {:.2}: not the planned part in its planned \
-                     orientation",
-                    printed_size.x,
-                    printed_size.y,
-                    printed_size.z,
-                    planned_size.x,
-                    planned_size.y,
-                    planned_size.z
-                )
-            });
+        let off = |axis: usize| (planned_size[axis] - printed_size[axis]).abs() > tolerance;
+        // Without object labels every extrusion is the object's: a skirt, brim or purge line
+        // widens it on the bed but leaves its height.
+        let widened_by_more = object.label.is_none()
+            && !off(2)
+            && (0..2).all(|axis| printed_size[axis] + tolerance >= planned_size[axis]);
+        let mismatch = (0..3).any(off).then(|| {
+            let why = if widened_by_more {
+                "the file labels no object, so a skirt, brim or purge line counts as the part: \
+                 slice with object labels on (PrusaSlicer's `--gcode-label-objects`) or without a \
+                 skirt or brim"
+            } else {
+                "not the planned part in its planned orientation"
+            };
+            format!(
+                "component `{name}`: the printed object measures {:.2} × {:.2} × {:.2}, the \
+                 planned part {:.2} × {:.2} × {:.2}: {why}",
+                printed_size.x,
+                printed_size.y,
+                printed_size.z,
+                planned_size.x,
+                planned_size.y,
+                planned_size.z
+            )
+        });
         if let Some(components) = components_of.get_mut(object.id) {
             components.push(index);
         }
