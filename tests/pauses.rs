@@ -239,6 +239,31 @@ fn cura_gcode_gets_the_planned_pause_with_the_chosen_command() {
     // Checked for another command, the file has no pause.
     let other = run(&["verify", path(&project), "--gcode", path(&output)]);
     assert_eq!(other.status.code(), Some(1));
+
+    // The same as JSON: where the pause went (kept, now that the file has it) and the check.
+    let again = folder.path().join("again.gcode");
+    let json = run(&[
+        "pauses",
+        path(&project),
+        "--gcode",
+        path(&output),
+        "-o",
+        path(&again),
+        "--pause-gcode",
+        "M0",
+        "--json",
+    ]);
+    assert_eq!(json.status.code(), Some(0), "{}", stderr(&json));
+    let report: serde_json::Value = serde_json::from_str(&stdout(&json)).unwrap();
+    assert_eq!(report["pause_command"], "M0");
+    let pauses = report["pauses"].as_array().unwrap();
+    assert_eq!(pauses.len(), 1);
+    assert_eq!(pauses[0]["kept"], true);
+    assert_eq!(pauses[0]["pause"]["layers_done"], layers_done);
+    assert_eq!(pauses[0]["pause"]["message"], message.as_str());
+    assert_eq!(report["check"]["pauses"].as_array().unwrap().len(), 1);
+    assert!(report["check"]["pauses"][0]["problem"].is_null());
+    assert_eq!(fs::read(&again).unwrap(), paused.as_bytes());
 }
 
 /// Two parts on one bed, sliced by CuraEngine together: each object is found by its `;MESH:`

@@ -118,6 +118,9 @@ pub enum Command {
         /// Diameter of the filament the G-code feeds, mm, 0.5 to 5.
         #[arg(long, value_name = "MM", default_value_t = 1.75, value_parser = filament_mm)]
         filament_diameter: f64,
+        /// Print what was put where and the check as one JSON object instead of the tables.
+        #[arg(long)]
+        json: bool,
         /// Read the solution file from this folder (where `build --out-dir` wrote it) instead of
         /// the path the project names.
         #[arg(long, value_name = "DIR")]

@@ -109,6 +109,7 @@ pub fn run() -> i32 {
             output,
             pause_gcode,
             filament_diameter,
+            json,
             out_dir,
         } => pauses::run(
             &pauses::PausesRun {
@@ -117,6 +118,7 @@ pub fn run() -> i32 {
                 output: &output,
                 command: &pause_gcode,
                 filament_diameter,
+                json,
             },
             &CompileOptions {
                 out_dir,

@@ -4,6 +4,8 @@
 use std::fmt::Write;
 use std::path::Path;
 
+use serde::Serialize;
+
 use super::diagnostics::render_for_terminal;
 use super::sliced::{check_gcode, read_gcode, table, unreadable, NO_SHIFT_MM};
 use super::{compile_file, file_name, MessageFormat, EXIT_INVALID, EXIT_MET, EXIT_UNMET};
@@ -11,8 +13,8 @@ use crate::compile::{CompileOptions, Workspace};
 use crate::diagnostic::{printable, Problem};
 use crate::emit::write_atomic;
 use crate::file_identity::identity;
-use crate::pauses::{insert_pauses, plate_pauses, PauseCommand, Paused, PausesError};
-use crate::sliced::SlicedOptions;
+use crate::pauses::{insert_pauses, plate_pauses, PauseCommand, Paused, PausesError, PlacedPause};
+use crate::sliced::{SlicedCheck, SlicedOptions};
 use crate::spec::codes;
 
 /// What `ballast pauses` is asked to do.
@@ -27,6 +29,24 @@ pub struct PausesRun<'a> {
     pub command: &'a PauseCommand,
     /// The filament the file feeds, mm.
     pub filament_diameter: f64,
+    /// Print [`PausesReport`] as JSON instead of the tables.
+    pub json: bool,
+}
+
+/// What `ballast pauses --json` prints: where each pause of the plan went, and the check of
+/// the written file (as `verify --gcode --json` prints it).
+#[derive(Serialize)]
+struct PausesReport<'a> {
+    /// The G-code file read, as given.
+    input: &'a str,
+    /// The file written, as given.
+    output: &'a str,
+    /// The pause command put in.
+    pause_command: &'a str,
+    /// One per pause of the plan, lowest first.
+    pauses: &'a [PlacedPause],
+    /// The written file checked against the plan.
+    check: &'a SlicedCheck,
 }
 
 /// Puts the plan's pauses of the project into the G-code file, writes the result and checks
@@ -91,15 +111,17 @@ pub fn run(request: &PausesRun, options: &CompileOptions) -> i32 {
         );
         return EXIT_INVALID;
     }
-    print!(
-        "{}",
-        summary(
-            &paused,
-            &file_name(request.project),
-            (&file_name(request.gcode), &file_name(request.output)),
-            request.command
-        )
-    );
+    if !request.json {
+        print!(
+            "{}",
+            summary(
+                &paused,
+                &file_name(request.project),
+                (&file_name(request.gcode), &file_name(request.output)),
+                request.command
+            )
+        );
+    }
     let text = String::from_utf8_lossy(&paused.bytes);
     let sliced = SlicedOptions {
         filament_diameter: request.filament_diameter,
@@ -109,16 +131,33 @@ pub fn run(request: &PausesRun, options: &CompileOptions) -> i32 {
         eprintln!("{shown_output} was written, but cannot be checked against the plan");
         return EXIT_INVALID;
     };
-    let no_shift = project.units.from_millimetres(NO_SHIFT_MM);
-    print!(
-        "\n{}",
-        table(
-            &check,
-            &file_name(request.project),
-            &file_name(request.output),
-            no_shift
-        )
-    );
+    if request.json {
+        let report = PausesReport {
+            input: &shown_input,
+            output: &shown_output,
+            pause_command: request.command.as_str(),
+            pauses: &paused.pauses,
+            check: &check,
+        };
+        match serde_json::to_string_pretty(&report) {
+            Ok(text) => println!("{text}"),
+            Err(error) => {
+                eprintln!("error: cannot encode what was done: {error}");
+                return EXIT_INVALID;
+            }
+        }
+    } else {
+        let no_shift = project.units.from_millimetres(NO_SHIFT_MM);
+        print!(
+            "\n{}",
+            table(
+                &check,
+                &file_name(request.project),
+                &file_name(request.output),
+                no_shift
+            )
+        );
+    }
     if check.passes() {
         EXIT_MET
     } else {

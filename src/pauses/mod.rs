@@ -26,6 +26,7 @@
 
 use std::collections::BTreeMap;
 
+use serde::Serialize;
 use thiserror::Error;
 
 mod splice;
@@ -79,7 +80,7 @@ impl PauseCommand {
 }
 
 /// One pause of the whole bed: every component's planned pause after the same layer.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PlatePause {
     /// Layers printed before it, as the plan counts them.
     pub layers_done: usize,
@@ -93,7 +94,7 @@ pub struct PlatePause {
 }
 
 /// Where one pause went.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PlacedPause {
     /// The plan's pause.
     pub pause: PlatePause,
