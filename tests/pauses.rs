@@ -6,6 +6,7 @@
 //! PATH (`.ci/run` installs both).
 
 mod cli_support;
+mod geometry_support;
 mod print_support;
 
 use std::fs;
@@ -13,40 +14,16 @@ use std::path::{Path, PathBuf};
 
 use ballast::compile::compile;
 use cli_support::{ballast, build_ok, stderr, stdout};
+use geometry_support::{box_mesh, obj_text};
 use print_support::{cura_available, cura_settings, slice_with, slice_with_cura, slicer_available};
 
-/// An OBJ file of a box of `size` with its lowest corner at `origin`.
+/// The OBJ text of the box of `size` with its lowest corner at `origin`.
 fn box_obj(origin: [f64; 3], size: [f64; 3]) -> String {
-    let mut text = String::new();
-    for corner in 0..8 {
-        let at = |axis: usize| {
-            origin[axis]
-                + if corner >> axis & 1 == 1 {
-                    size[axis]
-                } else {
-                    0.0
-                }
-        };
-        text.push_str(&format!("v {} {} {}\n", at(0), at(1), at(2)));
+    let mut mesh = box_mesh(size[0], size[1], size[2]);
+    for p in &mut mesh.positions {
+        p.coords += nalgebra::Vector3::from(origin);
     }
-    // Corners by bits x, y, z; each face counter-clockwise seen from outside.
-    for [a, b, c] in [
-        [0, 2, 3],
-        [0, 3, 1],
-        [4, 5, 7],
-        [4, 7, 6],
-        [0, 1, 5],
-        [0, 5, 4],
-        [1, 3, 7],
-        [1, 7, 5],
-        [3, 2, 6],
-        [3, 6, 7],
-        [2, 0, 4],
-        [2, 4, 6],
-    ] {
-        text.push_str(&format!("f {} {} {}\n", a + 1, b + 1, c + 1));
-    }
-    text
+    obj_text(&mesh)
 }
 
 /// The box with a level capsule void along x, standing, and on its end; built, so that its STL

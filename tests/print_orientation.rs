@@ -3,26 +3,18 @@
 
 mod geometry_support;
 
-use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
 use ballast::balance::slicing;
 use ballast::compile::{compile, Compilation, Report};
 use ballast::fabrication::OrientationChoice;
 use ballast::geometry::{convex_hull, print_volumes, TriMesh};
-use geometry_support::{box_mesh, prism};
+use geometry_support::{box_mesh, obj_text, prism};
 use nalgebra::{Isometry3, Point3, Rotation3, Vector3};
 
 /// Writes `mesh` as an OBJ file.
 fn write_obj(mesh: &TriMesh, path: &Path) {
-    let mut text = String::new();
-    for p in &mesh.positions {
-        let _ = writeln!(text, "v {} {} {}", p.x, p.y, p.z);
-    }
-    for t in &mesh.triangles {
-        let _ = writeln!(text, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
-    }
-    std::fs::write(path, text).unwrap();
+    std::fs::write(path, obj_text(mesh)).unwrap();
 }
 
 /// A project in `dir` with one component of `mesh` and the `print` block `print` (may be empty),

@@ -13,7 +13,7 @@ use ballast::compile::{compile, Compilation};
 use ballast::fabrication::{ComponentPlan, OrientationChoice, Pause, PrintPlan};
 use ballast::geometry::TriMesh;
 use ballast::sliced::{verify_gcode, SlicedCheck, SlicedOptions};
-use geometry_support::box_mesh;
+use geometry_support::{box_mesh, obj_text};
 use nalgebra::{Isometry3, Point3, Vector3};
 use print_support::*;
 
@@ -43,14 +43,7 @@ fn skip() -> bool {
 }
 
 fn write_obj(mesh: &TriMesh, path: &Path) {
-    let mut text = String::new();
-    for p in &mesh.positions {
-        text.push_str(&format!("v {} {} {}\n", p.x, p.y, p.z));
-    }
-    for [a, b, c] in &mesh.triangles {
-        text.push_str(&format!("f {} {} {}\n", a + 1, b + 1, c + 1));
-    }
-    std::fs::write(path, text).unwrap();
+    std::fs::write(path, obj_text(mesh)).unwrap();
 }
 
 /// The project: the box with the capsule, standing upright.

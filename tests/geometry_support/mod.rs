@@ -7,6 +7,18 @@ use std::path::PathBuf;
 use ballast::geometry::TriMesh;
 use nalgebra::Point3;
 
+/// `mesh` as the text of an OBJ file (vertices, then triangles, indices from 1).
+pub fn obj_text(mesh: &TriMesh) -> String {
+    let mut text = String::new();
+    for p in &mesh.positions {
+        text.push_str(&format!("v {} {} {}\n", p.x, p.y, p.z));
+    }
+    for [a, b, c] in &mesh.triangles {
+        text.push_str(&format!("f {} {} {}\n", a + 1, b + 1, c + 1));
+    }
+    text
+}
+
 /// The box [0,a]×[0,b]×[0,c]: 8 vertices (index = x + 2y + 4z), 12 triangles, outward.
 pub fn box_mesh(a: f64, b: f64, c: f64) -> TriMesh {
     let positions = (0..8)
