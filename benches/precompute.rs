@@ -1,5 +1,5 @@
 //! The optimizer's precompute per mesh size: the signed distance grid at the default spacing and
-//! the skeleton thinned on it, for the examples' meshes and the real meshes in `../shared/meshes`
+//! the skeleton thinned on it (and, apart, the time to read every node the grid deferred), for the examples' meshes and the real meshes in `../shared/meshes`
 //! (each scaled so its longest side is 150 mm, capsules at least 1.2 mm in radius, as a project in
 //! millimetres with the default clearance gets). `docs/benchmarks.md` gives the figures.
 //!
@@ -46,8 +46,10 @@ const MESHES: [(&str, &str, bool); 10] = [
 
 fn main() {
     let filter = std::env::var("BALLAST_BENCH_FILTER").unwrap_or_default();
-    println!("| mesh | triangles | cell (mm) | nodes | grid (s) | skeleton (s) |");
-    println!("| --- | ---: | ---: | ---: | ---: | ---: |");
+    println!(
+        "| mesh | triangles | cell (mm) | nodes | deferred | grid (s) | skeleton (s) | the deferred read (s) |"
+    );
+    println!("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |");
     for (label, path, scaled) in MESHES {
         if !label.contains(filter.as_str()) {
             continue;
@@ -75,12 +77,25 @@ fn main() {
         let skeleton = Skeleton::from_grid(&mesh, &grid);
         let skeleton_time = clock.elapsed().as_secs_f64();
         std::hint::black_box(skeleton);
+        let deferred = grid.deferred_nodes();
+        let clock = Instant::now();
+        let [nx, ny, nz] = grid.dims();
+        let mut sum = 0.0;
+        for k in 0..nz {
+            for j in 0..ny {
+                for i in 0..nx {
+                    sum += grid.node_value([i, j, k]).expect("in the grid");
+                }
+            }
+        }
+        std::hint::black_box(sum);
+        let read_time = clock.elapsed().as_secs_f64();
         if let Some(folder) = std::env::var_os("BALLAST_BENCH_EXPORT") {
             export(&PathBuf::from(folder), label, &mesh, &grid).expect("writing the export");
         }
         let nodes: usize = grid.dims().iter().product();
         println!(
-            "| {label} | {} | {cell:.3} | {nodes} | {grid_time:.3} | {skeleton_time:.3} |",
+            "| {label} | {} | {cell:.3} | {nodes} | {deferred} | {grid_time:.3} | {skeleton_time:.3} | {read_time:.3} |",
             mesh.triangles.len()
         );
     }
@@ -115,7 +130,12 @@ fn export(
         dims[2]
     );
     std::fs::write(folder.join(format!("{label}.grid.json")), header)?;
-    let bytes: Vec<u8> = grid.values().iter().flat_map(|v| v.to_le_bytes()).collect();
+    // Every node, the deferred ones computed now.
+    let [nx, ny, nz] = dims;
+    let bytes: Vec<u8> = (0..nz)
+        .flat_map(|k| (0..ny).flat_map(move |j| (0..nx).map(move |i| [i, j, k])))
+        .flat_map(|index| grid.node_value(index).expect("in the grid").to_le_bytes())
+        .collect();
     std::fs::write(folder.join(format!("{label}.grid.f64")), bytes)
 }
 

@@ -206,8 +206,9 @@ fn hammer_signs() {
 
 #[test]
 fn every_node_holds_the_tree_distance_bit_for_bit() {
-    // The distances are found block by block (the triangles near a block once): each node's
-    // magnitude must still be exactly the tree's distance, deep inside, near and far outside.
+    // The distances are found block by block (the triangles near a block once), those of blocks
+    // far outside when first read: each node's magnitude must still be exactly the tree's
+    // distance, deep inside, near and far outside.
     let hammer =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/meshes/hammer.obj");
     let meshes = [
@@ -219,6 +220,8 @@ fn every_node_holds_the_tree_distance_bit_for_bit() {
         let (lo, hi) = mesh.bounding_box().expect("positions");
         let cell = (hi - lo).max() / 23.0;
         let grid = DistanceGrid::new(mesh, cell);
+        let deferred = grid.deferred_nodes();
+        assert!(deferred > 0, "nothing deferred");
         let tree = TriangleTree::new(mesh);
         let [nx, ny, nz] = grid.dims();
         for k in 0..nz {
@@ -236,5 +239,7 @@ fn every_node_holds_the_tree_distance_bit_for_bit() {
                 }
             }
         }
+        // Reading a deferred node computes it, but what a cache stores does not change.
+        assert_eq!(grid.deferred_nodes(), deferred);
     }
 }

@@ -293,7 +293,7 @@ mod tests {
             *skeleton
         );
         let bits = |grid: &DistanceGrid| -> Vec<u64> {
-            grid.values().iter().map(|v| v.to_bits()).collect()
+            grid.stored_values().iter().map(|v| v.to_bits()).collect()
         };
         assert_eq!(bits(&read), bits(&grid));
         assert_eq!(

@@ -1,6 +1,7 @@
 //! A signed distance grid over one mesh and its smooth tricubic interpolant.
 
 mod blocks;
+mod deferred;
 mod fast_winding;
 mod sign;
 mod tricubic;
@@ -10,6 +11,9 @@ use nalgebra::{Point3, Vector3};
 use super::mesh::TriMesh;
 use super::tree::TriangleTree;
 use crate::cancel::Cancel;
+use crate::parallel::map_nodes;
+use blocks::Blocks;
+use deferred::Deferred;
 use fast_winding::WindingTree;
 use tricubic::catmull_rom;
 
@@ -27,6 +31,12 @@ const MARGIN_CELLS: usize = 3;
 /// nodes, and a region touching the grid boundary is outside. A small hole in the surface
 /// therefore does not flip the inside.
 ///
+/// The blocks of nodes that one query at their centre shows to be all farther than half a cell
+/// from the surface, and that lie outside, are computed when one of their nodes is first read
+/// (by [`value`](Self::value), [`node_value`](Self::node_value)): the same values, later. Most
+/// of a grid's nodes are such (the box around a mesh is mostly empty), and the wall constraint
+/// reads few of them.
+///
 /// Between nodes, [`value`](Self::value) interpolates with Catmull-Rom cubics along each axis
 /// (tensor product over the 4×4×4 neighbouring nodes): it passes through the node values, is C¹,
 /// and reproduces linear functions exactly; [`value_and_gradient`](Self::value_and_gradient) gives
@@ -36,7 +46,10 @@ pub struct DistanceGrid {
     origin: Point3<f64>,
     cell: f64,
     dims: [usize; 3],
+    /// Each node's signed distance, NaN for a node of a deferred block.
     values: Vec<f64>,
+    /// The blocks left for later, when there are any.
+    deferred: Option<Deferred>,
 }
 
 impl DistanceGrid {
@@ -79,41 +92,96 @@ impl DistanceGrid {
                 cell,
                 dims: [0; 3],
                 values: Vec::new(),
+                deferred: None,
             });
         };
         let margin = cell * MARGIN_CELLS as f64;
         let origin = lo - Vector3::repeat(margin);
         let dims = node_dims(lo, hi, cell);
-        let mut grid = DistanceGrid {
-            origin,
-            cell,
-            dims,
-            values: Vec::new(),
-        };
         let tree = TriangleTree::new(mesh);
-        let distances = blocks::node_distances(&tree, origin, cell, dims, cancel)?;
-        let winding = WindingTree::new(&tree);
+        let blocks = Blocks::new(origin, cell, dims);
         // Two neighbouring nodes both farther than half a cell from the surface are joined by an
         // edge that cannot cross it.
         let near = cell / 2.0;
-        let inside = sign::inside_nodes(dims, |i| grid.node_at(i), &distances, near, &winding);
-        grid.values = distances
+        // Every block that may come within `near` of the surface now; the others once their
+        // side of it is known.
+        let first = map_nodes(blocks.count(), |b| {
+            if cancel.is_cancelled() {
+                return None;
+            }
+            let bound = blocks.bound(&tree, b);
+            Some((
+                bound,
+                (bound.floor() <= near).then(|| blocks.distances(&tree, b, bound)),
+            ))
+        });
+        if cancel.is_cancelled() {
+            return None;
+        }
+        let mut distances = vec![f64::NAN; dims.iter().product()];
+        let mut far = Vec::new();
+        for (b, block) in first.into_iter().enumerate() {
+            match block? {
+                (_, Some(values)) => {
+                    for (node, value) in blocks.nodes(b).zip(values) {
+                        distances[node] = value;
+                    }
+                }
+                (bound, None) => far.push((b, bound)),
+            }
+        }
+        let node_at = |index: usize| {
+            let [nx, ny, _] = dims;
+            let [i, j, k] = [index % nx, (index / nx) % ny, index / (nx * ny)];
+            origin + Vector3::new(i as f64, j as f64, k as f64) * cell
+        };
+        let winding = WindingTree::new(&tree);
+        let inside = sign::inside_nodes(dims, node_at, &distances, near, &winding);
+        // A far block lies in one region of far nodes, so its first node's side is its own.
+        let far_inside: Vec<_> = far
+            .into_iter()
+            .filter(|&(b, _)| blocks.nodes(b).next().is_some_and(|node| inside[node]))
+            .collect();
+        let computed = map_nodes(far_inside.len(), |n| {
+            let (b, bound) = far_inside[n];
+            (!cancel.is_cancelled()).then(|| blocks.distances(&tree, b, bound))
+        });
+        for (&(b, _), values) in far_inside.iter().zip(computed) {
+            for (node, value) in blocks.nodes(b).zip(values?) {
+                distances[node] = value;
+            }
+        }
+        let values: Vec<f64> = distances
             .iter()
             .zip(&inside)
             .map(|(&d, &inside)| if inside { -d } else { d })
             .collect();
+        let deferred = values
+            .iter()
+            .any(|v| v.is_nan())
+            .then(|| Deferred::with_tree(blocks, tree));
+        let grid = DistanceGrid {
+            origin,
+            cell,
+            dims,
+            values,
+            deferred,
+        };
         (!cancel.is_cancelled()).then_some(grid)
     }
 
-    /// A grid rebuilt from the parts [`new`](Self::new) produced (read back from a cache), or
-    /// `None` when they do not make a grid: `cell` not positive and finite, `origin` not finite,
-    /// `values` not one per node (x fastest), or a non-empty grid with fewer than four nodes along
-    /// some axis (the interpolant needs a 4×4×4 neighbourhood).
+    /// A grid rebuilt from the parts [`new`](Self::new) produced for `mesh` (read back from a
+    /// cache): [`stored_values`](Self::stored_values), NaN where a block was deferred, whose
+    /// distances are then computed from `mesh` when first read. `None` when they do not make a
+    /// grid: `cell` not positive and finite, `origin` not finite, `values` not one per node (x
+    /// fastest), a non-empty grid with fewer than four nodes along some axis (the interpolant needs
+    /// a 4×4×4 neighbourhood), or deferred nodes and a mesh without triangles.
     pub fn from_parts(
         origin: Point3<f64>,
         cell: f64,
         dims: [usize; 3],
         values: Vec<f64>,
+        mesh: &TriMesh,
     ) -> Option<DistanceGrid> {
         let count = dims
             .iter()
@@ -123,18 +191,30 @@ impl DistanceGrid {
             && origin.iter().all(|c| c.is_finite())
             && values.len() == count
             && (count == 0 || dims.iter().all(|&n| n >= 4));
-        usable.then_some(DistanceGrid {
+        let deferred = values.iter().any(|v| v.is_nan());
+        if !usable || (deferred && mesh.triangles.is_empty()) {
+            return None;
+        }
+        Some(DistanceGrid {
             origin,
             cell,
             dims,
             values,
+            deferred: deferred.then(|| Deferred::with_mesh(Blocks::new(origin, cell, dims), mesh)),
         })
     }
 
-    /// Every node's stored signed distance, x fastest: node `(i, j, k)` at
-    /// `i + nx · (j + ny · k)`.
-    pub fn values(&self) -> &[f64] {
+    /// Every node's signed distance as computed so far, x fastest (node `(i, j, k)` at
+    /// `i + nx · (j + ny · k)`): NaN for a node of a block deferred by [`new`](Self::new), even
+    /// once it has been read. What a cache stores; [`node_value`](Self::node_value) gives every
+    /// node's value.
+    pub fn stored_values(&self) -> &[f64] {
         &self.values
+    }
+
+    /// Number of nodes whose distance [`new`](Self::new) left for their first read.
+    pub fn deferred_nodes(&self) -> usize {
+        self.values.iter().filter(|v| v.is_nan()).count()
     }
 
     /// Number of nodes [`new`](Self::new) would sample for `mesh` at spacing `cell`, counted in
@@ -180,11 +260,28 @@ impl DistanceGrid {
         self.origin + Vector3::new(index[0] as f64, index[1] as f64, index[2] as f64) * self.cell
     }
 
-    /// Stored signed distance at node `index`, or `None` outside the grid.
+    /// Signed distance at node `index`, or `None` outside the grid. A node of a deferred block
+    /// has its block computed now.
     pub fn node_value(&self, index: [usize; 3]) -> Option<f64> {
         let [i, j, k] = index;
         let [nx, ny, nz] = self.dims;
-        (i < nx && j < ny && k < nz).then(|| self.values[i + nx * (j + ny * k)])
+        (i < nx && j < ny && k < nz).then(|| self.value_of(i + nx * (j + ny * k)))
+    }
+
+    /// As [`node_value`](Self::node_value), but `+∞` for a node of a deferred block, which lies
+    /// outside farther than half a cell from the surface: for a pass over every node that needs
+    /// only the inside, without computing what was deferred.
+    pub fn node_value_or_far(&self, index: [usize; 3]) -> Option<f64> {
+        let [i, j, k] = index;
+        let [nx, ny, nz] = self.dims;
+        (i < nx && j < ny && k < nz).then(|| {
+            let value = self.values[i + nx * (j + ny * k)];
+            if value.is_nan() {
+                f64::INFINITY
+            } else {
+                value
+            }
+        })
     }
 
     /// The interpolated signed distance at `p` (negative inside).
@@ -240,7 +337,7 @@ impl DistanceGrid {
             for j in 0..4 {
                 let row = base[0] + nx * (base[1] + j + ny * (base[2] + k));
                 for i in 0..4 {
-                    let v = self.values[row + i];
+                    let v = self.value_of(row + i);
                     let (wx, wy, wz) = (weights[0][i], weights[1][j], weights[2][k]);
                     value += wx * wy * wz * v;
                     gradient += Vector3::new(
@@ -254,12 +351,17 @@ impl DistanceGrid {
         (value, gradient / self.cell)
     }
 
-    /// Position of the node with flat index `index` (x fastest).
-    fn node_at(&self, index: usize) -> Point3<f64> {
-        let [nx, ny, _] = self.dims;
-        self.node([index % nx, (index / nx) % ny, index / (nx * ny)])
+    /// The signed distance of the node of flat index `index`, computing its block if it was
+    /// deferred (deferred blocks lie outside, so the distance is the value).
+    fn value_of(&self, index: usize) -> f64 {
+        let value = self.values[index];
+        match &self.deferred {
+            Some(deferred) if value.is_nan() => deferred.distance(index),
+            _ => value,
+        }
     }
 }
+
 /// Nodes along each axis for the box `lo`–`hi`: the box plus [`MARGIN_CELLS`] on every side.
 fn node_dims(lo: Point3<f64>, hi: Point3<f64>, cell: f64) -> [usize; 3] {
     let extent = hi - lo;

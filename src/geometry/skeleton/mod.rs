@@ -161,7 +161,7 @@ impl Skeleton {
         for k in 0..nz {
             for j in 0..ny {
                 for i in 0..nx {
-                    let value = grid.node_value([i, j, k]).unwrap_or(f64::INFINITY);
+                    let value = grid.node_value_or_far([i, j, k]).unwrap_or(f64::INFINITY);
                     occupied.push(value < -depth);
                     depths.push(-value);
                 }
@@ -250,7 +250,7 @@ fn deepest_radius(grid: &DistanceGrid) -> f64 {
     for k in 0..nz {
         for j in 0..ny {
             for i in 0..nx {
-                deepest = deepest.max(-grid.node_value([i, j, k]).unwrap_or(0.0));
+                deepest = deepest.max(-grid.node_value_or_far([i, j, k]).unwrap_or(0.0));
             }
         }
     }

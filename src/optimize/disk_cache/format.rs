@@ -6,7 +6,7 @@
 //! | [`FORMAT`] | u32 |
 //! | crate version, length-prefixed | u32 + text |
 //! | key: BLAKE3 of the mesh, cell bits, vertex count, triangle count | 32 + 3 × u64 |
-//! | grid: origin (3 × f64 bits), cell (f64 bits), dims (3 × u64), every value's bits | … |
+//! | grid: origin (3 × f64 bits), cell (f64 bits), dims (3 × u64), every value's bits (NaN for a node left for its first read) | … |
 //! | skeleton: 0 (none) or 1 (stored) | u8 |
 //! | if stored: fallback, 0 or 1 | u8 |
 //! | if stored: segment count, then each segment's `from`, `to`, radius | u64 + 7 × u64 each |
@@ -24,9 +24,10 @@ use crate::geometry::{DistanceGrid, Skeleton, SkeletonSegment, TriMesh};
 pub const MAGIC: &[u8; 8] = b"BALLASTC";
 
 /// The file format and the meaning of its content. Bump it whenever [`DistanceGrid::new`] or
-/// [`Skeleton::from_grid`] would give different values for the same input, so files written
-/// before are no longer read (and are removed).
-pub const FORMAT: u32 = 2;
+/// [`Skeleton::from_grid`] would give different values for the same input, or stored values
+/// change meaning (3: NaN for a node of a deferred block), so files written before are no longer
+/// read (and are removed).
+pub const FORMAT: u32 = 3;
 
 /// The crate version written into every file: another version's files are misses.
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");
@@ -86,7 +87,7 @@ pub fn encode(
     grid: &DistanceGrid,
     skeleton: Option<&Skeleton>,
 ) -> Vec<u8> {
-    let mut out = Vec::with_capacity(160 + 8 * grid.values().len());
+    let mut out = Vec::with_capacity(160 + 8 * grid.stored_values().len());
     out.extend_from_slice(MAGIC);
     out.extend_from_slice(&FORMAT.to_le_bytes());
     out.extend_from_slice(&(VERSION.len() as u32).to_le_bytes());
@@ -100,7 +101,7 @@ pub fn encode(
     for n in grid.dims() {
         put_u64(&mut out, n as u64);
     }
-    for &value in grid.values() {
+    for &value in grid.stored_values() {
         put_f64(&mut out, value);
     }
     match skeleton {
@@ -141,11 +142,12 @@ fn put_point(out: &mut Vec<u8>, point: &Point3<f64>) {
 }
 
 /// The grid and skeleton in `bytes`, or `None` unless the seal is `secret`'s, every check passes
-/// and the file is about `key`.
+/// and the file is about `key`, which is `mesh`'s (the grid computes its deferred blocks from it).
 pub fn decode(
     bytes: &[u8],
     key: &Key,
     secret: &[u8; SECRET_BYTES],
+    mesh: &TriMesh,
 ) -> Option<(DistanceGrid, Option<Skeleton>)> {
     let (body, sealed) = bytes.split_at_checked(bytes.len().checked_sub(SEAL_BYTES)?)?;
     // blake3's `Hash` compares in constant time.
@@ -188,7 +190,7 @@ pub fn decode(
     let values = (0..count)
         .map(|_| reader.f64())
         .collect::<Option<Vec<f64>>>()?;
-    let grid = DistanceGrid::from_parts(origin, cell, dims, values)?;
+    let grid = DistanceGrid::from_parts(origin, cell, dims, values, mesh)?;
     let skeleton = match reader.u8()? {
         0 => None,
         1 => {

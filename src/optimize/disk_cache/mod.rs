@@ -80,7 +80,7 @@ impl DiskCache {
         let secret = secret::read_secret(&self.root)?;
         // A regular file within the cache's size: a pipe or a link to a device is a miss.
         let bytes = crate::regular_file::read_limited(&path, self.limit).ok()?;
-        match decode(&bytes, &key, &secret) {
+        match decode(&bytes, &key, &secret, mesh) {
             Some(found) => {
                 // Only for eviction: a file that cannot be touched is still a hit.
                 let _ = File::options()
@@ -155,7 +155,7 @@ mod tests {
 
     use nalgebra::Point3;
 
-    use super::format::{seal, MAGIC, SEAL_BYTES, VERSION};
+    use super::format::{seal, FORMAT, MAGIC, SEAL_BYTES, VERSION};
     use super::*;
     use crate::emit::atomic::TempName;
     use crate::optimize::test_meshes::cube;
@@ -174,7 +174,15 @@ mod tests {
         assert_eq!(point_bits(&a.origin()), point_bits(&b.origin()));
         assert_eq!(a.cell().to_bits(), b.cell().to_bits());
         assert_eq!(a.dims(), b.dims());
-        assert_eq!(bits(a.values()), bits(b.values()));
+        assert_eq!(bits(a.stored_values()), bits(b.stored_values()));
+        // The deferred nodes too, computed from the mesh on the grid read back.
+        let [nx, ny, nz] = a.dims();
+        for index in
+            (0..nz).flat_map(|k| (0..ny).flat_map(move |j| (0..nx).map(move |i| [i, j, k])))
+        {
+            let value = |grid: &DistanceGrid| grid.node_value(index).map(f64::to_bits);
+            assert_eq!(value(a), value(b), "node {index:?}");
+        }
     }
 
     /// A cache in a fresh folder holding the cube's grid and skeleton; the path of its file.
@@ -206,6 +214,7 @@ mod tests {
         let cache = DiskCache::at(folder.path());
         let mesh = cube(1.0, 0.0);
         let grid = DistanceGrid::new(&mesh, CELL);
+        assert!(grid.deferred_nodes() > 0);
         let skeleton = Skeleton::from_grid(&mesh, &grid);
         assert!(cache.load(&mesh, CELL).is_none());
 
@@ -275,7 +284,7 @@ mod tests {
         let mesh = cube(1.0, 0.0);
         let key = Key::of(&mesh, CELL);
         let secret = secret::read_secret(folder.path()).unwrap();
-        assert!(decode(&bytes, &key, &secret).is_some());
+        assert!(decode(&bytes, &key, &secret, &mesh).is_some());
         let header = MAGIC.len() + 4 + 4 + VERSION.len();
         let dims_at = header + 32 + 3 * 8 + 4 * 8;
         let count: usize = DistanceGrid::new(&mesh, CELL).dims().iter().product();
@@ -306,7 +315,10 @@ mod tests {
         small.extend(std::iter::repeat_n(0u8, 27 * 8 + 1 + SEAL_BYTES));
         crafted.push(resealed(folder.path(), small));
         for (index, bytes) in crafted.into_iter().enumerate() {
-            assert!(decode(&bytes, &key, &secret).is_none(), "case {index}");
+            assert!(
+                decode(&bytes, &key, &secret, &mesh).is_none(),
+                "case {index}"
+            );
             fs::write(&path, &bytes).unwrap();
             assert!(cache.load(&mesh, CELL).is_none(), "case {index}");
         }
@@ -330,11 +342,13 @@ mod tests {
             assert!(!path.exists());
         }
 
-        // Another format number in the file.
-        let mut changed = bytes.clone();
-        changed[MAGIC.len()..MAGIC.len() + 4].copy_from_slice(&3u32.to_le_bytes());
-        fs::write(&path, resealed(folder.path(), changed)).unwrap();
-        assert!(cache.load(&mesh, CELL).is_none());
+        // Another format number in the file: an older one or a newer one.
+        for other in [FORMAT - 1, FORMAT + 1] {
+            let mut changed = bytes.clone();
+            changed[MAGIC.len()..MAGIC.len() + 4].copy_from_slice(&other.to_le_bytes());
+            fs::write(&path, resealed(folder.path(), changed)).unwrap();
+            assert!(cache.load(&mesh, CELL).is_none(), "{other}");
+        }
     }
 
     #[test]
