@@ -3,7 +3,8 @@
 //! insertion sheet); `verify --gcode` maps a sliced program back through it.
 //!
 //! The whole bed pauses at once: [`PrintPlan::plate_pauses`] merges the components' pauses after
-//! one layer into one [`PlatePause`] with the message the printer shows.
+//! one layer into one [`PlatePause`] with the message the printer shows: the pauses of the
+//! PrusaSlicer project and those `ballast pauses` puts into a sliced file.
 //!
 //! Lengths are project units; heights are measured up from the bed.
 
