@@ -11,7 +11,7 @@ mod print_support;
 use std::path::Path;
 
 use ballast::balance::{capsule_shell, component_voids, slicing};
-use ballast::compile::{bed_parts, compile, print_settings, Compilation};
+use ballast::compile::{bed_parts, bed_plate_pauses, compile, print_settings, Compilation};
 use ballast::design::Design;
 use ballast::emit::print_files::write_prusa_3mf;
 use ballast::geometry::print_volumes_with_voids;
@@ -80,7 +80,12 @@ fn compare(c: &Compilation, design: &Design, folder: &Path, label: &str) -> Vec<
     let parts = bed_parts(&c.project, &c.meshes, design, &c.print_plan);
     let settings = print_settings(&c.project, design);
     let project = folder.join(format!("{label}.3mf"));
-    std::fs::write(&project, write_prusa_3mf(&parts, &settings).unwrap()).unwrap();
+    let pauses = bed_plate_pauses(&c.project, &c.print_plan);
+    std::fs::write(
+        &project,
+        write_prusa_3mf(&parts, &pauses, &settings).unwrap(),
+    )
+    .unwrap();
     let gcode = slice_with(&project, &["--dont-arrange"]);
     let mut checked = c.clone();
     checked.design = design.clone();

@@ -12,8 +12,9 @@ use super::{compile_file, file_name, MessageFormat, EXIT_INVALID, EXIT_MET, EXIT
 use crate::compile::{CompileOptions, Workspace};
 use crate::diagnostic::{printable, Problem};
 use crate::emit::write_atomic;
+use crate::fabrication::PlatePause;
 use crate::file_identity::identity;
-use crate::pauses::{insert_pauses, plate_pauses, PauseCommand, Paused, PausesError, PlacedPause};
+use crate::pauses::{insert_pauses, PauseCommand, Paused, PausesError, PlacedPause};
 use crate::sliced::{SlicedCheck, SlicedOptions};
 use crate::spec::codes;
 
@@ -76,7 +77,15 @@ pub fn run(request: &PausesRun, options: &CompileOptions) -> i32 {
         .map(|index| project.component_name(index))
         .collect();
     let plan = &compilation.print_plan;
-    let pauses = plate_pauses(plan, &names, mm);
+    let pauses: Vec<PlatePause> = plan
+        .plate_pauses(&names)
+        .into_iter()
+        .map(|pause| PlatePause {
+            height: pause.height / mm,
+            resume_height: pause.resume_height / mm,
+            ..pause
+        })
+        .collect();
     let paused = match insert_pauses(&bytes, &pauses, plan.layer_height / mm, request.command) {
         Ok(paused) => paused,
         Err(error) => {

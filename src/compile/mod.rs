@@ -71,7 +71,7 @@ pub use outputs::{
     WrittenOutputs,
 };
 pub use print_cache::PrintCache;
-pub use print_files::{bed_parts, print_settings};
+pub use print_files::{bed_parts, bed_plate_pauses, print_settings};
 pub use report::{Report, REPORT_FORMAT};
 pub use solution::{interrupted_solution_text, read_solution, solution_text};
 pub use workspace::{Failure, Stage, Workspace};

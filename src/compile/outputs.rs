@@ -9,12 +9,12 @@ use std::path::{Path, PathBuf};
 
 use super::output_paths::{input_files, OutputScope};
 use super::{
-    bed_parts, interrupted_solution_text, output_path, print_settings, solution_text, Compilation,
-    DesignSource, Report,
+    bed_parts, bed_plate_pauses, interrupted_solution_text, output_path, print_settings,
+    solution_text, Compilation, DesignSource, Report,
 };
 use crate::emit::output_set::same_file;
 use crate::emit::print_files::{
-    file_name, write_prusa_3mf, write_sheet, write_stl, BedPart, PrintSettings,
+    file_name, write_prusa_3mf, write_sheet, write_stl, BedPart, BedPlatePause, PrintSettings,
 };
 use crate::emit::{finish_interrupted, replace_set, write_glb};
 use crate::geometry::{MeshLimits, ReadPolicy};
@@ -47,8 +47,8 @@ pub fn write_outputs(
 }
 
 /// [`write_outputs`], taking the print files from `cache` when they were last encoded from the
-/// same parts, settings and names (watch mode judging an unchanged design), and keeping this
-/// build's there. The files written are the same bytes either way.
+/// same parts, pauses, settings and names (watch mode judging an unchanged design), and keeping
+/// this build's there. The files written are the same bytes either way.
 pub fn write_outputs_with(
     compilation: &Compilation,
     path: &Path,
@@ -161,9 +161,9 @@ fn encode_outputs(
 }
 
 /// The print files last encoded in one process, with what they were encoded from, so a build
-/// with the same parts, settings and names (in watch mode, a goal-only edit judging the last
-/// design) takes their bytes instead of encoding the 3MF, the STL files and the sheet again: on a
-/// 240k-triangle part that is most of the time from a save to its outputs.
+/// with the same parts, pauses, settings and names (in watch mode, a goal-only edit judging the
+/// last design) takes their bytes instead of encoding the 3MF, the STL files and the sheet again:
+/// on a 240k-triangle part that is most of the time from a save to its outputs.
 #[derive(Debug, Default)]
 pub struct PrintFileCache {
     /// The last inputs and the files encoded from them.
@@ -186,6 +186,8 @@ type Encoded = (PathBuf, Vec<u8>);
 #[derive(Debug, PartialEq)]
 struct PrintFileInputs {
     parts: Vec<BedPart>,
+    /// The whole bed's pauses.
+    pauses: Vec<BedPlatePause>,
     settings: PrintSettings,
     /// The project file's name, the sheet's title.
     title: String,
@@ -210,6 +212,7 @@ fn print_files(
             &compilation.design,
             &compilation.print_plan,
         ),
+        pauses: bed_plate_pauses(&compilation.project, &compilation.print_plan),
         settings: print_settings(&compilation.project, &compilation.design),
         title: path
             .file_name()
@@ -239,6 +242,7 @@ fn print_files(
 fn encode_print_files(inputs: &PrintFileInputs) -> Result<Vec<Encoded>, String> {
     let PrintFileInputs {
         parts,
+        pauses,
         settings,
         title,
         paths: [folder, prusa_path, sheet_path],
@@ -252,7 +256,7 @@ fn encode_print_files(inputs: &PrintFileInputs) -> Result<Vec<Encoded>, String> 
             )
         })
         .collect();
-    let prusa = write_prusa_3mf(parts, settings)
+    let prusa = write_prusa_3mf(parts, pauses, settings)
         .map_err(|error| format!("cannot encode the PrusaSlicer project: {error}"))?;
     targets.push((prusa_path.clone(), prusa));
     let stem = sheet_path.file_stem().map_or_else(

@@ -1,12 +1,13 @@
 //! A design and its print plan as the back end's print-file input: each component on the bed in
-//! millimetres with its capsule voids and pauses ([`bed_parts`]), and the print settings of the
-//! project's mass model ([`print_settings`]).
+//! millimetres with its capsule voids and pauses ([`bed_parts`]), the whole bed's pauses
+//! ([`bed_plate_pauses`]), and the print settings of the project's mass model
+//! ([`print_settings`]).
 
 use nalgebra::Vector3;
 
 use super::BED_CENTRE_MM;
 use crate::design::Design;
-use crate::emit::print_files::{BedMesh, BedPart, BedPause, BedVoid, PrintSettings};
+use crate::emit::print_files::{BedMesh, BedPart, BedPause, BedPlatePause, BedVoid, PrintSettings};
 use crate::fabrication::{OrientationChoice, PrintPlan};
 use crate::geometry::TriMesh;
 use crate::spec::model::Project;
@@ -69,6 +70,22 @@ pub fn bed_parts(
                 pauses,
                 orientation: orientation(&component.orientation, &component.down, mm),
             }
+        })
+        .collect()
+}
+
+/// The pauses of the whole bed ([`PrintPlan::plate_pauses`], the components named as in the
+/// project), resume heights in millimetres.
+pub fn bed_plate_pauses(project: &Project, plan: &PrintPlan) -> Vec<BedPlatePause> {
+    let mm = project.units.in_metres() * 1000.0;
+    let names: Vec<&str> = (0..project.components.len())
+        .map(|index| project.component_name(index))
+        .collect();
+    plan.plate_pauses(&names)
+        .into_iter()
+        .map(|pause| BedPlatePause {
+            resume_height: pause.resume_height * mm,
+            message: pause.message,
         })
         .collect()
 }

@@ -13,7 +13,8 @@
 //!
 //! [`PrintPlan`] is how the design is printed: each component's orientation on the bed
 //! ([`choose`] or a declared one, `orientation.rs`; laid out by [`lay_out`], `bed.rs`), the pauses
-//! and the balls that go in at each;
+//! and the balls that go in at each, and the pauses of the whole bed
+//! ([`PrintPlan::plate_pauses`]);
 //! [`plan_insertions`] fills in a component's windows and pauses in its [`PrintFrame`]: the
 //! heights at which each ball can go in (eq. 16 in general, [`insertion_window`]), grouped into
 //! the fewest pauses on the layer grid.
@@ -41,4 +42,4 @@ pub use issue::CapsuleIssue;
 pub use orientation::{
     choose, declared_down, declared_rotation, height, InsertionRank, Orientation, AREA_TIE,
 };
-pub use plan::{CapsuleInsertion, ComponentPlan, OrientationChoice, Pause, PrintPlan};
+pub use plan::{CapsuleInsertion, ComponentPlan, OrientationChoice, Pause, PlatePause, PrintPlan};

@@ -1,8 +1,10 @@
 //! The print plan's pauses put into a sliced G-code file: `ballast pauses`, for slicers that
 //! keep no pause in the files ballast writes (Cura, OrcaSlicer, Bambu Studio, SuperSlicer).
 //!
-//! The whole bed pauses at once, so the plan's pauses of every component after the same layer
-//! are one pause of the file, its message each component's (named, on a bed of several parts).
+//! The whole bed pauses at once, so the pauses put in are the plan's pauses of the bed
+//! ([`PrintPlan::plate_pauses`](crate::fabrication::PrintPlan::plate_pauses): every component's
+//! pauses after the same layer are one, its message each component's, named on a bed of several
+//! parts), in millimetres.
 //! Each is put before the first layer printed after it, found by its height: the layer of the
 //! file whose extrusions run at the plan's resume height (within a quarter of the plan's layer
 //! height), however the slicer numbers its layers. Its lines go right after the slicer's marker
@@ -24,8 +26,6 @@
 //! Invariant: the output is the input with whole lines added before some of its lines; nothing
 //! of the input is changed, moved or left out.
 
-use std::collections::BTreeMap;
-
 use serde::Serialize;
 use thiserror::Error;
 
@@ -33,7 +33,7 @@ mod splice;
 
 use splice::{line_break, splice};
 
-use crate::fabrication::PrintPlan;
+use crate::fabrication::PlatePause;
 use crate::gcode::{scan_program, GcodeError, LayerStart, Outline, ReadOptions};
 
 /// The pause commands `--pause-gcode` names for common firmware: Prusa firmware and Marlin's
@@ -79,24 +79,10 @@ impl PauseCommand {
     }
 }
 
-/// One pause of the whole bed: every component's planned pause after the same layer.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct PlatePause {
-    /// Layers printed before it, as the plan counts them.
-    pub layers_done: usize,
-    /// Top of the last layer printed before it, mm.
-    pub height: f64,
-    /// Top of the first layer printed after it, mm: the height the file's layer is found by.
-    pub resume_height: f64,
-    /// What the printer shows: the planned message, or on a bed of several parts each pausing
-    /// component's name and message, joined by ` / `.
-    pub message: String,
-}
-
 /// Where one pause went.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PlacedPause {
-    /// The plan's pause.
+    /// The plan's pause of the bed, heights in millimetres.
     pub pause: PlatePause,
     /// Index of the file's layer printed right after it (its layers counted from 0, in print
     /// order, as `gcode::Outline::layers`).
@@ -170,37 +156,10 @@ pub enum PausesError {
     },
 }
 
-/// The pauses of `plan` (lengths in project units, `mm` of them per millimetre), merged per
-/// layer, lowest first; `names` are the components' names, by index.
-pub fn plate_pauses(plan: &PrintPlan, names: &[&str], mm: f64) -> Vec<PlatePause> {
-    let several = plan.components.len() > 1;
-    let mut by_layer: BTreeMap<usize, PlatePause> = BTreeMap::new();
-    for component in &plan.components {
-        for pause in &component.pauses {
-            let message = match names.get(component.component) {
-                Some(name) if several => format!("{name}: {}", pause.message),
-                _ => pause.message.clone(),
-            };
-            by_layer
-                .entry(pause.layers_done)
-                .and_modify(|merged| {
-                    merged.message.push_str(" / ");
-                    merged.message.push_str(&message);
-                })
-                .or_insert_with(|| PlatePause {
-                    layers_done: pause.layers_done,
-                    height: pause.height / mm,
-                    resume_height: pause.resume_height / mm,
-                    message,
-                });
-        }
-    }
-    by_layer.into_values().collect()
-}
-
 /// The G-code `bytes` (read as text with any byte that is not UTF-8 replaced, copied as they
-/// are) with `pauses` put in, each running `command`; `layer_height` (mm) is the plan's, a
-/// quarter of which two heights may differ by and be one layer.
+/// are) with `pauses` (the plan's pauses of the bed, heights in mm) put in, each running
+/// `command`; `layer_height` (mm) is the plan's, a quarter of which two heights may differ by and
+/// be one layer.
 pub fn insert_pauses(
     bytes: &[u8],
     pauses: &[PlatePause],
@@ -489,58 +448,6 @@ G1 X10 E1
             assert!(PauseCommand::new(bad).is_err(), "{bad:?}");
         }
         assert!(PauseCommand::new(&"M".repeat(MAX_PAUSE_COMMAND_BYTES + 1)).is_err());
-    }
-
-    #[test]
-    fn the_plans_pauses_after_one_layer_are_one_pause_of_the_bed() {
-        use crate::fabrication::{ComponentPlan, OrientationChoice, Pause};
-        use nalgebra::{Isometry3, Vector3};
-        let component = |index: usize, pauses: &[(usize, &str)]| ComponentPlan {
-            component: index,
-            to_bed: Isometry3::identity(),
-            down: -Vector3::z(),
-            orientation: OrientationChoice::Declared,
-            capsules: Vec::new(),
-            pauses: pauses
-                .iter()
-                .map(|&(layers_done, message)| Pause {
-                    layers_done,
-                    height: 0.035 + 0.03 * (layers_done - 1) as f64,
-                    resume_height: 0.035 + 0.03 * layers_done as f64,
-                    capsules: vec![0],
-                    message: message.to_string(),
-                })
-                .collect(),
-        };
-        // Centimetres: 0.1 of them per millimetre.
-        let plan = PrintPlan {
-            first_layer_height: 0.035,
-            layer_height: 0.03,
-            components: vec![
-                component(0, &[(46, "Insert a"), (50, "Insert b")]),
-                component(1, &[(46, "Insert c")]),
-            ],
-        };
-        let pauses = plate_pauses(&plan, &["left", "right"], 0.1);
-        let summary: Vec<(usize, &str)> = pauses
-            .iter()
-            .map(|p| (p.layers_done, p.message.as_str()))
-            .collect();
-        assert_eq!(
-            summary,
-            [
-                (46, "left: Insert a / right: Insert c"),
-                (50, "left: Insert b")
-            ]
-        );
-        assert!((pauses[0].height - 13.85).abs() < 1e-9);
-        assert!((pauses[0].resume_height - 14.15).abs() < 1e-9);
-        // A bed of one part shows its message alone.
-        let one = PrintPlan {
-            components: vec![component(0, &[(46, "Insert a")])],
-            ..plan
-        };
-        assert_eq!(plate_pauses(&one, &["left"], 0.1)[0].message, "Insert a");
     }
 
     #[test]

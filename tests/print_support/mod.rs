@@ -6,7 +6,7 @@ use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use ballast::compile::{bed_parts, print_settings, Compilation};
+use ballast::compile::{bed_parts, bed_plate_pauses, print_settings, Compilation};
 use ballast::emit::print_files::write_prusa_3mf;
 use ballast::geometry::TriMesh;
 use nalgebra::{Point3, UnitQuaternion, Vector3};
@@ -370,7 +370,12 @@ pub fn sliced_compilation(compilation: &Compilation, folder: &Path, name: &str) 
     );
     let settings = print_settings(&compilation.project, &compilation.design);
     let project = folder.join(format!("{name}.3mf"));
-    std::fs::write(&project, write_prusa_3mf(&parts, &settings).unwrap()).unwrap();
+    let pauses = bed_plate_pauses(&compilation.project, &compilation.print_plan);
+    std::fs::write(
+        &project,
+        write_prusa_3mf(&parts, &pauses, &settings).unwrap(),
+    )
+    .unwrap();
     slice_with(&project, &["--dont-arrange"])
 }
 

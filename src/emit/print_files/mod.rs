@@ -3,9 +3,11 @@
 //!
 //! The input is plain data in bed coordinates (millimetres, +z up, the bed at z = 0): each
 //! [`BedPart`] is a component as it lies on the bed, with its capsule voids and the pauses at
-//! which its balls go in. The voids are cut without a boolean: each capsule's closed surface is
-//! added with reversed orientation as an inner shell of the part's mesh ([`solid_mesh`]), which
-//! slicers read as a solid with a cavity as long as the capsule lies strictly inside the part.
+//! which its balls go in; the [`BedPlatePause`]s are the whole bed's pauses, every part's pauses
+//! at one height merged as the print plan merges them. The voids are cut without a boolean: each
+//! capsule's closed surface is added with reversed orientation as an inner shell of the part's
+//! mesh ([`solid_mesh`]), which slicers read as a solid with a cavity as long as the capsule lies
+//! strictly inside the part.
 
 mod prusa;
 mod sheet;
@@ -88,6 +90,15 @@ pub struct BedPause {
     /// Indices into [`BedPart::voids`] of the capsules whose balls go in.
     pub voids: Vec<usize>,
     /// What the printer shows.
+    pub message: String,
+}
+
+/// One pause of the whole bed: every part's pause at the same height, merged.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BedPlatePause {
+    /// Top of the first layer printed after the pause, mm: the height slicers key a pause by.
+    pub resume_height: f64,
+    /// What the printer shows: each pausing part's message, named on a bed of several parts.
     pub message: String,
 }
 

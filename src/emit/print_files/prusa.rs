@@ -4,7 +4,7 @@
 //! first volume is the part's solid (outer surface plus reversed capsule shells, as in the STL);
 //! each capsule adds a support blocker volume (its capsule grown by
 //! [`BLOCKER_MARGIN`](super::BLOCKER_MARGIN)), so that
-//! support, if the user turns it on, never fills a void. The pauses go in
+//! support, if the user turns it on, never fills a void. The bed's pauses go in
 //! `Metadata/Prusa_Slicer_custom_gcode_per_print_z.xml`, keyed by the top of the first layer
 //! printed after the pause; the print settings of the mass model in `Metadata/Slic3r_PE.config`.
 
@@ -13,15 +13,17 @@ use std::fmt::Write;
 
 use super::xml::{escape, mesh_elements, xy_centre};
 use super::zip::{ArchiveTooLarge, ZipWriter};
-use super::{blocker_mesh, number, solid_mesh, BedPart, PrintSettings, PAUSE_GCODE};
+use super::{blocker_mesh, number, solid_mesh, BedPart, BedPlatePause, PrintSettings, PAUSE_GCODE};
 
 /// The generator the model names. PrusaSlicer reads volume types (negative volumes, support
 /// blockers) only from files whose `Application` is PrusaSlicer 2.x (PrusaSlicer #15694).
 const APPLICATION: &str = "PrusaSlicer-2.5.0";
 
-/// The PrusaSlicer 3MF project of `parts` printed with `settings`.
+/// The PrusaSlicer 3MF project of `parts`, pausing at `pauses` (the whole bed's, lowest first),
+/// printed with `settings`.
 pub fn write_prusa_3mf(
     parts: &[BedPart],
+    pauses: &[BedPlatePause],
     settings: &PrintSettings,
 ) -> Result<Vec<u8>, ArchiveTooLarge> {
     let mut zip = ZipWriter::default();
@@ -35,7 +37,7 @@ pub fn write_prusa_3mf(
     )?;
     zip.add(
         "Metadata/Prusa_Slicer_custom_gcode_per_print_z.xml",
-        pauses(parts).as_bytes(),
+        custom_gcodes(pauses).as_bytes(),
     )?;
     zip.finish()
 }
@@ -183,43 +185,17 @@ fn config(settings: &PrintSettings) -> String {
     out
 }
 
-/// The pauses of every part by the height the print resumes at; parts pausing at the same
-/// height share one pause with their messages joined by ` / ` (not `;`, which would start a
-/// comment in the `M117` line PrusaSlicer writes: the printer, and `verify --gcode`, would see
-/// the first part's message alone).
-pub(super) fn plate_pauses(parts: &[BedPart]) -> Vec<(f64, String)> {
-    let mut by_height: BTreeMap<String, (f64, Vec<String>)> = BTreeMap::new();
-    for part in parts {
-        for pause in &part.pauses {
-            // Keyed by the printed height so that equal heights from float noise merge.
-            let key = format!("{:012.4}", pause.resume_height);
-            let entry = by_height
-                .entry(key)
-                .or_insert_with(|| (pause.resume_height, Vec::new()));
-            let message = if parts.len() > 1 {
-                format!("{}: {}", part.name, pause.message)
-            } else {
-                pause.message.clone()
-            };
-            entry.1.push(message);
-        }
-    }
-    by_height
-        .into_values()
-        .map(|(height, messages)| (height, messages.join(" / ")))
-        .collect()
-}
-
-/// `Metadata/Prusa_Slicer_custom_gcode_per_print_z.xml`: one pause print (type 1) per height.
-fn pauses(parts: &[BedPart]) -> String {
+/// `Metadata/Prusa_Slicer_custom_gcode_per_print_z.xml`: one pause print (type 1) per pause,
+/// keyed by its resume height.
+fn custom_gcodes(pauses: &[BedPlatePause]) -> String {
     let mut out =
         String::from("<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<custom_gcodes_per_print_z>\n");
-    for (height, message) in plate_pauses(parts) {
+    for pause in pauses {
         let _ = writeln!(
             out,
             "<code print_z=\"{}\" type=\"1\" extruder=\"1\" color=\"\" extra=\"{}\" gcode=\"{PAUSE_GCODE}\"/>",
-            number(height, 5),
-            escape(&message)
+            number(pause.resume_height, 5),
+            escape(&pause.message)
         );
     }
     out.push_str("<mode value=\"SingleExtruder\"/>\n</custom_gcodes_per_print_z>\n");
@@ -228,7 +204,7 @@ fn pauses(parts: &[BedPart]) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::super::test_parts::{box_with_two_capsules, settings};
+    use super::super::test_parts::settings;
     use super::*;
 
     #[test]
@@ -251,28 +227,5 @@ mod tests {
             ..settings()
         };
         assert!(config(&solid).contains("; fill_density = 100%\n; fill_pattern = rectilinear\n"));
-    }
-
-    #[test]
-    fn parts_pausing_at_one_height_share_a_pause_naming_both() {
-        let a = box_with_two_capsules();
-        let mut b = box_with_two_capsules();
-        b.name = "other".to_string();
-        b.pauses.truncate(1);
-        // Float noise below the printed precision still merges.
-        b.pauses[0].resume_height += 1e-9;
-        let pauses = plate_pauses(&[a.clone(), b]);
-        assert_eq!(pauses.len(), 2);
-        assert_eq!(
-            pauses[0].1,
-            "block: Insert one 5 mm steel ball into capsule `tip` / \
-             other: Insert one 5 mm steel ball into capsule `tip`"
-        );
-        assert!((pauses[0].0 - 7.55).abs() < 1e-6 && (pauses[1].0 - 10.55).abs() < 1e-6);
-        // A single part's messages are its own.
-        assert_eq!(
-            plate_pauses(&[a])[1].1,
-            "Insert one 7 mm steel ball into capsule `keel`"
-        );
     }
 }
