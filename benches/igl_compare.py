@@ -7,8 +7,8 @@ scaled as it is there, and its grid at the default spacing), then asks libigl's
 winding number (ballast signs by the winding number too) and by the pseudonormal (libigl's
 default), and prints, per mesh, both times, their ratio, the largest difference of the unsigned
 distances, and at how many nodes off the surface the signs differ. ballast's grid leaves the
-blocks far outside for their first read (the "deferred" nodes); the export reads them all, so the
-distances compared are every node's.
+blocks far outside out of its build (the "deferred" nodes, computed afterwards by a background
+thread or when read); the export reads them all, so the distances compared are every node's.
 
 Needs the `libigl` Python package (`pip install libigl`). Extra arguments are passed to the
 environment filter of the bench: `benches/igl_compare.py hammer` keeps the meshes whose label

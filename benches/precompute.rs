@@ -1,5 +1,6 @@
 //! The optimizer's precompute per mesh size: the signed distance grid at the default spacing and
-//! the skeleton thinned on it (and, apart, the time to read every node the grid deferred), for the examples' meshes and the real meshes in `../shared/meshes`
+//! the skeleton thinned on it (and, apart, the time then to read every node: the deferred blocks
+//! that the grid's background thread has not computed yet are computed by the read), for the examples' meshes and the real meshes in `../shared/meshes`
 //! (each scaled so its longest side is 150 mm, capsules at least 1.2 mm in radius, as a project in
 //! millimetres with the default clearance gets). `docs/benchmarks.md` gives the figures.
 //!
@@ -47,7 +48,7 @@ const MESHES: [(&str, &str, bool); 10] = [
 fn main() {
     let filter = std::env::var("BALLAST_BENCH_FILTER").unwrap_or_default();
     println!(
-        "| mesh | triangles | cell (mm) | nodes | deferred | grid (s) | skeleton (s) | the deferred read (s) |"
+        "| mesh | triangles | cell (mm) | nodes | deferred | grid (s) | skeleton (s) | every node read (s) |"
     );
     println!("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |");
     for (label, path, scaled) in MESHES {

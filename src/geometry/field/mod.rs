@@ -32,10 +32,10 @@ const MARGIN_CELLS: usize = 3;
 /// therefore does not flip the inside.
 ///
 /// The blocks of nodes that one query at their centre shows to be all farther than half a cell
-/// from the surface, and that lie outside, are computed when one of their nodes is first read
-/// (by [`value`](Self::value), [`node_value`](Self::node_value)): the same values, later. Most
-/// of a grid's nodes are such (the box around a mesh is mostly empty), and the wall constraint
-/// reads few of them.
+/// from the surface, and that lie outside (most of the box around a mesh), are left out of the
+/// build: a thread of the lowest priority computes them afterwards, on a core nothing else
+/// wants, and a read that comes first ([`value`](Self::value), [`node_value`](Self::node_value))
+/// computes its block itself. The values are the same bits either way.
 ///
 /// Between nodes, [`value`](Self::value) interpolates with Catmull-Rom cubics along each axis
 /// (tensor product over the 4×4×4 neighbouring nodes): it passes through the node values, is C¹,
@@ -138,10 +138,9 @@ impl DistanceGrid {
         let winding = WindingTree::new(&tree);
         let inside = sign::inside_nodes(dims, node_at, &distances, near, &winding);
         // A far block lies in one region of far nodes, so its first node's side is its own.
-        let far_inside: Vec<_> = far
+        let (far_inside, far_outside): (Vec<_>, Vec<_>) = far
             .into_iter()
-            .filter(|&(b, _)| blocks.nodes(b).next().is_some_and(|node| inside[node]))
-            .collect();
+            .partition(|&(b, _)| blocks.nodes(b).next().is_some_and(|node| inside[node]));
         let computed = map_nodes(far_inside.len(), |n| {
             let (b, bound) = far_inside[n];
             (!cancel.is_cancelled()).then(|| blocks.distances(&tree, b, bound))
@@ -156,10 +155,8 @@ impl DistanceGrid {
             .zip(&inside)
             .map(|(&d, &inside)| if inside { -d } else { d })
             .collect();
-        let deferred = values
-            .iter()
-            .any(|v| v.is_nan())
-            .then(|| Deferred::with_tree(blocks, tree));
+        let pending: Vec<usize> = far_outside.into_iter().map(|(b, _)| b).collect();
+        let deferred = (!pending.is_empty()).then(|| Deferred::new(blocks, tree, pending));
         let grid = DistanceGrid {
             origin,
             cell,
@@ -172,7 +169,7 @@ impl DistanceGrid {
 
     /// A grid rebuilt from the parts [`new`](Self::new) produced for `mesh` (read back from a
     /// cache): [`stored_values`](Self::stored_values), NaN where a block was deferred, whose
-    /// distances are then computed from `mesh` when first read. `None` when they do not make a
+    /// distances are then computed from `mesh` as [`new`](Self::new) does. `None` when they do not make a
     /// grid: `cell` not positive and finite, `origin` not finite, `values` not one per node (x
     /// fastest), a non-empty grid with fewer than four nodes along some axis (the interpolant needs
     /// a 4×4×4 neighbourhood), or deferred nodes and a mesh without triangles.
@@ -195,12 +192,19 @@ impl DistanceGrid {
         if !usable || (deferred && mesh.triangles.is_empty()) {
             return None;
         }
+        let deferred = deferred.then(|| {
+            let blocks = Blocks::new(origin, cell, dims);
+            let pending = (0..blocks.count())
+                .filter(|&b| blocks.nodes(b).any(|node| values[node].is_nan()))
+                .collect();
+            Deferred::new(blocks, TriangleTree::new(mesh), pending)
+        });
         Some(DistanceGrid {
             origin,
             cell,
             dims,
             values,
-            deferred: deferred.then(|| Deferred::with_mesh(Blocks::new(origin, cell, dims), mesh)),
+            deferred,
         })
     }
 
@@ -212,7 +216,7 @@ impl DistanceGrid {
         &self.values
     }
 
-    /// Number of nodes whose distance [`new`](Self::new) left for their first read.
+    /// Number of nodes whose distance [`new`](Self::new) left out of the build.
     pub fn deferred_nodes(&self) -> usize {
         self.values.iter().filter(|v| v.is_nan()).count()
     }
