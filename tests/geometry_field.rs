@@ -243,3 +243,47 @@ fn every_node_holds_the_tree_distance_bit_for_bit() {
         assert_eq!(grid.deferred_nodes(), deferred);
     }
 }
+
+#[test]
+fn threads_reading_the_deferred_blocks_at_once_read_the_same_values() {
+    // The blocks far outside are computed by whichever thread reads them first (or by the grid's
+    // own background thread): every reader must see the tree's distance, bit for bit.
+    let mesh = box_mesh(2.0, 1.0, 0.5);
+    let grid = DistanceGrid::new(&mesh, 0.05);
+    assert!(grid.deferred_nodes() > 0, "nothing deferred");
+    let tree = TriangleTree::new(&mesh);
+    let [nx, ny, nz] = grid.dims();
+    let nodes: Vec<[usize; 3]> = (0..nz)
+        .flat_map(|k| (0..ny).flat_map(move |j| (0..nx).map(move |i| [i, j, k])))
+        .collect();
+    let reads: Vec<Vec<u64>> = std::thread::scope(|scope| {
+        let readers: Vec<_> = (0..4)
+            .map(|t| {
+                let (grid, nodes) = (&grid, &nodes);
+                // Each reader walks the nodes in its own order, so they meet on the same blocks.
+                scope.spawn(move || {
+                    let mut order: Vec<usize> = (0..nodes.len()).collect();
+                    if t % 2 == 1 {
+                        order.reverse();
+                    }
+                    let mut bits = vec![0; nodes.len()];
+                    for n in order {
+                        bits[n] = grid.node_value(nodes[n]).expect("in the grid").to_bits();
+                    }
+                    bits
+                })
+            })
+            .collect();
+        readers.into_iter().map(|r| r.join().unwrap()).collect()
+    });
+    for (n, &index) in nodes.iter().enumerate() {
+        let exact = tree.distance_to_point(&grid.node(index)).to_bits();
+        for bits in &reads {
+            assert_eq!(
+                f64::from_bits(bits[n]).abs().to_bits(),
+                exact,
+                "node {index:?}"
+            );
+        }
+    }
+}
