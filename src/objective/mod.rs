@@ -41,6 +41,7 @@ use nalgebra::{Point3, Vector3};
 
 use self::constraints::Limits;
 use self::mass::{capsules, Densities, SmoothTotals};
+use self::scalar::Evaluate;
 use crate::balance::ComponentBody;
 use crate::geometry::TriMesh;
 use crate::spec::model::{Goal, Project};
@@ -160,20 +161,16 @@ impl Objective {
     /// `f(x)` and its exact gradient `∂f/∂x` (length [`DesignLayout::len`]).
     pub fn value_and_gradient(&self, x: &[f64]) -> (f64, Vec<f64>) {
         let x = self.padded(x);
-        let duals = scalar::seeded(&x);
-        let terms = self.terms(&duals);
-        scalar::split(smooth_max(&terms, self.parameters.goal_sharpness), x.len())
+        scalar::with_gradients(&x, &SmoothMaxOfTerms(self))
+            .pop()
+            .unwrap_or_else(|| unreachable!("the smooth maximum is one output"))
     }
 
     /// Every goal's objective with its gradient, pose by pose, goal by goal (the terms `f_i` of
     /// eq. 6): radians, at most 0 when the goal is met.
     pub fn goal_terms(&self, x: &[f64]) -> Vec<(f64, Vec<f64>)> {
         let x = self.padded(x);
-        let duals = scalar::seeded(&x);
-        self.terms(&duals)
-            .into_iter()
-            .map(|t| scalar::split(t, x.len()))
-            .collect()
+        scalar::with_gradients(&x, &Terms(self))
     }
 
     /// The smooth centre of mass (world) and mass (grams) of the design `x` in pose `pose`
@@ -215,13 +212,7 @@ impl Objective {
     /// directions, never on `x`.
     pub fn constraints(&self, x: &[f64]) -> Vec<(f64, Vec<f64>)> {
         let x = self.padded(x);
-        let n = x.len();
-        let duals = scalar::seeded(&x);
-        let mut result: Vec<(f64, Vec<f64>)> = self
-            .smooth_constraints(&duals)
-            .into_iter()
-            .map(|g| scalar::split(g, n))
-            .collect();
+        let mut result = scalar::with_gradients(&x, &SmoothConstraints(self));
         if let Some(interior) = &self.interior {
             result.extend(self.interior_constraints(interior.as_ref(), &x));
         }
@@ -352,6 +343,37 @@ impl Objective {
         let mut x = x.to_vec();
         x.resize(self.layout.len(), 0.0);
         x
+    }
+}
+
+/// `f(x)` as the one output of an [`Evaluate`]: for its gradient.
+struct SmoothMaxOfTerms<'a>(&'a Objective);
+
+impl Evaluate for SmoothMaxOfTerms<'_> {
+    fn evaluate<D: Scalar>(&self, x: &[D]) -> Vec<D> {
+        let objective = self.0;
+        vec![smooth_max(
+            &objective.terms(x),
+            objective.parameters.goal_sharpness,
+        )]
+    }
+}
+
+/// The goal terms as the outputs of an [`Evaluate`]: for their gradients.
+struct Terms<'a>(&'a Objective);
+
+impl Evaluate for Terms<'_> {
+    fn evaluate<D: Scalar>(&self, x: &[D]) -> Vec<D> {
+        self.0.terms(x)
+    }
+}
+
+/// Every constraint but eq. 15 as the outputs of an [`Evaluate`]: for their gradients.
+struct SmoothConstraints<'a>(&'a Objective);
+
+impl Evaluate for SmoothConstraints<'_> {
+    fn evaluate<D: Scalar>(&self, x: &[D]) -> Vec<D> {
+        self.0.smooth_constraints(x)
     }
 }
 

@@ -1,8 +1,8 @@
 //! The numbers the objective is evaluated in (`f64`, or a dual number carrying a gradient) and a
 //! 3-vector of them.
 
-use nalgebra::{Isometry3, Vector3};
-use num_dual::{Derivative, DualDVec64, DualNum};
+use nalgebra::{Const, Dyn, Isometry3, Vector3, U1};
+use num_dual::{Derivative, DualDVec64, DualNum, DualSVec64};
 
 /// A scalar the smooth objective can be evaluated in: `f64` for values, a `num_dual` dual number
 /// for exact gradients.
@@ -10,24 +10,62 @@ pub trait Scalar: DualNum<Primitive = f64> + Clone {}
 
 impl<T: DualNum<Primitive = f64> + Clone> Scalar for T {}
 
-/// `x` as dual numbers seeded with the unit derivatives: entry `i` carries `∂/∂x_i = 1`.
-pub(crate) fn seeded(x: &[f64]) -> Vec<DualDVec64> {
-    let n = nalgebra::Dyn(x.len());
-    x.iter()
+/// A computation that runs in any [`Scalar`], as [`with_gradients`] evaluates it.
+pub(crate) trait Evaluate {
+    /// The outputs at `x`.
+    fn evaluate<D: Scalar>(&self, x: &[D]) -> Vec<D>;
+}
+
+/// Each output of `f` at `x` with its gradient (length `x.len()`): `f` evaluated once in dual
+/// numbers seeded with the unit derivatives (entry `i` carries `∂/∂x_i = 1`).
+///
+/// Up to 64 unknowns the dual numbers have a fixed width (the least of 8, 16, 32 and 64 that
+/// holds them, the derivatives past `x.len()` zero), so their arithmetic keeps the derivatives on
+/// the stack instead of allocating a vector for every intermediate; past that, vectors of
+/// `x.len()`. Every derivative is computed by the same operations whatever the width, so the
+/// results are the same bits.
+pub(crate) fn with_gradients(x: &[f64], f: &impl Evaluate) -> Vec<(f64, Vec<f64>)> {
+    match x.len() {
+        0..=8 => fixed::<8>(x, f),
+        9..=16 => fixed::<16>(x, f),
+        17..=32 => fixed::<32>(x, f),
+        33..=64 => fixed::<64>(x, f),
+        _ => growable(x, f),
+    }
+}
+
+/// [`with_gradients`] in dual numbers of `N ≥ x.len()` derivatives.
+fn fixed<const N: usize>(x: &[f64], f: &impl Evaluate) -> Vec<(f64, Vec<f64>)> {
+    let width = Const::<N>;
+    let duals: Vec<DualSVec64<N>> = x
+        .iter()
         .enumerate()
-        .map(|(i, &xi)| DualDVec64::new(xi, Derivative::derivative_generic(n, nalgebra::U1, i)))
+        .map(|(i, &xi)| DualSVec64::new(xi, Derivative::derivative_generic(width, U1, i)))
+        .collect();
+    f.evaluate(&duals)
+        .into_iter()
+        .map(|value| {
+            let gradient = value.eps.unwrap_generic(width, U1);
+            (value.re, gradient.iter().take(x.len()).copied().collect())
+        })
         .collect()
 }
 
-/// The value and gradient (length `n`) of a dual number computed from [`seeded`] variables.
-pub(crate) fn split(value: DualDVec64, n: usize) -> (f64, Vec<f64>) {
-    let gradient = value
-        .eps
-        .unwrap_generic(nalgebra::Dyn(n), nalgebra::U1)
+/// [`with_gradients`] in dual numbers of `x.len()` derivatives held in vectors.
+fn growable(x: &[f64], f: &impl Evaluate) -> Vec<(f64, Vec<f64>)> {
+    let width = Dyn(x.len());
+    let duals: Vec<DualDVec64> = x
         .iter()
-        .copied()
+        .enumerate()
+        .map(|(i, &xi)| DualDVec64::new(xi, Derivative::derivative_generic(width, U1, i)))
         .collect();
-    (value.re, gradient)
+    f.evaluate(&duals)
+        .into_iter()
+        .map(|value| {
+            let gradient = value.eps.unwrap_generic(width, U1);
+            (value.re, gradient.iter().copied().collect())
+        })
+        .collect()
 }
 
 /// A 3-vector of [`Scalar`]s: `[x, y, z]`.
@@ -128,5 +166,49 @@ impl<D: Scalar> V3<D> {
                 + self.0[1].clone() * m[(i, 1)]
                 + self.0[2].clone() * m[(i, 2)]
         }))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A function of every kind of operation the objective uses, of five unknowns.
+    struct Mixed;
+
+    impl Evaluate for Mixed {
+        fn evaluate<D: Scalar>(&self, x: &[D]) -> Vec<D> {
+            let v = V3::from_slice(x);
+            let w = V3([x[3].clone(), x[4].clone(), x[0].clone() * 0.5]);
+            let norm = v.sub(&w).norm();
+            vec![
+                norm.clone() / (x[1].clone() * x[1].clone() + 1.0),
+                (x[2].clone() - x[4].clone()).exp() + x[0].clone().atan2(x[3].clone()),
+                D::from(2.0),
+                v.cross_constant(&Vector3::new(0.3, -1.2, 2.0))
+                    .dot(&w)
+                    .sqrt(),
+            ]
+        }
+    }
+
+    #[test]
+    fn every_width_gives_the_same_bits() {
+        let x = [0.7, -1.3, 0.25, 2.5, -0.4];
+        let bits = |results: Vec<(f64, Vec<f64>)>| -> Vec<(u64, Vec<u64>)> {
+            results
+                .into_iter()
+                .map(|(v, g)| (v.to_bits(), g.iter().map(|d| d.to_bits()).collect()))
+                .collect()
+        };
+        let reference = bits(growable(&x, &Mixed));
+        assert_eq!(reference.len(), 4);
+        assert!(reference.iter().all(|(_, g)| g.len() == x.len()));
+        assert_eq!(bits(fixed::<8>(&x, &Mixed)), reference);
+        assert_eq!(bits(fixed::<16>(&x, &Mixed)), reference);
+        assert_eq!(bits(fixed::<64>(&x, &Mixed)), reference);
+        assert_eq!(bits(with_gradients(&x, &Mixed)), reference);
+        // A constant output has a zero gradient.
+        assert!(reference[2].1.iter().all(|&d| d == 0));
     }
 }
