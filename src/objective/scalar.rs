@@ -19,8 +19,8 @@ pub(crate) trait Evaluate {
 /// Each output of `f` at `x` with its gradient (length `x.len()`): `f` evaluated once in dual
 /// numbers seeded with the unit derivatives (entry `i` carries `∂/∂x_i = 1`).
 ///
-/// Up to 64 unknowns the dual numbers have a fixed width (the least of 8, 16, 32 and 64 that
-/// holds them, the derivatives past `x.len()` zero), so their arithmetic keeps the derivatives on
+/// Up to 64 unknowns the dual numbers have a fixed width (the least of 8, 16, 24, 32, 48 and 64
+/// that holds them, the derivatives past `x.len()` zero), so their arithmetic keeps the derivatives on
 /// the stack instead of allocating a vector for every intermediate; past that, vectors of
 /// `x.len()`. Every derivative is computed by the same operations whatever the width, so the
 /// results are the same bits.
@@ -28,8 +28,10 @@ pub(crate) fn with_gradients(x: &[f64], f: &impl Evaluate) -> Vec<(f64, Vec<f64>
     match x.len() {
         0..=8 => fixed::<8>(x, f),
         9..=16 => fixed::<16>(x, f),
-        17..=32 => fixed::<32>(x, f),
-        33..=64 => fixed::<64>(x, f),
+        17..=24 => fixed::<24>(x, f),
+        25..=32 => fixed::<32>(x, f),
+        33..=48 => fixed::<48>(x, f),
+        49..=64 => fixed::<64>(x, f),
         _ => growable(x, f),
     }
 }
@@ -206,6 +208,8 @@ mod tests {
         assert!(reference.iter().all(|(_, g)| g.len() == x.len()));
         assert_eq!(bits(fixed::<8>(&x, &Mixed)), reference);
         assert_eq!(bits(fixed::<16>(&x, &Mixed)), reference);
+        assert_eq!(bits(fixed::<24>(&x, &Mixed)), reference);
+        assert_eq!(bits(fixed::<48>(&x, &Mixed)), reference);
         assert_eq!(bits(fixed::<64>(&x, &Mixed)), reference);
         assert_eq!(bits(with_gradients(&x, &Mixed)), reference);
         // A constant output has a zero gradient.
