@@ -169,10 +169,10 @@ impl DistanceGrid {
 
     /// A grid rebuilt from the parts [`new`](Self::new) produced for `mesh` (read back from a
     /// cache): [`stored_values`](Self::stored_values), NaN where a block was deferred, whose
-    /// distances are then computed from `mesh` as [`new`](Self::new) does. `None` when they do not make a
-    /// grid: `cell` not positive and finite, `origin` not finite, `values` not one per node (x
-    /// fastest), a non-empty grid with fewer than four nodes along some axis (the interpolant needs
-    /// a 4×4×4 neighbourhood), or deferred nodes and a mesh without triangles.
+    /// distances are then computed from `mesh` as [`new`](Self::new) does. `None` when they do
+    /// not make a grid: `cell` not positive and finite, `origin` not finite, `values` not one per
+    /// node (x fastest), a non-empty grid with fewer than four nodes along some axis (the
+    /// interpolant needs a 4×4×4 neighbourhood), or deferred nodes and a mesh without triangles.
     pub fn from_parts(
         origin: Point3<f64>,
         cell: f64,
