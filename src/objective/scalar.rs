@@ -1,8 +1,9 @@
 //! The numbers the objective is evaluated in (`f64`, or a dual number carrying a gradient) and a
 //! 3-vector of them.
 
-use nalgebra::{Const, Dyn, Isometry3, Vector3, U1};
-use num_dual::{Derivative, DualDVec64, DualNum, DualSVec64};
+use nalgebra::allocator::Allocator;
+use nalgebra::{Const, DefaultAllocator, Dim, Dyn, Isometry3, Vector3, U1};
+use num_dual::{Derivative, DualNum, DualVec};
 
 /// A scalar the smooth objective can be evaluated in: `f64` for values, a `num_dual` dual number
 /// for exact gradients.
@@ -26,46 +27,33 @@ pub(crate) trait Evaluate {
 /// results are the same bits.
 pub(crate) fn with_gradients(x: &[f64], f: &impl Evaluate) -> Vec<(f64, Vec<f64>)> {
     match x.len() {
-        0..=8 => fixed::<8>(x, f),
-        9..=16 => fixed::<16>(x, f),
-        17..=24 => fixed::<24>(x, f),
-        25..=32 => fixed::<32>(x, f),
-        33..=48 => fixed::<48>(x, f),
-        49..=64 => fixed::<64>(x, f),
-        _ => growable(x, f),
+        0..=8 => in_width(x, Const::<8>, f),
+        9..=16 => in_width(x, Const::<16>, f),
+        17..=24 => in_width(x, Const::<24>, f),
+        25..=32 => in_width(x, Const::<32>, f),
+        33..=48 => in_width(x, Const::<48>, f),
+        49..=64 => in_width(x, Const::<64>, f),
+        _ => in_width(x, Dyn(x.len()), f),
     }
 }
 
-/// [`with_gradients`] in dual numbers of `N ≥ x.len()` derivatives.
-fn fixed<const N: usize>(x: &[f64], f: &impl Evaluate) -> Vec<(f64, Vec<f64>)> {
-    let width = Const::<N>;
-    let duals: Vec<DualSVec64<N>> = x
+/// [`with_gradients`] in dual numbers of `width` derivatives (at least `x.len()`; those past it
+/// are never seeded and are dropped).
+fn in_width<W: Dim>(x: &[f64], width: W, f: &impl Evaluate) -> Vec<(f64, Vec<f64>)>
+where
+    DefaultAllocator: Allocator<W>,
+    DualVec<f64, W>: Scalar,
+{
+    let duals: Vec<DualVec<f64, W>> = x
         .iter()
         .enumerate()
-        .map(|(i, &xi)| DualSVec64::new(xi, Derivative::derivative_generic(width, U1, i)))
+        .map(|(i, &xi)| DualVec::new(xi, Derivative::derivative_generic(width, U1, i)))
         .collect();
     f.evaluate(&duals)
         .into_iter()
         .map(|value| {
             let gradient = value.eps.unwrap_generic(width, U1);
             (value.re, gradient.iter().take(x.len()).copied().collect())
-        })
-        .collect()
-}
-
-/// [`with_gradients`] in dual numbers of `x.len()` derivatives held in vectors.
-fn growable(x: &[f64], f: &impl Evaluate) -> Vec<(f64, Vec<f64>)> {
-    let width = Dyn(x.len());
-    let duals: Vec<DualDVec64> = x
-        .iter()
-        .enumerate()
-        .map(|(i, &xi)| DualDVec64::new(xi, Derivative::derivative_generic(width, U1, i)))
-        .collect();
-    f.evaluate(&duals)
-        .into_iter()
-        .map(|value| {
-            let gradient = value.eps.unwrap_generic(width, U1);
-            (value.re, gradient.iter().copied().collect())
         })
         .collect()
 }
@@ -203,14 +191,14 @@ mod tests {
                 .map(|(v, g)| (v.to_bits(), g.iter().map(|d| d.to_bits()).collect()))
                 .collect()
         };
-        let reference = bits(growable(&x, &Mixed));
+        let reference = bits(in_width(&x, Dyn(x.len()), &Mixed));
         assert_eq!(reference.len(), 4);
         assert!(reference.iter().all(|(_, g)| g.len() == x.len()));
-        assert_eq!(bits(fixed::<8>(&x, &Mixed)), reference);
-        assert_eq!(bits(fixed::<16>(&x, &Mixed)), reference);
-        assert_eq!(bits(fixed::<24>(&x, &Mixed)), reference);
-        assert_eq!(bits(fixed::<48>(&x, &Mixed)), reference);
-        assert_eq!(bits(fixed::<64>(&x, &Mixed)), reference);
+        assert_eq!(bits(in_width(&x, Const::<8>, &Mixed)), reference);
+        assert_eq!(bits(in_width(&x, Const::<16>, &Mixed)), reference);
+        assert_eq!(bits(in_width(&x, Const::<24>, &Mixed)), reference);
+        assert_eq!(bits(in_width(&x, Const::<48>, &Mixed)), reference);
+        assert_eq!(bits(in_width(&x, Const::<64>, &Mixed)), reference);
         assert_eq!(bits(with_gradients(&x, &Mixed)), reference);
         // A constant output has a zero gradient.
         assert!(reference[2].1.iter().all(|&d| d == 0));
