@@ -64,6 +64,16 @@ fn planned_pauses(path: &Path) -> Vec<(usize, f64, String)> {
     pauses
 }
 
+/// The box project built, its one planned pause (layers done, resume height, message) and the
+/// STL file its build wrote.
+fn box_with_one_pause() -> (tempfile::TempDir, PathBuf, (usize, f64, String), PathBuf) {
+    let (folder, project) = box_project();
+    let planned = planned_pauses(&project);
+    assert_eq!(planned.len(), 1, "{planned:?}");
+    let stl = folder.path().join("build/box-stl/box.stl");
+    (folder, project, planned[0].clone(), stl)
+}
+
 fn run(args: &[&str]) -> std::process::Output {
     let output = ballast(args);
     println!("{}{}", stdout(&output), stderr(&output));
@@ -89,11 +99,7 @@ fn prusaslicer_gcode_from_the_stl_gets_the_planned_pause() {
         eprintln!("skipped: prusa-slicer is not on the PATH (apt-get install prusa-slicer)");
         return;
     }
-    let (folder, project) = box_project();
-    let planned = planned_pauses(&project);
-    assert_eq!(planned.len(), 1, "{planned:?}");
-    let (layers_done, resume, message) = planned[0].clone();
-    let stl = folder.path().join("build/box-stl/box.stl");
+    let (folder, project, (layers_done, resume, message), stl) = box_with_one_pause();
     let sliced = slice_with(&stl, &["--fill-density", "15%", "--gcode-label-objects"]);
     assert!(!sliced.contains("\nM601"), "PrusaSlicer pauses on its own");
     let input = stl.with_extension("gcode");
@@ -170,11 +176,7 @@ fn cura_gcode_gets_the_planned_pause_with_the_chosen_command() {
         eprintln!("skipped: CuraEngine is not on the PATH (apt-get install cura-engine)");
         return;
     }
-    let (folder, project) = box_project();
-    let planned = planned_pauses(&project);
-    assert_eq!(planned.len(), 1, "{planned:?}");
-    let (layers_done, _, message) = planned[0].clone();
-    let stl = folder.path().join("build/box-stl/box.stl");
+    let (folder, project, (layers_done, _, message), stl) = box_with_one_pause();
     let input = folder.path().join("box.gcode");
     let sliced = slice_with_cura(&[&stl], &cura_settings(0.15), &input);
     assert!(sliced.contains(";LAYER_COUNT:"));
