@@ -197,6 +197,7 @@ mod tests {
         assert_eq!(bits(in_width(&x, Const::<8>, &Mixed)), reference);
         assert_eq!(bits(in_width(&x, Const::<16>, &Mixed)), reference);
         assert_eq!(bits(in_width(&x, Const::<24>, &Mixed)), reference);
+        assert_eq!(bits(in_width(&x, Const::<32>, &Mixed)), reference);
         assert_eq!(bits(in_width(&x, Const::<48>, &Mixed)), reference);
         assert_eq!(bits(in_width(&x, Const::<64>, &Mixed)), reference);
         assert_eq!(bits(with_gradients(&x, &Mixed)), reference);

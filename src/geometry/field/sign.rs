@@ -7,11 +7,11 @@ use crate::parallel::map_nodes;
 ///
 /// A node within `near` of the surface (`distances` holds the unsigned distances, NaN for a node
 /// known to be farther than `near` without its distance) is inside when its winding number
-/// exceeds ½. The other nodes form 6-connected regions that cannot cross the
-/// surface (with `near` at least half the spacing, the edge between two neighbours both farther
-/// than `near` from it would need a point of the surface within `near` of one of them); a region
-/// touching the grid boundary is outside, any other takes the sign of the winding number at its
-/// first node in node order.
+/// exceeds ½. The other nodes form 6-connected regions that cannot cross the surface (with
+/// `near` at least half the spacing, the edge between two neighbours both farther than `near`
+/// from it would need a point of the surface within `near` of one of them); a region touching
+/// the grid boundary is outside, any other takes the sign of the winding number at its first node
+/// in node order.
 pub(super) fn inside_nodes(
     dims: [usize; 3],
     node: impl Fn(usize) -> nalgebra::Point3<f64> + Sync,
