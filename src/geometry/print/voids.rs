@@ -59,6 +59,17 @@ impl Layout {
         cells
     }
 
+    /// The box of the cells whose centres can lie in a cross-section of one of `voids` in
+    /// layer `k`; `None` when none can.
+    pub(super) fn sections_cover(&self, k: usize, voids: &[Void]) -> Option<CellBox> {
+        let z = self.slice_height(k);
+        voids
+            .iter()
+            .filter(|void| void.crosses(z))
+            .filter_map(|void| self.cover_at(void, z))
+            .reduce(|a, b| a.union(&b))
+    }
+
     /// The cells whose centres lie within the box around `void` (print frame), seen from
     /// above; `None` when none do.
     pub(super) fn cover(&self, void: &Void) -> Option<CellBox> {

@@ -65,13 +65,20 @@ impl Layers {
             })
             .collect();
         let (&first, &last) = (crossed.first()?, crossed.last()?);
-        let cover = voids
+        // Per layer from `first` to `last`, the box of the voids' cross-sections.
+        let sections: Vec<Option<CellBox>> = (first..=last)
+            .map(|k| layout.sections_cover(k, voids))
+            .collect();
+        let cover = sections
             .iter()
-            .filter_map(|void| layout.cover(void))
+            .flatten()
+            .cloned()
             .reduce(|a, b| a.union(&b))?;
         let slicing = &layout.slicing;
-        let changed = ((slicing.perimeter_thickness + slicing.surface_margin) / layout.cell).ceil();
-        let valid = cover.grown(changed as usize + 2, layout);
+        let changed = ((slicing.perimeter_thickness + slicing.surface_margin) / layout.cell).ceil()
+            as usize
+            + 2;
+        let valid = cover.grown(changed, layout);
         let margin = (slicing.surface_margin / layout.cell).ceil();
         let area = valid.grown(margin as usize + 2, layout);
         let (inside, near) = self.cut_planes(voids, first..=last, &area);
@@ -85,8 +92,19 @@ impl Layers {
         let low = *window.start();
         let count = window.clone().count();
         let classifier = Classifier::new(layout, inside, near, window);
+        let (top, bottom) = (slicing.top_layers, slicing.bottom_layers);
         Some(map_each(count, |offset| {
             let k = low + offset;
+            // The cells of layer k whose class before the rule the cut can change: around the
+            // cross-sections of the layers its class reads (`reach`).
+            let read = k.saturating_sub(bottom).max(first)..=k.saturating_add(top).min(last);
+            let near_sections = read
+                .filter_map(|l| sections[l - first].as_ref())
+                .cloned()
+                .reduce(|a, b| a.union(&b));
+            let Some(valid) = near_sections.map(|cells| cells.grown(changed, layout)) else {
+                return Totals::default();
+            };
             // Each cell's class before the rule: the bare layer's, re-classified over `valid`.
             let mut before_rule = self.unsettled[k].clone();
             classifier.layer(k, &valid, &mut before_rule);
