@@ -1,10 +1,12 @@
 //! Cutting voids from sliced layers: re-classifying only the cells the voids can change.
 //!
-//! A void changes a layer's inside cells and perimeters only within the box of the voids, grown
-//! by the perimeter thickness; the surfaces and the classes read those within the surface
-//! margin, over the layers the voids cross and the solid layers above and below them. So the
-//! classes before the small-region rule change only in that window, and are computed there
-//! alone. The small-region rule then settles every sparse region that reaches the window (or
+//! A void changes a layer's inside cells and perimeters only within the box of its
+//! cross-section in that layer, grown by the perimeter thickness; the surfaces and the classes
+//! read those within the surface margin, over the layers the voids cross and the solid layers
+//! above and below them. So a layer's classes before the small-region rule change only within
+//! the box of the cross-sections of the layers it reads (itself and its solid layers above and
+//! below), grown by the perimeter thickness and the surface margin, and are computed there
+//! alone: a slanted void's window follows it from layer to layer. The small-region rule then settles every sparse region that reaches the window (or
 //! touches it), stopping a region's flood as soon as it is known to be large: the classes are
 //! those of re-classifying every cell.
 
