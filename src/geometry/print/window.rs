@@ -6,9 +6,10 @@
 //! above and below them. So a layer's classes before the small-region rule change only within
 //! the box of the cross-sections of the layers it reads (itself and its solid layers above and
 //! below), grown by the perimeter thickness and the surface margin, and are computed there
-//! alone: a slanted void's window follows it from layer to layer. The small-region rule then settles every sparse region that reaches the window (or
-//! touches it), stopping a region's flood as soon as it is known to be large: the classes are
-//! those of re-classifying every cell.
+//! alone: a slanted void's window follows it from layer to layer. The small-region rule then
+//! settles every sparse region that reaches the window (or touches it), stopping a region's
+//! flood as soon as it is known to be large: the classes are those of re-classifying every
+//! cell.
 
 use std::ops::RangeInclusive;
 
@@ -80,9 +81,10 @@ impl Layers {
         let changed = ((slicing.perimeter_thickness + slicing.surface_margin) / layout.cell).ceil()
             as usize
             + 2;
-        let valid = cover.grown(changed, layout);
-        let margin = (slicing.surface_margin / layout.cell).ceil();
-        let area = valid.grown(margin as usize + 2, layout);
+        // Every layer's window lies within `cover` grown by `changed`; what its classes read,
+        // within the surface margin of that.
+        let margin = (slicing.surface_margin / layout.cell).ceil() as usize + 2;
+        let area = cover.grown(changed + margin, layout);
         let (inside, near) = self.cut_planes(voids, first..=last, &area);
         let overlay = |bare, planes| Overlay {
             columns: layout.columns,
