@@ -120,8 +120,7 @@ pub fn print_volumes_with_voids(mesh: &TriMesh, slicing: &Slicing, voids: &[Void
 /// layers each one reads, and the regions the small-region rule joins to those ([`window`]).
 /// The material is summed exactly, as counts of cells and sums of their indices ([`tally`]): a
 /// cut takes the cells it changes away from the bare sums and adds them back as they now are,
-/// and gives the same bits as slicing the whole
-/// mesh with the voids again.
+/// and gives the same bits as slicing the whole mesh with the voids again.
 #[derive(Clone)]
 pub struct PrintRaster {
     to_print: Rotation3<f64>,
