@@ -14,7 +14,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::diagnostic::{Problem, SourceFile};
 use crate::fabrication::Orientation;
-use crate::geometry::{PrintCorrection, PrintVolumes, TriMesh};
+use crate::geometry::{PrintCorrection, PrintVolumes, TriMesh, MODEL_REVISION};
 use crate::optimize::content_hash;
 use crate::spec::model::Project;
 use crate::spec::read_source;
@@ -67,9 +67,21 @@ pub fn calibration_path(project_path: &Path) -> PathBuf {
 }
 
 /// What a correction depends on for `mesh` printed as `orientation` under `project`'s print
-/// settings: a BLAKE3 digest (16 hex digits) of the mesh content, the settings and the rotation.
+/// settings: a BLAKE3 digest (16 hex digits) of the mesh content, the settings, the rotation
+/// and the mass model's revision.
 pub fn fingerprint(project: &Project, mesh: &TriMesh, orientation: &Orientation) -> String {
+    fingerprint_under(MODEL_REVISION, project, mesh, orientation)
+}
+
+/// [`fingerprint`] as mass model revision `revision` computes it.
+fn fingerprint_under(
+    revision: u32,
+    project: &Project,
+    mesh: &TriMesh,
+    orientation: &Orientation,
+) -> String {
     let mut hasher = blake3::Hasher::new();
+    hasher.update(&revision.to_le_bytes());
     hasher.update(&content_hash(mesh).to_le_bytes());
     hasher.update(format!("{:?}", project.print).as_bytes());
     hasher.update(format!("{:?}", orientation.to_print).as_bytes());
@@ -248,4 +260,45 @@ fn span_at(text: &str, line: usize, column: usize) -> SourceSpan {
     let offset = (start + column.saturating_sub(1)).min(text.len());
     let length = usize::from(offset < text.len());
     SourceSpan::new(offset.into(), length)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::compile::compile;
+
+    #[test]
+    fn a_correction_measured_against_another_model_revision_is_stale() {
+        let path = Path::new("examples/articulated.kdl");
+        let source = std::fs::read_to_string(path).unwrap();
+        let c = compile(&source, path).unwrap();
+        let correction = PrintCorrection {
+            volume: 1000.0,
+            moment: [0.0; 3],
+        };
+        let corrections = vec![correction; c.meshes.len()];
+        let text = calibration_text(&c.project, &c.meshes, &c.orientations, &corrections, "x");
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("articulated.calibration.json");
+        // Measured against this revision: every entry applies.
+        std::fs::write(&file, &text).unwrap();
+        let (read, problems) = read_calibration(&c.project, &file, &c.meshes, &c.orientations);
+        assert!(problems.is_empty(), "{problems:?}");
+        assert_eq!(read, corrections);
+        // The same entries measured against the model before: all stale, none applied.
+        let mut earlier = text.clone();
+        for (index, mesh) in c.meshes.iter().enumerate() {
+            let (now, then) = (
+                fingerprint(&c.project, mesh, &c.orientations[index]),
+                fingerprint_under(MODEL_REVISION - 1, &c.project, mesh, &c.orientations[index]),
+            );
+            assert_ne!(now, then);
+            earlier = earlier.replace(&now, &then);
+        }
+        std::fs::write(&file, &earlier).unwrap();
+        let (read, problems) = read_calibration(&c.project, &file, &c.meshes, &c.orientations);
+        assert_eq!(read, vec![PrintCorrection::default(); c.meshes.len()]);
+        assert_eq!(problems.len(), c.meshes.len());
+        assert!(problems.iter().all(|p| p.code == CALIBRATION_STALE));
+    }
 }

@@ -65,7 +65,7 @@ pub(crate) use mesh::box_at;
 pub use mesh::TriMesh;
 pub use print::{
     overlap, print_volumes, print_volumes_with_voids, Overlap, PrintRaster, PrintVolumes, Region,
-    Slicing, Void,
+    Slicing, Void, MODEL_REVISION,
 };
 pub use print_correction::PrintCorrection;
 pub use repair::{Hole, Repairs};
