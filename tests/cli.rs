@@ -581,7 +581,7 @@ component "T" mesh="meshes/t_shape.obj"
 pose "upright" { stand margin=2 }
 pose "on its right side" {
     rotate 0 36.8699 0
-    stand margin=1
+    stand margin=0.5
 }
 capsule "head" component="T" radius=3 {
     from 30 0 38

@@ -357,9 +357,9 @@ fn a_design_no_listed_ball_fits_is_refused_and_not_written() {
     let source = std::fs::read_to_string(&path).unwrap();
     // 40 mm balls in a cylinder 30 mm thick and 80 mm high along its print direction: high
     // enough for a capsule to be seeded, but every capsule the optimizer can size sticks out.
-    let line = "ball density=7.85 clearance=0.2\n";
+    let line = "ball density=7.85 clearance=0.3\n";
     assert!(source.contains(line));
-    let edited = source.replace(line, "ball density=7.85 clearance=0.2 { diameters 40; }\n");
+    let edited = source.replace(line, "ball density=7.85 clearance=0.3 { diameters 40; }\n");
     let options = CompileOptions {
         optimize: Some(OptimizeOptions::default()),
         ..CompileOptions::default()
@@ -384,8 +384,9 @@ fn a_part_too_low_for_any_listed_ball_is_not_seeded_and_nothing_unfit_is_made() 
     // 90 mm balls in a cylinder 80 mm high along its print direction: no capsule holding one
     // can lie inside it and rise to take its ball at a pause, so none is seeded, and the build
     // ends with the design without capsules, its goals missed, rather than an unfit design.
-    let line = "ball density=7.85 clearance=0.2\n";
-    let edited = source.replace(line, "ball density=7.85 clearance=0.2 { diameters 90; }\n");
+    let line = "ball density=7.85 clearance=0.3\n";
+    assert!(source.contains(line));
+    let edited = source.replace(line, "ball density=7.85 clearance=0.3 { diameters 90; }\n");
     let options = CompileOptions {
         optimize: Some(OptimizeOptions::default()),
         ..CompileOptions::default()

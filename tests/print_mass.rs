@@ -25,6 +25,9 @@ fn slicing(perimeter: f64, h: f64, n: usize) -> Slicing {
         bottom_layers: n,
         min_sparse_area: 0.0,
         surface_margin: 0.0,
+        shell_widening: 0.0,
+        fill_boundary: 0.0,
+        infill_spacing: 0.0,
     }
 }
 

@@ -58,16 +58,11 @@ fn a_file_past_the_size_limit_is_refused_by_its_size() {
     assert!(text.contains("docs/limits.md"), "{text}");
 }
 
-/// A project folder holding a copy of the T shape (its mesh, solution and calibration file).
+/// A project folder holding a copy of the T shape (its mesh and solution).
 fn t_shape_copy() -> (tempfile::TempDir, PathBuf) {
     let folder = tempfile::tempdir().unwrap();
     fs::create_dir(folder.path().join("meshes")).unwrap();
-    for name in [
-        "t_shape.kdl",
-        "t_shape.solution.kdl",
-        "t_shape.calibration.json",
-        "meshes/t_shape.obj",
-    ] {
+    for name in ["t_shape.kdl", "t_shape.solution.kdl", "meshes/t_shape.obj"] {
         fs::copy(examples().join(name), folder.path().join(name)).unwrap();
     }
     let project = folder.path().join("t_shape.kdl");
@@ -81,7 +76,7 @@ fn t_shape_copy() -> (tempfile::TempDir, PathBuf) {
 fn plastic_past_any_printer_is_an_error_and_calibrates_nothing() {
     let (folder, project) = t_shape_copy();
     let calibration = folder.path().join("t_shape.calibration.json");
-    let before = fs::read(&calibration).unwrap();
+    let before = fs::read(&calibration).ok();
     let project = project.to_str().unwrap();
     let huge = format!("1{}", "0".repeat(308));
     let cases = [
@@ -103,7 +98,7 @@ fn plastic_past_any_printer_is_an_error_and_calibrates_nothing() {
         let text = stderr(&output);
         assert!(text.contains(code) && text.contains(message), "{text}");
         assert!(!stdout(&output).contains("every goal is met"));
-        assert_eq!(fs::read(&calibration).unwrap(), before, "nothing written");
+        assert_eq!(fs::read(&calibration).ok(), before, "nothing written");
     }
 }
 

@@ -165,7 +165,9 @@ fn a_build_that_is_not_optimized_reports_no_stage() {
 
 #[test]
 fn a_mesh_is_sliced_once_per_print_settings() {
-    let (path, source) = t_shape();
+    // The hammer: an example with a calibration file.
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/hammer.kdl");
+    let source = std::fs::read_to_string(&path).unwrap();
     let mut workspace = Workspace::new();
     let check = CompileOptions::default();
     let first = build(&source, &path, &check, &mut workspace);
@@ -175,7 +177,7 @@ fn a_mesh_is_sliced_once_per_print_settings() {
     assert_eq!(again.prints, first.prints);
     assert_eq!(again.poses, first.poses);
     // Other settings are another print: sliced again, and more perimeters weigh more.
-    let thicker = source.replace("wall 1.2", "wall 1.2\nprint perimeters=4");
+    let thicker = source.replace("wall (mm)1.2", "wall (mm)1.2\nprint perimeters=4");
     let other = build(&thicker, &path, &check, &mut workspace);
     assert_eq!(workspace.prints.sliced(), 1);
     // The example's calibration was measured at the default settings: it corrects the first
@@ -183,7 +185,8 @@ fn a_mesh_is_sliced_once_per_print_settings() {
     assert_eq!(other.corrections[0], Default::default());
     let uncorrected = first.prints[0].solid.volume - first.corrections[0].volume;
     assert!(other.prints[0].solid.volume > uncorrected);
-    let correction_grams = 1.24e-3 * first.corrections[0].volume;
+    // PLA at 1.24 g/cm³, the volume in cubic inches.
+    let correction_grams = 1.24 * first.project.units.cubic_in_cm3() * first.corrections[0].volume;
     assert!(other.poses[0].mass > first.poses[0].mass - correction_grams);
 }
 

@@ -180,6 +180,10 @@ pub fn slicing(print: &Print, to_print: Rotation3<f64>) -> Slicing {
         bottom_layers: count(print.bottom_solid_layers),
         min_sparse_area: print.solid_infill_below_area,
         surface_margin: print.surface_margin,
+        shell_widening: 3.0 * print.extrusion_width,
+        fill_boundary: print.perimeter_thickness() - 0.25 * print.spacing()
+            + (print.extrusion_width - print.spacing()) / 2.0,
+        infill_spacing: print.spacing(),
     }
 }
 

@@ -1,7 +1,8 @@
 //! Each cell's class: outside, solid (perimeters, top and bottom layers, small regions) or
 //! sparse, over a box of the raster and a range of layers.
 
-use std::ops::RangeInclusive;
+use std::borrow::Cow;
+use std::ops::{Range, RangeInclusive};
 
 use super::cells::{CellBox, Overlay, Rows};
 use super::distance::near_marked;
@@ -12,8 +13,31 @@ use crate::parallel::map_each;
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(super) enum Cell {
     Outside,
+    /// Perimeters, and the layer's own top and bottom surfaces: never part of a sparse region.
     Solid,
+    /// Solid for a surface of another layer (or a widened strip, or a surface's margin), but
+    /// part of the layer's interior when the small-region rule measures it (before the rule).
+    Shell,
+    /// In an interior region smaller than the minimum area, filled solid by the rule.
+    Small,
     Sparse,
+}
+
+impl Cell {
+    /// Whether the small-region rule counts the cell in the layer's interior regions: what
+    /// PrusaSlicer calls internal when it applies `solid_infill_below_area`
+    /// (`LayerRegion::prepare_fill_surfaces`), before any shell is spread.
+    pub(super) fn is_interior(self) -> bool {
+        matches!(self, Cell::Shell | Cell::Sparse)
+    }
+
+    /// The cell's class once its interior region is known to be large.
+    pub(super) fn in_large_region(self) -> Cell {
+        match self {
+            Cell::Shell => Cell::Solid,
+            other => other,
+        }
+    }
 }
 
 /// A layer's top and bottom surface over the area; `None` for one without a cell (or one not
@@ -35,6 +59,53 @@ pub(super) struct Classifier<'a> {
     surfaces: Vec<Surfaces>,
     /// The layer of `surfaces[0]`.
     surfaces_from: usize,
+    /// Every layer's depth ([`Layout::depth`]).
+    depth: Option<Depths<'a>>,
+}
+
+/// Every layer's depth of each cell ([`Layout::depth`]): the bare layer's, but within the
+/// patch `held` has for a layer from `first` on (where a cut changes it).
+#[derive(Clone, Copy)]
+pub(super) struct Depths<'a> {
+    pub(super) bare: &'a [Vec<f32>],
+    pub(super) first: usize,
+    pub(super) held: &'a [Option<DepthPatch>],
+}
+
+/// A layer's depths over a box of its cells (in the box's order).
+#[derive(Debug, Clone)]
+pub(super) struct DepthPatch {
+    pub(super) cells: CellBox,
+    pub(super) depth: Vec<f32>,
+}
+
+impl Depths<'_> {
+    /// Layer `l`'s depths of columns `columns` of raster row `j`.
+    fn row(&self, l: usize, j: usize, columns: Range<usize>, raster: usize) -> Cow<'_, [f32]> {
+        let bare = &self.bare[l][j * raster..][columns.clone()];
+        let patch = l
+            .checked_sub(self.first)
+            .and_then(|h| self.held.get(h)?.as_ref());
+        let Some(patch) = patch.filter(|patch| patch.cells.j.contains(&j)) else {
+            return Cow::Borrowed(bare);
+        };
+        let (from, to) = (
+            columns.start.max(patch.cells.i.start),
+            columns.end.min(patch.cells.i.end),
+        );
+        if from >= to {
+            return Cow::Borrowed(bare);
+        }
+        let row = (j - patch.cells.j.start) * patch.cells.width();
+        let (start, end) = (from - patch.cells.i.start, to - patch.cells.i.start);
+        let patched = &patch.depth[row + start..row + end];
+        if (from, to) == (columns.start, columns.end) {
+            return Cow::Borrowed(patched);
+        }
+        let mut row = bare.to_vec();
+        row[from - columns.start..to - columns.start].copy_from_slice(patched);
+        Cow::Owned(row)
+    }
 }
 
 impl<'a> Classifier<'a> {
@@ -66,10 +137,9 @@ impl<'a> Classifier<'a> {
                     next.and_then(|l| inside.rows(l)),
                 )
             };
-            Surfaces {
-                top: (k >= low).then(|| of(k.checked_add(1))).flatten(),
-                bottom: (k <= high).then(|| of(k.checked_sub(1))).flatten(),
-            }
+            let top = (k >= low).then(|| of(k.checked_add(1))).flatten();
+            let bottom = (k <= high).then(|| of(k.checked_sub(1))).flatten();
+            Surfaces { top, bottom }
         });
         Classifier {
             layout,
@@ -78,7 +148,14 @@ impl<'a> Classifier<'a> {
             layers,
             surfaces,
             surfaces_from: bottoms_from,
+            depth: None,
         }
+    }
+
+    /// The classifier reading every layer's `depth`.
+    pub(super) fn with_depth(mut self, depth: Depths<'a>) -> Classifier<'a> {
+        self.depth = Some(depth);
+        self
     }
 
     /// The class of every cell of `valid` in layer `k` (one of the layers classified) before
@@ -97,6 +174,10 @@ impl<'a> Classifier<'a> {
             .map(|d| self.inside.rows(k + d))
             .chain((1..=bottom).map(|d| k.checked_sub(d).and_then(|l| self.inside.rows(l))))
             .collect();
+        let widened = covering
+            .is_some()
+            .then(|| self.widened(k, here, rim, valid))
+            .flatten();
         let held = |l: usize| self.surfaces.get(l.checked_sub(self.surfaces_from)?);
         let surfaces: Vec<Rows> = (0..top)
             .filter_map(|d| held(k + d)?.top.as_deref())
@@ -106,14 +187,30 @@ impl<'a> Classifier<'a> {
         // Where `valid`'s columns lie in the area's.
         let (width, from) = (valid.width(), valid.i.start - area.i.start);
         let columns = from..from + width;
+        // The layers just above and below: the cells either leaves uncovered are the layer's own
+        // top and bottom surfaces (`None` past the raster: all of them).
+        let above = self.inside.rows(k + 1);
+        let below = k.checked_sub(1).and_then(|l| self.inside.rows(l));
+        let mut own = vec![false; width];
         let mut shell = vec![false; width];
         for j in valid.j.clone() {
             let y = j - area.j.start;
-            // The perimeters, the cells some solid layer above or below leaves uncovered, and
-            // the surfaces.
+            // The perimeters and the layer's own surfaces.
+            own.copy_from_slice(rim.part(y, columns.clone()));
+            for next in [above, below] {
+                match next {
+                    Some(next) => {
+                        for (o, &c) in own.iter_mut().zip(next.part(y, columns.clone())) {
+                            *o |= !c;
+                        }
+                    }
+                    None => own.fill(true),
+                }
+            }
+            // The cells some solid layer above or below leaves uncovered, and the surfaces.
             match &covering {
                 Some(covering) => {
-                    shell.copy_from_slice(rim.part(y, columns.clone()));
+                    shell.fill(false);
                     for layer in covering {
                         for (s, &c) in shell.iter_mut().zip(layer.part(y, columns.clone())) {
                             *s |= !c;
@@ -124,19 +221,101 @@ impl<'a> Classifier<'a> {
                             *s |= c;
                         }
                     }
+                    if let Some(widened) = &widened {
+                        let row = &widened[(j - valid.j.start) * width..][..width];
+                        for (s, &c) in shell.iter_mut().zip(row) {
+                            *s |= c;
+                        }
+                    }
                 }
                 None => shell.fill(true),
             }
             let start = j * layout.columns + valid.i.start;
             let cells = classes[start..start + width].iter_mut();
-            for (class, (&h, &s)) in cells.zip(here.part(y, columns.clone()).iter().zip(&shell)) {
-                *class = match (h, s) {
-                    (false, _) => Cell::Outside,
-                    (true, true) => Cell::Solid,
-                    (true, false) => Cell::Sparse,
+            let here = here.part(y, columns.clone());
+            for (class, ((&h, &o), &s)) in cells.zip(here.iter().zip(&own).zip(&shell)) {
+                *class = match (h, o, s) {
+                    (false, _, _) => Cell::Outside,
+                    (true, true, _) => Cell::Solid,
+                    (true, false, true) => Cell::Shell,
+                    (true, false, false) => Cell::Sparse,
                 };
             }
         }
+    }
+}
+
+impl Classifier<'_> {
+    /// Layer `k`'s widened strips over `valid` (in its order): where the solid that the top
+    /// surface of a layer above (`top_layers − 1` at most) or the bottom surface of a layer
+    /// below adds to `k`'s fill, less `k`'s own surfaces, is narrower than twice the widening,
+    /// the strip grown by the widening within that fill (`PrintObject::discover_horizontal_shells`:
+    /// a strip that narrow would collapse); `None` when no strip is narrow.
+    fn widened(&self, k: usize, here: Rows, rim: Rows, valid: &CellBox) -> Option<Vec<bool>> {
+        let (layout, area) = (self.layout, self.inside.area());
+        let slicing = &layout.slicing;
+        let w = slicing.shell_widening as f32;
+        let depth = self.depth?;
+        if w <= 0.0 {
+            return None;
+        }
+        let f = slicing.fill_boundary as f32;
+        let held = |l: usize| self.surfaces.get(l.checked_sub(self.surfaces_from)?);
+        // Where `valid` lies in the area.
+        let (width, from) = (valid.width(), valid.i.start - area.i.start);
+        let columns = from..from + width;
+        let rows = valid.j.start - area.j.start..valid.j.end - area.j.start;
+        // The layer's fill less its own top and bottom surfaces.
+        let own = held(k)?;
+        let mut internal = Vec::with_capacity(valid.len());
+        for y in rows.clone() {
+            let (h, r) = (here.part(y, columns.clone()), rim.part(y, columns.clone()));
+            internal.extend(h.iter().zip(r).map(|(&h, &r)| h && !r));
+        }
+        for surface in [&own.top, &own.bottom].into_iter().flatten() {
+            let surface = Rows::held(surface, area);
+            for (y, internal) in rows.clone().zip(internal.chunks_mut(width)) {
+                for (i, &s) in internal.iter_mut().zip(surface.part(y, columns.clone())) {
+                    *i &= !s;
+                }
+            }
+        }
+        // (i, m): the layer whose surface is projected, and the layer over (under) it.
+        let pairs = (1..slicing.top_layers)
+            .map(|d| (k + d, k + d + 1))
+            .chain((1..slicing.bottom_layers).filter_map(|d| {
+                let i = k.checked_sub(d)?;
+                Some((i, i.checked_sub(1)?))
+            }))
+            .filter(|&(i, m)| i < layout.layers && m < layout.layers);
+        // Row y of the area's cells of `valid`, in layer l's depths.
+        let depth_row =
+            |l: usize, y: usize| depth.row(l, area.j.start + y, valid.i.clone(), layout.columns);
+        let mut widened = vec![false; valid.len()];
+        for (i, m) in pairs {
+            let Some(inside_i) = self.inside.rows(i) else {
+                continue;
+            };
+            for (y, marks) in rows.clone().zip(widened.chunks_mut(width)) {
+                // All of one length, so that the loop is vectorized.
+                let (here, there) = (depth_row(k, y), depth_row(m, y));
+                let (here, there) = (&here[..width], &there[..width]);
+                let inside_i = &inside_i.part(y, columns.clone())[..width];
+                let fill = &internal[(y - rows.start) * width..][..width];
+                let marks = &mut marks[..width];
+                for x in 0..width {
+                    let (here, there) = (here[x], there[x]);
+                    // Outside m and inside i, or within the widening of m's outline and the
+                    // strip's width beyond the fill boundary.
+                    // Without short cuts, so that the loop is vectorized.
+                    let b = here - there;
+                    let outside = (there < 0.0) & inside_i[x];
+                    let strip = (there >= 0.0) & (there <= w) & (b > f) & (b < f + 2.0 * w);
+                    marks[x] |= fill[x] & (outside | strip);
+                }
+            }
+        }
+        widened.iter().any(|&w| w).then_some(widened)
     }
 }
 
@@ -190,7 +369,7 @@ pub(super) fn fill_small_regions(layout: &Layout, class: &mut [Cell]) {
     for j in 0..class.len() / columns {
         for i in 0..columns {
             let start = j * columns + i;
-            if seen[start] || class[start] != Cell::Sparse {
+            if seen[start] || !class[start].is_interior() {
                 continue;
             }
             seen[start] = true;
@@ -200,16 +379,20 @@ pub(super) fn fill_small_regions(layout: &Layout, class: &mut [Cell]) {
                 region.push(cell);
                 for (i, j) in neighbours(layout, cell).into_iter().flatten() {
                     let next = j * columns + i;
-                    if !seen[next] && class[next] == Cell::Sparse {
+                    if !seen[next] && class[next].is_interior() {
                         seen[next] = true;
                         stack.push((i, j));
                     }
                 }
             }
-            if (region.len() as f64) * cell_area < limit {
-                for &(i, j) in &region {
-                    class[j * columns + i] = Cell::Solid;
-                }
+            let small = (region.len() as f64) * cell_area < limit;
+            for &(i, j) in &region {
+                let cell = &mut class[j * columns + i];
+                *cell = if small {
+                    Cell::Small
+                } else {
+                    cell.in_large_region()
+                };
             }
         }
     }

@@ -222,11 +222,12 @@ impl Layout {
 
     /// A layer's raster from its slice `segments`: the cells inside it, and those within the
     /// perimeter thickness of its outline.
-    pub(super) fn rasterize(&self, segments: &[Segment]) -> (Vec<bool>, Vec<bool>) {
+    pub(super) fn rasterize(&self, segments: &[Segment]) -> (Vec<bool>, Vec<bool>, Vec<f32>) {
         let (inside, mut marks) = self.inside(segments);
         marks.extend(self.column_marks(segments));
         let outline = outline(segments, marks);
-        (inside, self.near_outline(&outline))
+        let depth = self.depth(&outline, &inside);
+        (inside, self.near_outline(&outline), depth)
     }
 
     /// The cells whose centres lie inside the slice: where the winding number of its segments
@@ -445,10 +446,51 @@ pub(super) struct Mark {
     by_row: bool,
 }
 
+/// Whether segment `index` of a slice's `segments`, one that crosses no row and no column,
+/// bounds the slice's union at its middle: whether the winding number just before it along
+/// the line through its middle (a row's direction, or a column's for a segment along a row)
+/// and just after it lie on either side of zero. A segment of no length bounds nothing.
+fn bounds_at_middle(segments: &[Segment], index: usize) -> bool {
+    let [(u0, v0), (u1, v1)] = segments[index].ends;
+    let (u, v) = ((u0 + u1) / 2.0, (v0 + v1) / 2.0);
+    // Along a row (through v), or along a column (through u) for a segment along a row.
+    let by_row = v0 != v1;
+    if !by_row && u0 == u1 {
+        return false;
+    }
+    let (at, across, turn) = if by_row {
+        (v, u, segments[index].winding)
+    } else {
+        (u, v, segments[index].column_winding)
+    };
+    // The winding number just before the segment: the turns of every other segment crossed
+    // before it (each counted on the half-open span of its ends, so a shared end counts once).
+    let before: i32 = segments
+        .iter()
+        .enumerate()
+        .filter(|&(other, _)| other != index)
+        .filter_map(|(_, segment)| {
+            let [(a0, b0), (a1, b1)] = segment.ends;
+            let (from, to, p0, p1, turn) = if by_row {
+                (b0, b1, a0, a1, segment.winding)
+            } else {
+                (a0, a1, b0, b1, segment.column_winding)
+            };
+            let (low, high) = (from.min(to), from.max(to));
+            if !(low <= at && at < high) {
+                return None;
+            }
+            let crossing = p0 + (at - from) / (to - from) * (p1 - p0);
+            (crossing < across).then_some(i32::from(turn))
+        })
+        .sum();
+    (before > 0) != (before + i32::from(turn) > 0)
+}
+
 /// The parts of `segments` on the outline of the slice's union, from `marks`. A segment is
 /// judged by its row crossings, or by its column crossings when it crosses no row (one along a
-/// row). One every crossing of which bounds the union, or that crosses neither, is outline
-/// whole (every segment of a mesh that does not cross itself); one none of whose crossings do
+/// row), or at its middle when it crosses neither. One every crossing of which bounds the union
+/// is outline whole (every segment of a mesh that does not cross itself); one none of whose crossings do
 /// is a wall hidden inside another shell, and left out; one that passes from outline to hidden
 /// keeps its outline part, to halfway between the crossings where it changes.
 fn outline(segments: &[Segment], mut marks: Vec<Mark>) -> Vec<Segment> {
@@ -463,10 +505,14 @@ fn outline(segments: &[Segment], mut marks: Vec<Mark>) -> Vec<Segment> {
         crossed[mark.segment as usize] += 1;
         bounding[mark.segment as usize] += u32::from(mark.bounds);
     }
+    // A segment between two rows and two columns is judged at its middle.
     let mut kept: Vec<Segment> = segments
         .iter()
         .enumerate()
-        .filter(|&(index, _)| bounding[index] == crossed[index])
+        .filter(|&(index, _)| match crossed[index] {
+            0 => bounds_at_middle(segments, index),
+            crossings => bounding[index] == crossings,
+        })
         .map(|(_, segment)| *segment)
         .collect();
     marks.retain(|mark| {

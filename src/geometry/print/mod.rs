@@ -14,6 +14,9 @@
 //!   cover) of this layer or one of the `top_layers − 1` above, or of a bottom surface of this
 //!   layer or one of the `bottom_layers − 1` below (PrusaSlicer grows every top and bottom
 //!   surface by a margin before it adds the solid layers);
+//!   or within `shell_widening` of a strip narrower than twice that, which the surfaces of
+//!   one of the `top_layers − 1` layers above (or the `bottom_layers − 1` below) add to this
+//!   layer's fill (PrusaSlicer widens such strips "so that they do not collapse");
 //! - **small region**: what is left forms a region (4-connected cells) smaller than
 //!   `min_sparse_area`, which the slicer fills solid;
 //! - **sparse**: the rest, printed at the infill fraction.
@@ -22,30 +25,34 @@
 //! frame. The result does not depend on the design and is computed once per component and print
 //! orientation.
 
-use nalgebra::{Matrix3, Point3, Rotation3, Vector3};
+use nalgebra::{Point3, Rotation3};
 
 use super::mass::MassProperties;
 use super::mesh::TriMesh;
 
 mod cells;
 mod classes;
+mod depth;
 mod distance;
 mod layout;
+mod overlap;
+mod sides;
 mod tally;
 mod voids;
 mod window;
 
 use crate::parallel::map_each;
 use cells::{CellBox, Overlay, Planes};
-use classes::{Cell, Classifier};
+use classes::{Cell, Classifier, Depths};
 use layout::Layout;
+pub use overlap::{overlap, Overlap};
 use tally::Totals;
 pub use voids::Void;
 
 /// Which rules [`print_volumes`] follows: raised whenever what it gives for some mesh and
 /// settings changes, so that what was measured against an earlier model (a calibration) is
 /// known not to hold.
-pub const MODEL_REVISION: u32 = 1;
+pub const MODEL_REVISION: u32 = 2;
 
 /// How the slicer prints, in the mesh's units.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -66,6 +73,16 @@ pub struct Slicing {
     pub min_sparse_area: f64,
     /// How far a top or bottom surface's solid layers reach past it into the sparse infill.
     pub surface_margin: f64,
+    /// How far a solid strip that a top or bottom surface adds to a layer next to it is widened
+    /// within that layer's fill, where it is narrower than twice this (PrusaSlicer: 3 × the
+    /// solid infill's extrusion width).
+    pub shell_widening: f64,
+    /// How far from the outline the slicer's fill region begins (the perimeters less the
+    /// infill's overlap with them).
+    pub fill_boundary: f64,
+    /// Spacing of the sparse infill's lines at full density: the width of the material one
+    /// line lays per unit of its length and of layer height.
+    pub infill_spacing: f64,
 }
 
 /// A volume and its centroid, rest frame.
@@ -156,103 +173,14 @@ struct Layers {
     inside: Vec<Vec<bool>>,
     /// Per layer, the cells within the perimeter thickness of the outline.
     near: Vec<Vec<bool>>,
+    /// Per layer, each cell's distance to the outline ([`Layout::depth`]).
+    depth: Vec<Vec<f32>>,
     /// Per layer, each cell's class before the small-region rule.
     unsettled: Vec<Vec<Cell>>,
     /// Per layer, each cell's class.
     classes: Vec<Vec<Cell>>,
     /// The solid and sparse cells of every layer.
     totals: Totals,
-}
-
-/// How much of a mesh's solid its shells cover twice or more: where the mesh crosses itself or
-/// two shells overlap, the sum of their volumes (what the divergence theorem gives) exceeds the
-/// volume of their union (what a slicer prints) by the overlap's volume, and their moments by
-/// its moments.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Overlap {
-    /// What the winding number `w` counts beyond the union, `∫ (w − [w > 0]) dV` (units³): the
-    /// overlap, each point weighted by how far `w` is past 1, less what an inward surface with
-    /// nothing around it takes away (where `w` is negative).
-    pub volume: f64,
-    /// Its first moment about the origin, `∫ (w − [w > 0]) x dV` (units⁴).
-    pub first_moment: Vector3<f64>,
-    /// Its second moment about the origin, `∫ (w − [w > 0]) x xᵀ dV` (units⁵).
-    pub second_moment: Matrix3<f64>,
-    /// The union's volume, `∫ [w > 0] dV` (units³).
-    pub union: f64,
-}
-
-impl Overlap {
-    /// The same overlap turned by `rotation` about the origin, then scaled by `factor` (> 0).
-    pub fn turned_and_scaled(&self, rotation: &Rotation3<f64>, factor: f64) -> Overlap {
-        let r = rotation.matrix();
-        Overlap {
-            volume: self.volume * factor.powi(3),
-            first_moment: rotation * self.first_moment * factor.powi(4),
-            second_moment: r * self.second_moment * r.transpose() * factor.powi(5),
-            union: self.union * factor.powi(3),
-        }
-    }
-}
-
-/// Layers (and rows per layer, about) the overlap of a mesh is measured on.
-const OVERLAP_STEPS: f64 = 256.0;
-
-/// The [`Overlap`] of `mesh`'s shells, measured on 256 slices and rows across its largest
-/// extent, exactly along each row; `None` for a mesh without extent.
-pub fn overlap(mesh: &TriMesh) -> Option<Overlap> {
-    let (low, high) = mesh.bounding_box()?;
-    let step = (high - low).max() / OVERLAP_STEPS;
-    if !(step > 0.0 && step.is_finite()) {
-        return None;
-    }
-    let slicing = Slicing {
-        to_print: Rotation3::identity(),
-        perimeter_thickness: 4.0 * step,
-        layer_height: step,
-        first_layer_height: step,
-        top_layers: 0,
-        bottom_layers: 0,
-        min_sparse_area: 0.0,
-        surface_margin: 0.0,
-    };
-    let layout = Layout::new(mesh, &slicing)?;
-    let reference = nalgebra::center(&low, &high);
-    let segments = layout.slice(mesh);
-    let slices = map_each(layout.layers, |k| {
-        layout.winding_areas(&segments[k], (reference.x, reference.y))
-    });
-    // Each slice stands for a layer one step thick around its plane.
-    let layer = step * step / 12.0;
-    let (mut union, mut volume) = (0.0, 0.0);
-    let (mut first, mut second) = (Vector3::zeros(), Matrix3::zeros());
-    for (k, (area, [m, mu, mv, muu, mvv, muv])) in slices.iter().enumerate() {
-        let z = layout.slice_height(k) - reference.z;
-        union += area * step;
-        volume += m * step;
-        first += Vector3::new(*mu, *mv, z * m) * step;
-        second += Matrix3::new(
-            *muu,
-            *muv,
-            z * mu,
-            *muv,
-            *mvv,
-            z * mv,
-            z * mu,
-            z * mv,
-            (z * z + layer) * m,
-        ) * step;
-    }
-    let r = reference.coords;
-    Some(Overlap {
-        volume,
-        first_moment: first + r * volume,
-        second_moment: second
-            + first * r.transpose()
-            + r * first.transpose()
-            + r * r.transpose() * volume,
-        union,
-    })
 }
 
 impl PrintRaster {
@@ -268,10 +196,15 @@ impl PrintRaster {
             // classes, which read their neighbours' finished rasters: each step runs over the
             // layers on every core.
             let segments = layout.slice(&printed);
-            let (inside, near) = map_each(layout.layers, |k| layout.rasterize(&segments[k]))
-                .into_iter()
-                .unzip();
-            Layers::classified(layout, inside, near)
+            let mut inside = Vec::new();
+            let mut near = Vec::new();
+            let mut depth = Vec::new();
+            for (a, b, c) in map_each(layout.layers, |k| layout.rasterize(&segments[k])) {
+                inside.push(a);
+                near.push(b);
+                depth.push(c);
+            }
+            Layers::classified(layout, inside, near, depth)
         });
         PrintRaster { to_print, layers }
     }
@@ -322,7 +255,12 @@ impl PrintRaster {
 
 impl Layers {
     /// The layers of `layout` with these `inside` cells and perimeters (`near`), classified.
-    fn classified(layout: Layout, inside: Vec<Vec<bool>>, near: Vec<Vec<bool>>) -> Layers {
+    fn classified(
+        layout: Layout,
+        inside: Vec<Vec<bool>>,
+        near: Vec<Vec<bool>>,
+        depth: Vec<Vec<f32>>,
+    ) -> Layers {
         let whole = CellBox::whole(&layout);
         let none = Planes {
             first: 0,
@@ -336,7 +274,12 @@ impl Layers {
         };
         let (unsettled, classes): (Vec<Vec<Cell>>, Vec<Vec<Cell>>) = {
             let all = 0..=layout.layers - 1;
-            let classifier = Classifier::new(&layout, over(&inside), over(&near), all);
+            let classifier =
+                Classifier::new(&layout, over(&inside), over(&near), all).with_depth(Depths {
+                    bare: &depth,
+                    first: 0,
+                    held: &[],
+                });
             map_each(layout.layers, |k| {
                 let mut unsettled = vec![Cell::Outside; whole.len()];
                 classifier.layer(k, &whole, &mut unsettled);
@@ -355,6 +298,7 @@ impl Layers {
             layout,
             inside,
             near,
+            depth,
             unsettled,
             classes,
             totals,
@@ -407,6 +351,90 @@ mod tests {
     }
 
     #[test]
+    fn depths_are_the_distances_to_the_nearest_side() {
+        // A twelve-pointed star, its points 18 mm out and its notches 7 mm, in a 40 mm box's
+        // raster: every inside cell within the range measured against every side.
+        let mesh = box_at([-20.0, -20.0, 0.0], [20.0, 20.0, 4.0], 0);
+        let slicing = Slicing {
+            to_print: Rotation3::identity(),
+            perimeter_thickness: 1.2,
+            layer_height: 0.3,
+            first_layer_height: 0.3,
+            top_layers: 3,
+            bottom_layers: 3,
+            min_sparse_area: 0.0,
+            surface_margin: 0.0,
+            shell_widening: 1.35,
+            fill_boundary: 1.1,
+            infill_spacing: 0.0,
+        };
+        let layout = Layout::new(&mesh, &slicing).unwrap();
+        let corners: Vec<(f64, f64)> = (0..24)
+            .map(|i| {
+                let angle = std::f64::consts::TAU * i as f64 / 24.0 + 0.1;
+                let radius = if i % 2 == 0 { 18.0 } else { 7.0 };
+                (radius * angle.cos(), radius * angle.sin())
+            })
+            .collect();
+        let sides: Vec<[(f64, f64); 2]> = (0..corners.len())
+            .map(|i| [corners[i], corners[(i + 1) % corners.len()]])
+            .collect();
+        let area = cells::CellBox::whole(&layout);
+        let centre = |c: usize| {
+            let (i, j) = (c % layout.columns, c / layout.columns);
+            (
+                layout.origin.0 + (i as f64 + 0.5) * layout.cell,
+                layout.origin.1 + (j as f64 + 0.5) * layout.cell,
+            )
+        };
+        // Inside by the crossing count of a ray along +u.
+        let inside: Vec<bool> = (0..area.len())
+            .map(|c| {
+                let (u, v) = centre(c);
+                sides
+                    .iter()
+                    .filter(|[(u0, v0), (u1, v1)]| {
+                        (v0 > &v) != (v1 > &v) && u < u0 + (v - v0) / (v1 - v0) * (u1 - u0)
+                    })
+                    .count()
+                    % 2
+                    == 1
+            })
+            .collect();
+        let found = layout.distances(&area, &sides, &inside);
+        let (mut measured, mut off, mut worst) = (0, 0, 0.0f64);
+        for c in (0..area.len()).filter(|&c| inside[c]) {
+            let (u, v) = centre(c);
+            let exact = sides
+                .iter()
+                .map(|&[(u0, v0), (u1, v1)]| {
+                    let (du, dv) = (u1 - u0, v1 - v0);
+                    let t = (((u - u0) * du + (v - v0) * dv) / (du * du + dv * dv)).clamp(0.0, 1.0);
+                    (u - u0 - t * du).hypot(v - v0 - t * dv)
+                })
+                .fold(f64::INFINITY, f64::min);
+            if exact > depth::DEPTH_RANGE {
+                continue;
+            }
+            measured += 1;
+            let error = found[c].sqrt() - exact;
+            assert!(
+                error >= -1e-9,
+                "closer than the nearest side at {:?}",
+                centre(c)
+            );
+            if error > 1e-9 {
+                off += 1;
+                worst = worst.max(error);
+            }
+        }
+        assert!(measured > 2000, "{measured}");
+        eprintln!("{off} of {measured} cells off, worst by {worst}");
+        assert!(off * 1000 <= measured, "{off} of {measured} cells off");
+        assert!(worst < 0.05 * layout.cell, "{worst}");
+    }
+
+    #[test]
     fn overlapping_shells_slice_to_their_union_and_its_outline() {
         // Two 20 mm cubes overlapping by half, as two closed shells, and the 30 mm box they
         // make together: every layer has the same inside cells (the even-odd rule would empty
@@ -425,6 +453,9 @@ mod tests {
             bottom_layers: 3,
             min_sparse_area: 8.0,
             surface_margin: 1.5,
+            shell_widening: 1.35,
+            fill_boundary: 0.85,
+            infill_spacing: 0.4,
         };
         let layout = Layout::new(&union, &slicing).unwrap();
         assert_eq!(
@@ -433,8 +464,8 @@ mod tests {
         );
         let (split, whole) = (layout.slice(&overlapping), layout.slice(&union));
         for (k, (split, whole)) in split.iter().zip(&whole).enumerate() {
-            let (inside, near) = layout.rasterize(split);
-            let (whole_inside, whole_near) = layout.rasterize(whole);
+            let (inside, near, _) = layout.rasterize(split);
+            let (whole_inside, whole_near, _) = layout.rasterize(whole);
             assert_eq!(inside, whole_inside, "layer {k}");
             // Perimeters only along the union's outline, not along the walls inside it.
             assert_eq!(near, whole_near, "layer {k}");
@@ -448,39 +479,9 @@ mod tests {
         }
         hollow.positions.extend(cavity.positions);
         hollow.triangles.extend(cavity.triangles);
-        let (middle, _) = layout.rasterize(&layout.slice(&hollow)[30]);
+        let (middle, _, _) = layout.rasterize(&layout.slice(&hollow)[30]);
         let centre = (layout.rows / 2) * layout.columns + layout.columns / 2;
         assert!(!middle[centre] && middle[layout.columns * 2 + 2]);
-    }
-
-    #[test]
-    fn the_overlap_of_two_boxes_is_their_common_box() {
-        let mut two = box_at([0.0; 3], [40.0, 30.0, 20.0], 0);
-        let other = box_at([20.0, 12.0, 0.0], [60.0, 42.0, 20.0], 8);
-        two.positions.extend(other.positions);
-        two.triangles.extend(other.triangles);
-        let measured = overlap(&two).unwrap();
-        // Closed forms: 20 × 18 × 20 in common, 2 × 24,000 less that in all. The measure is
-        // exact along u and sampled every step (60 / 256 mm) along v and z: each face facing
-        // ±v or ±z may be off by half a step.
-        let half_step = 60.0 / 256.0 / 2.0;
-        let common_faces = 2.0 * 20.0 * 20.0 + 2.0 * 20.0 * 18.0;
-        assert!(
-            (measured.volume - 7200.0).abs() <= half_step * common_faces,
-            "{measured:?}"
-        );
-        let union_faces = (40.0 + 20.0 + 40.0 + 20.0) * 20.0 + 2.0 * 2040.0;
-        assert!(
-            (measured.union - 40800.0).abs() <= half_step * union_faces,
-            "{measured:?}"
-        );
-        let one = overlap(&box_at([0.0; 3], [40.0, 30.0, 20.0], 0)).unwrap();
-        assert_eq!(one.volume, 0.0);
-        let box_faces = 2.0 * 40.0 * 20.0 + 2.0 * 40.0 * 30.0;
-        assert!(
-            (one.union - 24000.0).abs() <= 40.0 / 256.0 / 2.0 * box_faces,
-            "{one:?}"
-        );
     }
 
     fn void(from: [f64; 3], to: [f64; 3], radius: f64) -> Void {
@@ -497,8 +498,25 @@ mod tests {
         let layout = &layers.layout;
         let voids = raster.in_print_frame(voids);
         let whole = CellBox::whole(layout);
-        let (inside, near) = layers.cut_planes(&voids, 0..=layout.layers - 1, &whole);
-        let cut = Layers::classified(layout.clone(), inside.layers, near.layers);
+        let (inside, near, patches) = layers.cut_planes(&voids, 0..=layout.layers - 1, &whole);
+        // Each layer's depths: the bare layer's with its patch laid on.
+        let depth = patches
+            .into_iter()
+            .zip(&layers.depth)
+            .map(|(patch, bare)| {
+                let mut depth = bare.clone();
+                if let Some(patch) = patch {
+                    let width = patch.cells.width();
+                    for (y, j) in patch.cells.j.clone().enumerate() {
+                        let start = j * layout.columns + patch.cells.i.start;
+                        depth[start..start + width]
+                            .copy_from_slice(&patch.depth[y * width..(y + 1) * width]);
+                    }
+                }
+                depth
+            })
+            .collect();
+        let cut = Layers::classified(layout.clone(), inside.layers, near.layers, depth);
         raster.volumes_of(layout, &cut.totals)
     }
 
@@ -528,6 +546,9 @@ mod tests {
                 bottom_layers: 3,
                 min_sparse_area: 8.0,
                 surface_margin: 1.5,
+                shell_widening: 1.35,
+                fill_boundary: 0.85,
+                infill_spacing: 0.4,
             };
             let raster = PrintRaster::new(&mesh, &slicing);
             let bare = raster.volumes();

@@ -4,9 +4,12 @@
 use nalgebra::Point3;
 
 use super::cells::CellBox;
-use super::distance::near_marked;
 use super::layout::{Layout, U, UP, V};
+use super::sides::Sides;
 use crate::geometry::distance::point_segment_distance;
+
+/// Points of a void's cross-section outline [`Void::section`] passes through.
+const SECTION_SIDES: usize = 48;
 
 /// A capsule-shaped void cut from a printed mesh: the points within `radius` of the segment
 /// from `from` to `to`.
@@ -27,6 +30,52 @@ impl Void {
         z > a[UP].min(b[UP]) - r && z < a[UP].max(b[UP]) + r
     }
 
+    /// The void's cross-section by the plane at height `z` (print frame), seen from above: a
+    /// convex polygon through `SECTION_SIDES` points of its outline (each the point farthest
+    /// along a direction, found in closed form), as its corners in order around it (some may
+    /// repeat); empty when the plane misses it.
+    pub(super) fn section(&self, z: f64) -> Vec<(f64, f64)> {
+        if !self.crosses(z) {
+            return Vec::new();
+        }
+        let (a, b, r) = (self.from, self.to, self.radius);
+        let (du, dv, dz) = (b[U] - a[U], b[V] - a[V], b[UP] - a[UP]);
+        // Along the axis, t in [0, 1]: the centre (a + t d) seen from above, and the radius of
+        // the disc its sphere leaves in the plane, ρ(t) = sqrt(r² − (e − t dz)²).
+        let e = z - a[UP];
+        let (low, high) = if dz.abs() > 0.0 {
+            let (t0, t1) = ((e - r) / dz, (e + r) / dz);
+            (t0.min(t1).max(0.0), t0.max(t1).min(1.0))
+        } else {
+            (0.0, 1.0)
+        };
+        if low.is_nan() || high.is_nan() || low > high {
+            return Vec::new();
+        }
+        let disc = |t: f64| (r * r - (e - t * dz).powi(2)).max(0.0).sqrt();
+        (0..SECTION_SIDES)
+            .map(|side| {
+                let angle = std::f64::consts::TAU * side as f64 / SECTION_SIDES as f64;
+                let (nu, nv) = (angle.cos(), angle.sin());
+                // The farthest point along n maximises k t + ρ(t), k = d·n seen from above:
+                // concave, so the stationary point (u = e − t dz with u dz = −k ρ) clamped to
+                // the range, or an end of it.
+                let k = du * nu + dv * nv;
+                let reach = |t: f64| k * t + disc(t);
+                let mut best = if reach(high) > reach(low) { high } else { low };
+                if dz.abs() > 0.0 {
+                    let u = -(k * dz.signum()) * r / (dz * dz + k * k).sqrt();
+                    let stationary = ((e - u) / dz).clamp(low, high);
+                    if reach(stationary) > reach(best) {
+                        best = stationary;
+                    }
+                }
+                let rho = disc(best);
+                (a[U] + best * du + rho * nu, a[V] + best * dv + rho * nv)
+            })
+            .collect()
+    }
+
     /// Whether `point` lies inside the void (strictly within the radius of the axis).
     fn contains(&self, point: &Point3<f64>) -> bool {
         point_segment_distance(point, &self.from, &self.to) < self.radius
@@ -34,6 +83,56 @@ impl Void {
 }
 
 impl Layout {
+    /// Each cell of `area`'s squared distance from its centre to the nearest of `voids`'
+    /// cross-sections in layer `k` (print frame), for the cells `inside` (in `area`'s order)
+    /// within `reach` cells of a section's box; infinite for the others. Exact (to the
+    /// sections' polygons): the nearest side is walked to from the last cell's
+    /// ([`Sides::nearest_from`]). A straight line from a cell to a hole that crosses the outline
+    /// is longer than the cell's distance to the outline, so the depth a cut layer takes from
+    /// this and the bare layer's is what measuring inside it would give.
+    pub(super) fn hole_distances(
+        &self,
+        k: usize,
+        voids: &[Void],
+        area: &CellBox,
+        inside: &[bool],
+        reach: usize,
+    ) -> Vec<f64> {
+        let mut distances = vec![f64::INFINITY; area.len()];
+        let z = self.slice_height(k);
+        let width = area.width();
+        for void in voids {
+            let sides = Sides::of_convex(&void.section(z));
+            let near = self
+                .cover_at(void, z)
+                .and_then(|cover| cover.grown(reach, self).within(area));
+            let Some(near) = near.filter(|_| !sides.is_empty()) else {
+                continue;
+            };
+            // Each row starts walking from the side the row before started from.
+            let mut row_start = 0;
+            for j in near.j.clone() {
+                let v = self.origin.1 + (j as f64 + 0.5) * self.cell;
+                let row = (j - area.j.start) * width;
+                let (mut along, mut first) = (row_start, true);
+                for i in near.i.clone() {
+                    let c = row + (i - area.i.start);
+                    if !inside[c] {
+                        continue;
+                    }
+                    let point = (self.origin.0 + (i as f64 + 0.5) * self.cell, v);
+                    let (side, d2) = sides.nearest_from(along, point);
+                    if first {
+                        (row_start, first) = (side, false);
+                    }
+                    along = side;
+                    distances[c] = distances[c].min(d2);
+                }
+            }
+        }
+        distances
+    }
+
     /// The cells of `area` in layer `k` whose centres lie in one of `voids` (print frame), in
     /// `area`'s order.
     pub(super) fn in_voids(&self, k: usize, voids: &[Void], area: &CellBox) -> Vec<bool> {
@@ -111,15 +210,79 @@ impl Layout {
         };
         self.cover(&part).map(|cover| cover.grown(1, self))
     }
+}
 
-    /// The cells of `area` within the perimeter thickness of a hole's outline: of a cell of
-    /// `hole` (the void cells of a layer that lie inside the mesh, over `area`), measured from
-    /// the hole's edge, half a cell past its outermost cell centres. Exact for the cells of
-    /// `area` when `area` holds every hole cell.
-    pub(super) fn near_hole(&self, hole: &[bool], area: &CellBox) -> Vec<bool> {
-        let reach = self.slicing.perimeter_thickness / self.cell + 0.5;
-        let limit = reach * reach;
-        let near = near_marked(hole, area.width(), area.height(), reach, |d| d < limit);
-        near.iter().zip(hole).map(|(&n, &h)| n && !h).collect()
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_sections_corners_are_the_farthest_points_of_the_cross_section() {
+        let capsules = [
+            // Tilted, level, upright, and nearly level.
+            Void {
+                from: Point3::new(0.0, 0.0, 0.0),
+                to: Point3::new(20.0, 5.0, 12.0),
+                radius: 4.0,
+            },
+            Void {
+                from: Point3::new(0.0, 0.0, 5.0),
+                to: Point3::new(0.0, 15.0, 5.0),
+                radius: 3.0,
+            },
+            Void {
+                from: Point3::new(1.0, 1.0, 0.0),
+                to: Point3::new(1.0, 1.0, 9.0),
+                radius: 2.5,
+            },
+            Void {
+                from: Point3::new(0.0, 0.0, 5.0),
+                to: Point3::new(30.0, 0.0, 5.3),
+                radius: 6.0,
+            },
+        ];
+        for void in capsules {
+            let (low, high) = (
+                void.from[UP].min(void.to[UP]),
+                void.from[UP].max(void.to[UP]),
+            );
+            for step in 1..40 {
+                let z = low - void.radius + (high - low + 2.0 * void.radius) * step as f64 / 40.0;
+                let corners = void.section(z);
+                assert_eq!(corners.len(), SECTION_SIDES, "{void:?} at {z}");
+                for (side, corner) in corners.iter().enumerate() {
+                    // On the capsule's surface.
+                    let point = Point3::new(corner.0, corner.1, z);
+                    let distance = point_segment_distance(&point, &void.from, &void.to);
+                    assert!(
+                        (distance - void.radius).abs() < 1e-9,
+                        "{void:?} at {z}: {distance}"
+                    );
+                    // Farthest along its direction among the axis's discs, by a dense scan.
+                    let angle = std::f64::consts::TAU * side as f64 / SECTION_SIDES as f64;
+                    let (nu, nv) = (angle.cos(), angle.sin());
+                    let reach = corner.0 * nu + corner.1 * nv;
+                    let scanned = (0..=20_000)
+                        .map(|i| {
+                            let t = i as f64 / 20_000.0;
+                            let centre = void.from + (void.to - void.from) * t;
+                            let rise = z - centre[UP];
+                            let disc = (void.radius.powi(2) - rise * rise).max(0.0).sqrt();
+                            if rise.abs() > void.radius {
+                                f64::NEG_INFINITY
+                            } else {
+                                centre[U] * nu + centre[V] * nv + disc
+                            }
+                        })
+                        .fold(f64::NEG_INFINITY, f64::max);
+                    assert!(
+                        reach >= scanned - 1e-9,
+                        "{void:?} at {z}: {reach} < {scanned}"
+                    );
+                }
+            }
+            assert!(void.section(low - void.radius - 0.01).is_empty());
+            assert!(void.section(high + void.radius + 0.01).is_empty());
+        }
     }
 }

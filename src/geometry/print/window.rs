@@ -1,20 +1,20 @@
 //! Cutting voids from sliced layers: re-classifying only the cells the voids can change.
 //!
-//! A void changes a layer's inside cells and perimeters only within the box of its
-//! cross-section in that layer, grown by the perimeter thickness; the surfaces and the classes
-//! read those within the surface margin, over the layers the voids cross and the solid layers
-//! above and below them. So a layer's classes before the small-region rule change only within
-//! the box of the cross-sections of the layers it reads (itself and its solid layers above and
-//! below), grown by the perimeter thickness and the surface margin, and are computed there
-//! alone: a slanted void's window follows it from layer to layer. The small-region rule then
-//! settles every sparse region that reaches the window (or touches it), stopping a region's
-//! flood as soon as it is known to be large: the classes are those of re-classifying every
-//! cell.
+//! A void changes a layer's inside cells, perimeters and depths only near its cross-section in
+//! that layer; the surfaces and the classes read those within the surface margin (and a
+//! widened strip reads depths up to the fill boundary and three widenings), over the layers the
+//! voids cross and the solid layers above and below them. So a layer's classes before the
+//! small-region rule change only within the box of the cross-sections of the layers it reads
+//! (itself and its solid layers above and below), grown by that reach, and are computed there
+//! alone. The small-region rule then settles every sparse region that reaches the window (or
+//! touches it), stopping a region's flood as soon as it is known to be large: the classes are
+//! those of re-classifying every cell.
 
 use std::ops::RangeInclusive;
 
-use super::cells::{CellBox, Overlay, Planes, Rows};
-use super::classes::{neighbours, Cell, Classifier};
+use super::cells::{CellBox, Overlay, Planes};
+use super::classes::{neighbours, Cell, Classifier, DepthPatch, Depths};
+use super::depth::{depth_value, DEPTH_RANGE};
 use super::layout::Layout;
 use super::tally::Totals;
 use super::{Layers, Void};
@@ -34,12 +34,12 @@ enum Verdict {
 }
 
 impl Verdict {
-    /// The class of a cell with this verdict: the rule's when it reached the cell, else
-    /// `unreached`.
-    fn class(self, unreached: Cell) -> Cell {
+    /// The class of a cell with this verdict, whose class before the rule is `unsettled`: the
+    /// rule's when it reached the cell, else `unreached`.
+    fn class(self, unsettled: Cell, unreached: Cell) -> Cell {
         match self {
-            Verdict::Small => Cell::Solid,
-            Verdict::Large => Cell::Sparse,
+            Verdict::Small => Cell::Small,
+            Verdict::Large => unsettled.in_large_region(),
             Verdict::Unseen | Verdict::Queued => unreached,
         }
     }
@@ -77,15 +77,12 @@ impl Layers {
             .flatten()
             .cloned()
             .reduce(|a, b| a.union(&b))?;
-        let slicing = &layout.slicing;
-        let changed = ((slicing.perimeter_thickness + slicing.surface_margin) / layout.cell).ceil()
-            as usize
-            + 2;
+        let changed = (changed_reach(&layout.slicing) / layout.cell).ceil() as usize + 2;
         // Every layer's window lies within `cover` grown by `changed`; what its classes read,
         // within the surface margin of that.
-        let margin = (slicing.surface_margin / layout.cell).ceil() as usize + 2;
+        let margin = (layout.slicing.surface_margin.max(0.0) / layout.cell).ceil() as usize + 2;
         let area = cover.grown(changed + margin, layout);
-        let (inside, near) = self.cut_planes(voids, first..=last, &area);
+        let (inside, near, depth) = self.cut_planes(voids, first..=last, &area);
         let overlay = |bare, planes| Overlay {
             columns: layout.columns,
             bare,
@@ -95,12 +92,16 @@ impl Layers {
         let window = reach(layout, first, last);
         let low = *window.start();
         let count = window.clone().count();
-        let classifier = Classifier::new(layout, inside, near, window);
-        let (top, bottom) = (slicing.top_layers, slicing.bottom_layers);
+        let classifier = Classifier::new(layout, inside, near, window).with_depth(Depths {
+            bare: &self.depth,
+            first,
+            held: &depth,
+        });
+        let (top, bottom) = (layout.slicing.top_layers, layout.slicing.bottom_layers);
         Some(map_each(count, |offset| {
             let k = low + offset;
-            // The cells of layer k whose class before the rule the cut can change: around the
-            // cross-sections of the layers its class reads (`reach`).
+            // The cells of layer k whose class before the rule the cut can change: near the
+            // sections of the layers its class reads.
             let read = k.saturating_sub(bottom).max(first)..=k.saturating_add(top).min(last);
             let near_sections = read
                 .filter_map(|l| sections[l - first].as_ref())
@@ -116,45 +117,92 @@ impl Layers {
         }))
     }
 
-    /// Over `area`, in the layers `crossed`: the inside cells with `voids`' cells taken out, and
-    /// the perimeters with those around each hole added.
+    /// Over `area`, in the layers `crossed`: the inside cells with `voids`' cells taken out, the
+    /// perimeters with those around each hole added (the cells within the perimeter thickness
+    /// of a void's cross-section), and each cell's depth with the holes' outlines counted. Only
+    /// the cells within the depth range of a cross-section's box can change; the others keep
+    /// the bare layer's.
     pub(super) fn cut_planes(
         &self,
         voids: &[Void],
         crossed: RangeInclusive<usize>,
         area: &CellBox,
-    ) -> (Planes, Planes) {
+    ) -> (Planes, Planes, Vec<Option<DepthPatch>>) {
         let layout = &self.layout;
         let first = *crossed.start();
-        let cut: Vec<(Vec<bool>, Vec<bool>)> = map_each(crossed.count(), |offset| {
-            let k = first + offset;
-            let bare_inside = Rows::bare(&self.inside[k], layout.columns, area);
-            let bare_near = Rows::bare(&self.near[k], layout.columns, area);
-            let mut hole = layout.in_voids(k, voids, area);
-            for (y, row) in hole.chunks_mut(area.width()).enumerate() {
-                for (h, &inside) in row.iter_mut().zip(bare_inside.row(y)) {
-                    *h &= inside;
+        let thickness = layout.slicing.perimeter_thickness;
+        let reach = (thickness.max(DEPTH_RANGE) / layout.cell).ceil() as usize + 2;
+        let cut: Vec<(Vec<bool>, Vec<bool>, Option<DepthPatch>)> =
+            map_each(crossed.count(), |offset| {
+                let k = first + offset;
+                let mut inside = Vec::with_capacity(area.len());
+                let mut near = Vec::with_capacity(area.len());
+                for j in area.j.clone() {
+                    let row = j * layout.columns + area.i.start..j * layout.columns + area.i.end;
+                    inside.extend_from_slice(&self.inside[k][row.clone()]);
+                    near.extend_from_slice(&self.near[k][row]);
                 }
-            }
-            let around = layout.near_hole(&hole, area);
-            let (mut inside, mut near) = (
-                Vec::with_capacity(area.len()),
-                Vec::with_capacity(area.len()),
-            );
-            let rows = hole.chunks(area.width()).zip(around.chunks(area.width()));
-            for (y, (hole, around)) in rows.enumerate() {
-                inside.extend(bare_inside.row(y).iter().zip(hole).map(|(&b, &h)| b && !h));
-                near.extend(bare_near.row(y).iter().zip(around).map(|(&b, &a)| b || a));
-            }
-            (inside, near)
-        });
-        let (inside, near) = cut.into_iter().unzip();
+                let changed = layout
+                    .sections_cover(k, voids)
+                    .and_then(|cells| cells.grown(reach, layout).within(area));
+                let Some(changed) = changed else {
+                    return (inside, near, None);
+                };
+                let hole = layout.in_voids(k, voids, &changed);
+                // The changed box's cells as the area's: row y of the box starts at `at(y)`.
+                let at = |y: usize| {
+                    (changed.j.start - area.j.start + y) * area.width() + changed.i.start
+                        - area.i.start
+                };
+                let width = changed.width();
+                let mut cut_inside = Vec::with_capacity(changed.len());
+                let mut depth = Vec::with_capacity(changed.len());
+                for (y, hole) in hole.chunks(width).enumerate() {
+                    let row = &mut inside[at(y)..at(y) + width];
+                    for (cell, &h) in row.iter_mut().zip(hole) {
+                        *cell &= !h;
+                    }
+                    cut_inside.extend_from_slice(row);
+                    let j = changed.j.start + y;
+                    let bare = j * layout.columns + changed.i.start;
+                    depth.extend_from_slice(&self.depth[k][bare..bare + width]);
+                }
+                let from_holes = layout.hole_distances(k, voids, &changed, &cut_inside, reach);
+                let thickness2 = thickness * thickness;
+                for y in 0..changed.height() {
+                    let row = y * width..(y + 1) * width;
+                    let near = &mut near[at(y)..at(y) + width];
+                    let cells = near.iter_mut().zip(&mut depth[row.clone()]);
+                    let measured = cut_inside[row.clone()].iter().zip(&from_holes[row]);
+                    for ((near, depth), (&inside, &d2)) in cells.zip(measured) {
+                        *near |= inside && d2 < thickness2;
+                        *depth = if inside {
+                            depth.min(depth_value(true, d2))
+                        } else {
+                            -1.0
+                        };
+                    }
+                }
+                let patch = DepthPatch {
+                    cells: changed,
+                    depth,
+                };
+                (inside, near, Some(patch))
+            });
+        let mut inside = Vec::new();
+        let mut near = Vec::new();
+        let mut depth = Vec::new();
+        for (i, n, d) in cut {
+            inside.push(i);
+            near.push(n);
+            depth.push(d);
+        }
         let planes = |layers| Planes {
             first,
             area: area.clone(),
             layers,
         };
-        (planes(inside), planes(near))
+        (planes(inside), planes(near), depth)
     }
 
     /// The change in layer `k`'s solid and sparse cells when its classes before the
@@ -178,7 +226,7 @@ impl Layers {
             for j in edge.j.clone() {
                 let cells = row(&edge, j);
                 let sparse = before_rule[cells.clone()].iter().enumerate();
-                for (offset, _) in sparse.filter(|&(_, &class)| class == Cell::Sparse) {
+                for (offset, _) in sparse.filter(|&(_, &class)| class.is_interior()) {
                     let (i, start) = (edge.i.start + offset, cells.start + offset);
                     if verdict[start] != Verdict::Unseen {
                         continue;
@@ -196,8 +244,7 @@ impl Layers {
             }
             // A region the bare layer filled solid that now joins a large one is reached by no
             // stopped flood, but each of its parts outside `valid` holds a cell of the edge.
-            let filled =
-                |index: usize| bare_unsettled[index] == Cell::Sparse && bare[index] == Cell::Solid;
+            let filled = |index: usize| bare[index] == Cell::Small;
             // Without such parts when the edge is all inside `valid` (the whole raster).
             let ring = if edge == *valid { 0..0 } else { edge.j.clone() };
             // Allocated at the first filled cell of the ring: most layers have none.
@@ -244,10 +291,13 @@ impl Layers {
         // A cell the rule reached takes its verdict; one it did not keeps its class before the
         // rule inside `valid`, the bare layer's outside.
         let mut change = Totals::default();
+        // The cells whose class changes, and their new class.
+        let mut changed = Vec::new();
         let mut set = |(i, j): (usize, usize), was: Cell, to: Cell| {
             if to != was {
                 change.add(-1, was, i, j, k);
                 change.add(1, to, i, j, k);
+                changed.push((j * columns + i, to));
             }
         };
         for j in valid.j.clone() {
@@ -258,13 +308,43 @@ impl Layers {
             for (i, ((verdict, &unreached), &was)) in
                 valid.i.clone().zip(verdicts.zip(&bare[cells]))
             {
-                set((i, j), was, verdict.class(unreached));
+                set(
+                    (i, j),
+                    was,
+                    verdict.class(unreached, unreached.in_large_region()),
+                );
             }
         }
         // Each settled cell lies outside `valid`, and a flood or a walk settles it once.
         for (i, j) in settled {
             let index = j * columns + i;
-            set((i, j), bare[index], verdict[index].class(bare[index]));
+            set(
+                (i, j),
+                bare[index],
+                verdict[index].class(bare_unsettled[index], bare[index]),
+            );
+        }
+        // The blocks of the sparse outline with a changed cell at a corner, before and after.
+        changed.sort_unstable_by_key(|&(index, _)| index);
+        let mut blocks: Vec<(usize, usize)> = changed
+            .iter()
+            .flat_map(|&(index, _)| {
+                let (i, j) = (index % columns, index / columns);
+                [(j, i), (j, i + 1), (j + 1, i), (j + 1, i + 1)]
+            })
+            .collect();
+        blocks.sort_unstable();
+        blocks.dedup();
+        let after = |i: usize, j: usize| {
+            let index = j * columns + i;
+            match changed.binary_search_by_key(&index, |&(index, _)| index) {
+                Ok(at) => changed[at].1,
+                Err(_) => bare[index],
+            }
+        };
+        for (j, i) in blocks {
+            change.add_block(layout, -1, (i, j, k), |i, j| bare[j * columns + i]);
+            change.add_block(layout, 1, (i, j, k), after);
         }
         change
     }
@@ -305,7 +385,7 @@ impl Flood {
             let (i, j) = cell;
             let index = j * columns + i;
             let mut reach = |next: (usize, usize), at: usize| {
-                if class[at] != Cell::Sparse {
+                if !class[at].is_interior() {
                     return;
                 }
                 match verdict[at] {
@@ -345,6 +425,15 @@ impl Flood {
         }
         &self.region
     }
+}
+
+/// How far from a void's cross-section in a layer the classes of the layers that read it can
+/// change: the perimeters and the surface margin around the hole, or a widened strip, which
+/// reads depths up to the fill boundary and three widenings ([`Classifier`]).
+fn changed_reach(slicing: &super::Slicing) -> f64 {
+    let perimeters = slicing.perimeter_thickness + slicing.surface_margin.max(0.0);
+    let strips = slicing.fill_boundary.max(0.0) + 3.0 * slicing.shell_widening.max(0.0);
+    perimeters.max(strips)
 }
 
 /// The layers whose class cutting the layers `first` to `last` can change: a layer's class
