@@ -210,19 +210,17 @@ impl Totals {
         }
     }
 
-    /// Counts block (`i`, `j`) of layer `k`'s sparse outline ([`Outline`]) as it is with the
-    /// layer's classes read by `class` (`sign` 1) or no longer (−1).
+    /// Counts block (`i`, `j`) of layer `k`'s sparse outline ([`Outline`]) as it is when
+    /// `is_sparse` says which of the layer's cells are sparse (`sign` 1) or no longer (−1).
     pub(super) fn add_block(
         &mut self,
         layout: &Layout,
         sign: i64,
         (i, j, k): (usize, usize, usize),
-        class: impl Fn(usize, usize) -> Cell,
+        is_sparse: impl Fn(usize, usize) -> bool,
     ) {
         let sparse = |i: Option<usize>, j: Option<usize>| match (i, j) {
-            (Some(i), Some(j)) if i < layout.columns && j < layout.rows => {
-                class(i, j) == Cell::Sparse
-            }
+            (Some(i), Some(j)) if i < layout.columns && j < layout.rows => is_sparse(i, j),
             _ => false,
         };
         let (left, below) = (i.checked_sub(1), j.checked_sub(1));
@@ -243,7 +241,7 @@ impl Totals {
                 self.add(1, cell, i, j, k);
             }
         }
-        let of = |i: usize, j: usize| class[j * layout.columns + i];
+        let of = |i: usize, j: usize| class[j * layout.columns + i] == Cell::Sparse;
         for j in 0..=layout.rows {
             for i in 0..=layout.columns {
                 self.add_block(layout, 1, (i, j, k), of);

@@ -291,13 +291,15 @@ impl Layers {
         // A cell the rule reached takes its verdict; one it did not keeps its class before the
         // rule inside `valid`, the bare layer's outside.
         let mut change = Totals::default();
-        // The cells whose class changes, and their new class.
-        let mut changed = Vec::new();
+        // The cells that become sparse or stop being sparse: all the sparse outline reads.
+        let mut flipped = Vec::new();
         let mut set = |(i, j): (usize, usize), was: Cell, to: Cell| {
             if to != was {
                 change.add(-1, was, i, j, k);
                 change.add(1, to, i, j, k);
-                changed.push((j * columns + i, to));
+                if (was == Cell::Sparse) != (to == Cell::Sparse) {
+                    flipped.push(j * columns + i);
+                }
             }
         };
         for j in valid.j.clone() {
@@ -324,29 +326,73 @@ impl Layers {
                 verdict[index].class(bare_unsettled[index], bare[index]),
             );
         }
-        // The blocks of the sparse outline with a changed cell at a corner, before and after.
-        changed.sort_unstable_by_key(|&(index, _)| index);
-        let mut blocks: Vec<(usize, usize)> = changed
-            .iter()
-            .flat_map(|&(index, _)| {
-                let (i, j) = (index % columns, index / columns);
-                [(j, i), (j, i + 1), (j + 1, i), (j + 1, i + 1)]
-            })
-            .collect();
-        blocks.sort_unstable();
-        blocks.dedup();
-        let after = |i: usize, j: usize| {
-            let index = j * columns + i;
-            match changed.binary_search_by_key(&index, |&(index, _)| index) {
-                Ok(at) => changed[at].1,
-                Err(_) => bare[index],
+        // The blocks of the sparse outline with a flipped cell at a corner, before and after:
+        // over the box of the flipped cells (blocks reach one cell further up and right).
+        if let Some(flips) = Flips::of(&flipped, columns) {
+            let before = |i: usize, j: usize| bare[j * columns + i] == Cell::Sparse;
+            let after = |i: usize, j: usize| before(i, j) != flips.holds(i, j);
+            for j in flips.rows.start..=flips.rows.end {
+                for i in flips.columns.start..=flips.columns.end {
+                    if flips.touches_block(i, j) {
+                        change.add_block(layout, -1, (i, j, k), before);
+                        change.add_block(layout, 1, (i, j, k), after);
+                    }
+                }
             }
-        };
-        for (j, i) in blocks {
-            change.add_block(layout, -1, (i, j, k), |i, j| bare[j * columns + i]);
-            change.add_block(layout, 1, (i, j, k), after);
         }
         change
+    }
+}
+
+/// The cells of a layer that flipped (became sparse or stopped being sparse), over their box.
+struct Flips {
+    columns: std::ops::Range<usize>,
+    rows: std::ops::Range<usize>,
+    /// Row by row over the box.
+    flipped: Vec<bool>,
+}
+
+impl Flips {
+    /// The flipped cells at layer indices `cells` of a raster `raster` columns wide; `None`
+    /// for none.
+    fn of(cells: &[usize], raster: usize) -> Option<Flips> {
+        let at = |index: &usize| (index % raster, index / raster);
+        let (mut low, mut high) = (at(cells.first()?), at(cells.first()?));
+        for (i, j) in cells.iter().map(at) {
+            low = (low.0.min(i), low.1.min(j));
+            high = (high.0.max(i), high.1.max(j));
+        }
+        let (columns, rows) = (low.0..high.0 + 1, low.1..high.1 + 1);
+        let mut flipped = vec![false; columns.len() * rows.len()];
+        for (i, j) in cells.iter().map(at) {
+            flipped[(j - rows.start) * columns.len() + (i - columns.start)] = true;
+        }
+        Some(Flips {
+            columns,
+            rows,
+            flipped,
+        })
+    }
+
+    /// Whether cell (`i`, `j`) flipped.
+    fn holds(&self, i: usize, j: usize) -> bool {
+        self.columns.contains(&i)
+            && self.rows.contains(&j)
+            && self.flipped[(j - self.rows.start) * self.columns.len() + (i - self.columns.start)]
+    }
+
+    /// Whether a corner of outline block (`i`, `j`) (cells `i − 1`, `i` by `j − 1`, `j`)
+    /// flipped.
+    fn touches_block(&self, i: usize, j: usize) -> bool {
+        let (left, below) = (i.checked_sub(1), j.checked_sub(1));
+        [
+            (left, below),
+            (Some(i), below),
+            (left, Some(j)),
+            (Some(i), Some(j)),
+        ]
+        .into_iter()
+        .any(|corner| matches!(corner, (Some(i), Some(j)) if self.holds(i, j)))
     }
 }
 
