@@ -178,6 +178,19 @@ fn segments(sparse: [bool; 4]) -> (i64, i64) {
     }
 }
 
+/// The cells at the corners of outline block (`i`, `j`): lower left, lower right, upper left,
+/// upper right (cells `i − 1` and `i` by `j − 1` and `j`); `None` for one before the raster.
+pub(super) fn block_corners(i: usize, j: usize) -> [Option<(usize, usize)>; 4] {
+    let (left, below) = (i.checked_sub(1), j.checked_sub(1));
+    let at = |i: Option<usize>, j: Option<usize>| Some((i?, j?));
+    [
+        at(left, below),
+        at(Some(i), below),
+        at(left, Some(j)),
+        at(Some(i), Some(j)),
+    ]
+}
+
 /// Length of the joins PrusaSlicer lays between neighbouring ends of the sparse infill's lines
 /// along a sparse region's outline, per unit length of outline, whatever the density
 /// (`connect_infill`, measured on its 2.5 G-code: squares, circles and rings).
@@ -219,17 +232,10 @@ impl Totals {
         (i, j, k): (usize, usize, usize),
         is_sparse: impl Fn(usize, usize) -> bool,
     ) {
-        let sparse = |i: Option<usize>, j: Option<usize>| match (i, j) {
-            (Some(i), Some(j)) if i < layout.columns && j < layout.rows => is_sparse(i, j),
+        let corners = block_corners(i, j).map(|corner| match corner {
+            Some((i, j)) if i < layout.columns && j < layout.rows => is_sparse(i, j),
             _ => false,
-        };
-        let (left, below) = (i.checked_sub(1), j.checked_sub(1));
-        let corners = [
-            sparse(left, below),
-            sparse(Some(i), below),
-            sparse(left, Some(j)),
-            sparse(Some(i), Some(j)),
-        ];
+        });
         self.outline.add(sign, corners, i, j, k);
     }
 

@@ -16,7 +16,7 @@ use super::cells::{CellBox, Overlay, Planes};
 use super::classes::{neighbours, Cell, Classifier, DepthPatch, Depths};
 use super::depth::{depth_value, DEPTH_RANGE};
 use super::layout::Layout;
-use super::tally::Totals;
+use super::tally::{block_corners, Totals};
 use super::{Layers, Void};
 use crate::parallel::map_each;
 
@@ -331,8 +331,8 @@ impl Layers {
         if let Some(flips) = Flips::of(&flipped, columns) {
             let before = |i: usize, j: usize| bare[j * columns + i] == Cell::Sparse;
             let after = |i: usize, j: usize| before(i, j) != flips.holds(i, j);
-            for j in flips.rows.start..=flips.rows.end {
-                for i in flips.columns.start..=flips.columns.end {
+            for j in flips.cells.j.start..=flips.cells.j.end {
+                for i in flips.cells.i.start..=flips.cells.i.end {
                     if flips.touches_block(i, j) {
                         change.add_block(layout, -1, (i, j, k), before);
                         change.add_block(layout, 1, (i, j, k), after);
@@ -346,53 +346,44 @@ impl Layers {
 
 /// The cells of a layer that flipped (became sparse or stopped being sparse), over their box.
 struct Flips {
-    columns: std::ops::Range<usize>,
-    rows: std::ops::Range<usize>,
+    cells: CellBox,
     /// Row by row over the box.
     flipped: Vec<bool>,
 }
 
 impl Flips {
-    /// The flipped cells at layer indices `cells` of a raster `raster` columns wide; `None`
+    /// The flipped cells at layer indices `indices` of a raster `raster` columns wide; `None`
     /// for none.
-    fn of(cells: &[usize], raster: usize) -> Option<Flips> {
+    fn of(indices: &[usize], raster: usize) -> Option<Flips> {
         let at = |index: &usize| (index % raster, index / raster);
-        let (mut low, mut high) = (at(cells.first()?), at(cells.first()?));
-        for (i, j) in cells.iter().map(at) {
+        let (mut low, mut high) = (at(indices.first()?), at(indices.first()?));
+        for (i, j) in indices.iter().map(at) {
             low = (low.0.min(i), low.1.min(j));
             high = (high.0.max(i), high.1.max(j));
         }
-        let (columns, rows) = (low.0..high.0 + 1, low.1..high.1 + 1);
-        let mut flipped = vec![false; columns.len() * rows.len()];
-        for (i, j) in cells.iter().map(at) {
-            flipped[(j - rows.start) * columns.len() + (i - columns.start)] = true;
+        let cells = CellBox {
+            i: low.0..high.0 + 1,
+            j: low.1..high.1 + 1,
+        };
+        let mut flipped = vec![false; cells.len()];
+        for (i, j) in indices.iter().map(at) {
+            flipped[(j - cells.j.start) * cells.width() + (i - cells.i.start)] = true;
         }
-        Some(Flips {
-            columns,
-            rows,
-            flipped,
-        })
+        Some(Flips { cells, flipped })
     }
 
     /// Whether cell (`i`, `j`) flipped.
     fn holds(&self, i: usize, j: usize) -> bool {
-        self.columns.contains(&i)
-            && self.rows.contains(&j)
-            && self.flipped[(j - self.rows.start) * self.columns.len() + (i - self.columns.start)]
+        let cells = &self.cells;
+        cells.contains(i, j)
+            && self.flipped[(j - cells.j.start) * cells.width() + (i - cells.i.start)]
     }
 
-    /// Whether a corner of outline block (`i`, `j`) (cells `i − 1`, `i` by `j − 1`, `j`)
-    /// flipped.
+    /// Whether a corner of outline block (`i`, `j`) flipped.
     fn touches_block(&self, i: usize, j: usize) -> bool {
-        let (left, below) = (i.checked_sub(1), j.checked_sub(1));
-        [
-            (left, below),
-            (Some(i), below),
-            (left, Some(j)),
-            (Some(i), Some(j)),
-        ]
-        .into_iter()
-        .any(|corner| matches!(corner, (Some(i), Some(j)) if self.holds(i, j)))
+        block_corners(i, j)
+            .into_iter()
+            .any(|corner| corner.is_some_and(|(i, j)| self.holds(i, j)))
     }
 }
 
