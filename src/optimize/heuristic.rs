@@ -1,10 +1,12 @@
 //! The capsule-count heuristic of section 4.5: optimize from every seed, remove the capsules that
 //! did not grow, reset the rest to their seeds, and repeat down to no capsules.
 
+use std::collections::VecDeque;
+use std::thread::ScopedJoinHandle;
 use std::time::Instant;
 
 use super::problem::{Outcome, Problem, StartCapsule};
-use crate::parallel::map_each;
+use crate::parallel::{cores, map_each};
 
 /// A capsule grew when its optimized radius exceeds its starting radius by this factor.
 const GROWTH: f64 = 1.1;
@@ -42,12 +44,15 @@ pub struct Round {
 
 /// Runs the heuristic from `seeds` (pinned capsules are kept in every round and never removed).
 ///
-/// Each round optimizes the current capsules from their seeds (the paper's reset) and, after the
-/// first round, also from where the previous round left them, keeping the better (with one
-/// unpinned capsule left, also from each seed alone); then it marks the unpinned capsules
-/// whose radius did not grow by 10 %, removes the least grown of them (at most half of the
-/// unpinned capsules, and at least one even when none is marked) and starts the next round from
-/// the survivors' seeds. It stops after the round with no unpinned capsule left. With
+/// Each round solves the smooth program for the current capsules from their seeds (the paper's
+/// reset) and, after the first round, also from where the previous round left them, keeping the
+/// better solve (with one unpinned capsule left, also from each seed alone:
+/// [`Problem::explore`]); then it marks the unpinned capsules whose radius did not grow by 10 %
+/// in that solve, removes the least grown of them (at most half of the unpinned capsules, and
+/// at least one even when none is marked) and starts the next round from the survivors' seeds.
+/// Only the round's kept solve is refined into the design the judge weighs
+/// ([`Problem::refine`]), beside the rounds that follow. It stops after the round with no
+/// unpinned capsule left. With
 /// `stop_at = Some(n)` it stops after the round with `n` capsules instead (seeds are split first
 /// if there are fewer than `n`).
 ///
@@ -65,114 +70,153 @@ pub fn run(
     if let Some(n) = stop_at {
         split_until(&mut current, n);
     }
-    let mut candidates = Vec::new();
-    // The survivors of the previous round where that round's optimization left them.
+    // The survivors of the previous round where that round's solve left them.
     let mut warm: Option<Vec<StartCapsule>> = None;
     let alone_seeds = seeds.iter().filter(|s| !s.pinned).count();
-    let mut round = 0;
-    loop {
-        round += 1;
-        let pinned = current.iter().filter(|c| c.pinned).count();
-        let floor = stop_at.unwrap_or(0).max(pinned);
-        let one_left = current.len() - pinned == 1;
-        let (capsules, most_rounds) = (current.len(), round + current.len().saturating_sub(floor));
-        let solves = 1 + usize::from(warm.is_some()) + if one_left { alone_seeds } else { 0 };
-        let at = |solve: usize| Round {
-            round,
-            most_rounds,
-            capsules,
-            solve,
-            solves,
-        };
-        // The round's solves are independent of each other: from the seeds, from where the last
-        // round left the survivors, and with one movable capsule left from each seed alone.
-        // They run side by side on every core, and are compared in that order, so the round's
-        // outcome is the one solving them one after another would give.
-        let mut starts = vec![current.clone()];
-        starting(at(1));
-        if let Some(warm) = &warm {
-            starting(at(2));
-            starts.push(warm.clone());
-        }
-        let alone_from = starts.len();
-        if one_left {
-            let first = solves - alone_seeds;
-            for (index, alone) in seeds.iter().filter(|s| !s.pinned).enumerate() {
-                let mut start: Vec<StartCapsule> =
-                    current.iter().filter(|c| c.pinned).cloned().collect();
-                start.push(alone.clone());
-                if start == current {
-                    continue;
+    // Each round's refinement (the judge's corrections, stock balls, the exact check) needs
+    // only that round's solve, and the next round only the solve too: the refinements run
+    // beside the rounds that follow, at most one per core at a time, and are collected in
+    // round order, so the candidates are those of running everything one after another.
+    let most_refining = cores().max(1);
+    std::thread::scope(|scope| {
+        let mut refining: VecDeque<Refining> = VecDeque::new();
+        let mut finished: Vec<Option<Candidate>> = Vec::new();
+        let mut round = 0;
+        loop {
+            round += 1;
+            let pinned = current.iter().filter(|c| c.pinned).count();
+            let floor = stop_at.unwrap_or(0).max(pinned);
+            let one_left = current.len() - pinned == 1;
+            let (capsules, most_rounds) =
+                (current.len(), round + current.len().saturating_sub(floor));
+            let solves = 1 + usize::from(warm.is_some()) + if one_left { alone_seeds } else { 0 };
+            let at = |solve: usize| Round {
+                round,
+                most_rounds,
+                capsules,
+                solve,
+                solves,
+            };
+            // The round's solves are independent of each other: from the seeds, from where the
+            // last round left the survivors, and with one movable capsule left from each seed
+            // alone. They run side by side on every core, and are compared in that order.
+            let mut starts = vec![current.clone()];
+            starting(at(1));
+            if let Some(warm) = &warm {
+                starting(at(2));
+                starts.push(warm.clone());
+            }
+            let alone_from = starts.len();
+            if one_left {
+                let first = solves - alone_seeds;
+                for (index, alone) in seeds.iter().filter(|s| !s.pinned).enumerate() {
+                    let mut start: Vec<StartCapsule> =
+                        current.iter().filter(|c| c.pinned).cloned().collect();
+                    start.push(alone.clone());
+                    if start == current {
+                        continue;
+                    }
+                    starting(at(first + index + 1));
+                    starts.push(start);
                 }
-                starting(at(first + index + 1));
-                starts.push(start);
             }
-        }
-        let clock = Instant::now();
-        let mut reached = map_each(starts.len(), |i| problem.optimize(&starts[i])).into_iter();
-        let mut outcome = reached.next().expect("the round's first solve");
-        if warm.is_some() {
-            let resumed = reached.next().expect("the resumed solve");
-            if better(&resumed, &outcome) {
-                outcome = resumed;
+            let clock = Instant::now();
+            let mut explored = map_each(starts.len(), |i| problem.explore(&starts[i]));
+            if problem.is_cancelled() {
+                break;
             }
-        }
-        // Down to one movable capsule, every seed is tried on its own at little cost.
-        for (start, tried) in starts.split_off(alone_from).into_iter().zip(reached) {
-            if start == current {
-                continue;
+            let mut best = 0;
+            if warm.is_some() && explored[1].is_better_than(&explored[0]) {
+                best = 1;
             }
-            if better(&tried, &outcome) {
-                outcome = tried;
-                current = start;
+            // Down to one movable capsule, every seed is tried on its own at little cost.
+            for index in alone_from..starts.len() {
+                if explored[index].is_better_than(&explored[best]) {
+                    best = index;
+                    current = starts[index].clone();
+                }
             }
+            let chosen = explored.swap_remove(best);
+            let growth: Vec<(usize, f64)> = current
+                .iter()
+                .zip(&chosen.design.capsules)
+                .enumerate()
+                .filter(|(_, (start, _))| !start.pinned)
+                .map(|(j, (start, reached))| (j, reached.radius / start.radius))
+                .collect();
+            let reached: Vec<StartCapsule> = current
+                .iter()
+                .zip(&chosen.design.capsules)
+                .map(|(start, reached)| StartCapsule {
+                    from: reached.from,
+                    to: reached.to,
+                    radius: reached.radius,
+                    ..start.clone()
+                })
+                .collect();
+            if refining.len() >= most_refining {
+                finished.extend(refining.pop_front().map(Refining::join));
+            }
+            let explored_seconds = clock.elapsed().as_secs_f64();
+            refining.push_back(Refining {
+                starts: current.clone(),
+                refined: scope.spawn(move || {
+                    let clock = Instant::now();
+                    let outcome = problem.refine(&chosen);
+                    // A refinement the cancellation reached means nothing.
+                    (!problem.is_cancelled())
+                        .then(|| (outcome, explored_seconds + clock.elapsed().as_secs_f64()))
+                }),
+            });
+            let floor = stop_at.unwrap_or(0);
+            if growth.is_empty() || current.len() <= floor {
+                break;
+            }
+            let mut order = growth.clone();
+            order.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+            let marked = order.iter().filter(|(_, g)| *g <= GROWTH).count();
+            let most = (growth.len() / 2).max(1);
+            let remove = marked.clamp(1, most).min(current.len() - floor);
+            let mut gone: Vec<usize> = order[..remove].iter().map(|(j, _)| *j).collect();
+            gone.sort_unstable();
+            let mut survivors = reached;
+            for j in gone.into_iter().rev() {
+                current.remove(j);
+                survivors.remove(j);
+            }
+            warm = Some(survivors);
         }
-        if problem.is_cancelled() {
-            break;
-        }
-        let seconds = clock.elapsed().as_secs_f64();
-        let growth: Vec<(usize, f64)> = current
-            .iter()
-            .zip(&outcome.design.capsules)
-            .enumerate()
-            .filter(|(_, (start, _))| !start.pinned)
-            .map(|(j, (start, reached))| (j, reached.radius / start.radius))
-            .collect();
-        let reached: Vec<StartCapsule> = current
-            .iter()
-            .zip(&outcome.design.capsules)
-            .map(|(start, reached)| StartCapsule {
-                from: reached.from,
-                to: reached.to,
-                radius: reached.radius,
-                ..start.clone()
-            })
-            .collect();
-        candidates.push(Candidate {
-            capsules: current.len(),
+        finished.extend(refining.into_iter().map(Refining::join));
+        // The rounds finished before a cancellation.
+        finished
+            .into_iter()
+            .map_while(|candidate| candidate)
+            .collect()
+    })
+}
+
+/// A round whose chosen solve is being refined beside the rounds that follow.
+struct Refining<'scope> {
+    /// The round's start capsules.
+    starts: Vec<StartCapsule>,
+    /// The judged outcome and the round's seconds; `None` when cancelled.
+    refined: ScopedJoinHandle<'scope, Option<(Outcome, f64)>>,
+}
+
+impl Refining<'_> {
+    /// The round's candidate, once refined; `None` when the refinement was cancelled.
+    fn join(self) -> Option<Candidate> {
+        let refined = self
+            .refined
+            .join()
+            .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+        refined.map(|(outcome, seconds)| Candidate {
+            capsules: self.starts.len(),
             outcome,
-            starts: current.clone(),
+            starts: self.starts,
             seconds,
-        });
-        let floor = stop_at.unwrap_or(0);
-        if growth.is_empty() || current.len() <= floor {
-            break;
-        }
-        let mut order = growth.clone();
-        order.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
-        let marked = order.iter().filter(|(_, g)| *g <= GROWTH).count();
-        let most = (growth.len() / 2).max(1);
-        let remove = marked.clamp(1, most).min(current.len() - floor);
-        let mut gone: Vec<usize> = order[..remove].iter().map(|(j, _)| *j).collect();
-        gone.sort_unstable();
-        let mut survivors = reached;
-        for j in gone.into_iter().rev() {
-            current.remove(j);
-            survivors.remove(j);
-        }
-        warm = Some(survivors);
+        })
     }
-    candidates
 }
 
 /// The candidate to use: with `wanted = Some(n)`, the one with `n` capsules. Otherwise, among the
@@ -211,16 +255,6 @@ pub fn choose(candidates: &[Candidate], wanted: Option<usize>, tolerance_degrees
                 .then(a.1.capsules.cmp(&b.1.capsules))
         })
         .map_or(0, |(i, _)| i)
-}
-
-/// Whether `a` is the better outcome: it meets every goal and `b` does not, or both or neither do
-/// and `a` reached a lower objective.
-fn better(a: &Outcome, b: &Outcome) -> bool {
-    match (a.meets_goals, b.meets_goals) {
-        (true, false) => true,
-        (false, true) => false,
-        _ => a.value < b.value,
-    }
 }
 
 /// Splits the longest unpinned seed in two along its axis until there are `n` seeds (or none can

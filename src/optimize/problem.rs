@@ -6,19 +6,19 @@ use std::sync::Arc;
 use nalgebra::{Point3, Vector3};
 
 use super::bounds::design_bounds;
-use super::solver::{solve, Bounds, Budget, Method, Solve, FEASIBLE};
-use super::stock::{capsule_radius, grid_scale, length_decimals, snap};
-use crate::balance::{
-    component_material, evaluate_pose, ComponentBody, GoalOutcome, PartPrints, PoseEvaluation,
-};
+use super::solver::{preferred, solve, Bounds, Budget, Method, Solve};
+use super::stock::{grid_scale, length_decimals};
+use crate::balance::{evaluate_pose, ComponentBody, GoalOutcome, PartPrints, PoseEvaluation};
 use crate::cancel::Cancel;
 use crate::design::{Design, PlacedCapsule};
 use crate::fabrication::{check_design, CapsuleIssue, PrintSetup};
-use crate::geometry::{PrintCorrection, TriMesh};
+use crate::geometry::TriMesh;
 use crate::objective::{
-    DesignLayout, GridInterior, Insertion, Objective, Parameters, CAPSULE_STRIDE, R,
+    DesignLayout, GridInterior, Insertion, Objective, Parameters, CAPSULE_STRIDE,
 };
 use crate::spec::model::Project;
+
+mod refine;
 
 /// A capsule the optimizer starts from: from a skeleton segment, from the project file, or
 /// random.
@@ -101,22 +101,27 @@ pub struct Outcome {
     pub evaluations: usize,
 }
 
-/// At most this many solves, after the first, with the closed-form capsule term corrected
-/// towards the re-sliced material ([`Problem::corrected_bodies`]).
-const CORRECTIONS: usize = 3;
+/// Where a solve of the smooth program from a start left the design, before the judge's
+/// refinement ([`Problem::explore`], [`Problem::refine`]).
+#[derive(Debug, Clone)]
+pub struct Explored {
+    /// The start, each unpinned capsule upright along its component's print direction.
+    start: Vec<StartCapsule>,
+    layout: DesignLayout,
+    bounds: Bounds,
+    solved: Solve,
+    /// The design the solve reached (radii not yet snapped to stock balls).
+    pub design: Design,
+}
 
-/// Whether two sets of bodies have the same material within what moves no goal: volumes within
-/// 1e-4 of each component's outer volume, first moments within that volume times 1e-4 of its
-/// size (its cube root).
-fn same_material(a: &[ComponentBody], b: &[ComponentBody]) -> bool {
-    a.iter().zip(b).all(|(a, b)| {
-        let volume = a.mass.volume.abs();
-        let size = volume.cbrt();
-        let moment =
-            |body: &ComponentBody| body.print.solid.centroid.coords * body.print.solid.volume;
-        (a.print.solid.volume - b.print.solid.volume).abs() <= 1e-4 * volume
-            && (moment(a) - moment(b)).norm() <= 1e-4 * volume * size
-    })
+impl Explored {
+    /// Whether this solve reached a better point of the smooth program than `other`: within
+    /// the constraints where `other` is not, else the lower objective (the smaller violation
+    /// when neither is within them).
+    pub fn is_better_than(&self, other: &Explored) -> bool {
+        let (a, b) = (&self.solved, &other.solved);
+        preferred((a.value, a.violation), (b.value, b.violation))
+    }
 }
 
 /// Everything fixed while the capsules vary.
@@ -190,26 +195,21 @@ impl<'a> Problem<'a> {
         &self.parameters
     }
 
-    /// Optimizes from `start` and judges the result. Each unpinned capsule is first turned end
-    /// for end when its `from` is the higher end along its component's print direction: the
-    /// insertion constraint wants `to` on top.
+    /// Optimizes from `start` and judges the result: [`Problem::explore`], then
+    /// [`Problem::refine`].
     pub fn optimize(&self, start: &[StartCapsule]) -> Outcome {
+        self.refine(&self.explore(start))
+    }
+
+    /// Solves the smooth program from `start`, the closed-form capsule term standing in for the
+    /// material the judge weighs. Each unpinned capsule is first turned end for end when its
+    /// `from` is the higher end along its component's print direction: the insertion constraint
+    /// wants `to` on top.
+    pub fn explore(&self, start: &[StartCapsule]) -> Explored {
         let start: Vec<StartCapsule> = start.iter().map(|c| self.upright(c)).collect();
-        let start = start.as_slice();
-        let design = self.start_design(start);
+        let design = self.start_design(&start);
         let layout = DesignLayout::for_design(self.project, &design);
-        let objective_over = |bodies: &[ComponentBody]| {
-            Objective::new(
-                self.project,
-                bodies,
-                layout.clone(),
-                self.parameters.clone(),
-            )
-            .with_interior(Box::new(self.interior.clone()))
-            .with_insertion(self.insertion(start))
-            .with_rounding_slack(self.rounding_slack())
-        };
-        let objective = objective_over(&self.bodies);
+        let objective = self.objective_over(&self.bodies, &layout, &start);
         let mut bounds = design_bounds(&objective, self.meshes);
         let x0 = layout.to_vector(&design);
         for (j, capsule) in start.iter().enumerate() {
@@ -220,146 +220,42 @@ impl<'a> Problem<'a> {
                 }
             }
         }
-        let budget = Budget {
+        let solved = solve(&objective, &x0, &bounds, self.method, self.budget(&layout));
+        let design = layout.to_design(&solved.x, &self.project.ball, self.project.infill.value);
+        Explored {
+            start,
+            layout,
+            bounds,
+            solved,
+            design,
+        }
+    }
+
+    /// The objective of designs laid out as `layout` from `start`, over `bodies`.
+    fn objective_over(
+        &self,
+        bodies: &[ComponentBody],
+        layout: &DesignLayout,
+        start: &[StartCapsule],
+    ) -> Objective {
+        Objective::new(
+            self.project,
+            bodies,
+            layout.clone(),
+            self.parameters.clone(),
+        )
+        .with_interior(Box::new(self.interior.clone()))
+        .with_insertion(self.insertion(start))
+        .with_rounding_slack(self.rounding_slack())
+    }
+
+    /// The stops of one local solve of a design laid out as `layout`.
+    fn budget(&self, layout: &DesignLayout) -> Budget {
+        Budget {
             evaluations: (self.budget_per_unknown * layout.len()).max(200),
             cancel: self.cancel.clone(),
             ..Budget::default()
-        };
-        let solved = solve(&objective, &x0, &bounds, self.method, budget.clone());
-        // The closed-form capsule term is the smooth stand-in for the material the judge weighs
-        // (the design's voids cut from the print): correct it by their difference at the solved
-        // design and solve again from there, until the correction at the new design is the one
-        // it was solved with, so that the objective is that material's near the design.
-        let to_design =
-            |x: &[f64]| layout.to_design(x, &self.project.ball, self.project.infill.value);
-        let mut corrected = self.corrected_bodies(&to_design(&solved.x));
-        let mut solved = solved;
-        for _ in 0..CORRECTIONS {
-            let again = solve(
-                &objective_over(&corrected),
-                &solved.x,
-                &bounds,
-                self.method,
-                budget.clone(),
-            );
-            solved = Solve {
-                evaluations: solved.evaluations + again.evaluations,
-                ..again
-            };
-            let next = self.corrected_bodies(&to_design(&solved.x));
-            let settled = same_material(&corrected, &next);
-            corrected = next;
-            if settled {
-                break;
-            }
         }
-        let objective = objective_over(&corrected);
-        let solved = self.snapped(&objective, &bounds, start, solved, budget);
-        let mut design = layout.to_design(&solved.x, &self.project.ball, self.project.infill.value);
-        for (capsule, started) in design.capsules.iter_mut().zip(start) {
-            if let Some(ball) = self.project.ball.radius_for(capsule.radius) {
-                capsule.ball_radius = ball;
-            }
-            if started.pinned {
-                capsule.from = started.from;
-                capsule.to = started.to;
-                capsule.radius = started.radius;
-            }
-        }
-        let mut outcome = self.judge(design);
-        // The grid's interpolant can overestimate the distance to a sharp feature by a fraction
-        // of a cell: shrink any capsule that came too close, by the exact deficit, and re-judge.
-        // A stock radius cannot shrink by a fraction of a cell, only to the next smaller ball:
-        // first the capsules are moved instead, solved again as if wider by their deficit. A
-        // deficit past a cell is not the interpolant's but a solve that ended outside the
-        // constraints; solving again from there rarely mends it and costs as much as the solve,
-        // so such a capsule is only shrunk.
-        let listed = self.project.ball.is_listed();
-        let mut widening = vec![0.0; start.len()];
-        for attempt in 0..3 {
-            let move_first = listed && attempt < 2;
-            let mut shrunk = outcome.design.clone();
-            let (mut changed, mut moving) = (false, false);
-            for issue in &outcome.fabrication {
-                if let CapsuleIssue::TooCloseToSurface {
-                    capsule,
-                    distance,
-                    required,
-                    ..
-                } = *issue
-                {
-                    if start.get(capsule).is_none_or(|s| s.pinned) {
-                        continue;
-                    }
-                    let c = &mut shrunk.capsules[capsule];
-                    // Past the limit by what rounding the ends into the solution file may take.
-                    let deficit = (required - distance) * 1.01
-                        + 1e-9 * c.radius.abs()
-                        + self.rounding_slack();
-                    if move_first && required - distance <= self.grid_cell(c.component) {
-                        widening[capsule] += deficit;
-                        moving = true;
-                        continue;
-                    }
-                    let mut radius = c.radius - deficit;
-                    let Some(ball) = self.project.ball.radius_for(radius) else {
-                        continue;
-                    };
-                    if listed {
-                        radius = capsule_radius(&self.project.ball, ball, self.scale);
-                    }
-                    c.radius = radius;
-                    c.ball_radius = ball;
-                    changed = true;
-                }
-            }
-            if !changed && !moving {
-                break;
-            }
-            // A capsule shrunk beside one moved is shrunk at a later attempt, if still too close
-            // where the move left it.
-            if moving {
-                shrunk = self.moved(&objective, &bounds, &layout, &outcome.design, &widening);
-            }
-            outcome = self.judge(shrunk);
-        }
-        outcome.value = objective.value(&layout.to_vector(&outcome.design));
-        outcome.feasible = solved.violation <= FEASIBLE;
-        outcome.evaluations = solved.evaluations;
-        outcome
-    }
-
-    /// The bodies of the smooth objective near `design`: each component's bare material, plus
-    /// for one with capsules the difference between its material with `design`'s voids cut
-    /// ([`PartPrints::bodies`], what [`Problem::judge`] weighs) and the closed-form capsule term
-    /// at `design`, as a correction of its solid part.
-    fn corrected_bodies(&self, design: &Design) -> Vec<ComponentBody<'a>> {
-        let cut = self.parts.bodies(self.meshes, design);
-        self.bodies
-            .iter()
-            .zip(&cut)
-            .enumerate()
-            .map(|(index, (bare, cut))| {
-                if !design.capsules.iter().any(|c| c.component == index) {
-                    return *bare;
-                }
-                let truth = component_material(self.project, cut, design, index);
-                let surrogate = component_material(self.project, bare, design, index);
-                let correction = PrintCorrection::default().plus_difference(&truth, &surrogate);
-                match correction.apply(&bare.print) {
-                    Some(print) => ComponentBody { print, ..*bare },
-                    None => *bare,
-                }
-            })
-            .collect()
-    }
-
-    /// The spacing of component `component`'s distance grid (0 without one).
-    fn grid_cell(&self, component: usize) -> f64 {
-        self.interior
-            .grids
-            .get(component)
-            .map_or(0.0, |grid| grid.cell())
     }
 
     /// `capsule` with `to` its upper end along its component's print direction, unless pinned.
@@ -399,104 +295,6 @@ impl<'a> Problem<'a> {
             clearance: self.project.ball.clearance,
             layer_height: self.print.grid.layer_height,
             slack: self.rounding_slack(),
-        }
-    }
-
-    /// `design` with its capsules' ends and the infill solved again from where they are, every
-    /// radius fixed and each capsule seen by the constraints as `widening` wider than it is (so
-    /// that it keeps that much further from the surface); radii and balls stay `design`'s.
-    fn moved(
-        &self,
-        objective: &Objective,
-        bounds: &Bounds,
-        layout: &DesignLayout,
-        design: &Design,
-        widening: &[f64],
-    ) -> Design {
-        let mut x = layout.to_vector(design);
-        let mut fixed = bounds.clone();
-        for (j, extra) in widening.iter().enumerate() {
-            let i = j * CAPSULE_STRIDE + R;
-            x[i] += extra;
-            fixed.range[i] = (x[i], x[i]);
-        }
-        let budget = Budget {
-            evaluations: (self.budget_per_unknown * layout.len()).max(200),
-            cancel: self.cancel.clone(),
-            ..Budget::default()
-        };
-        let again = solve(objective, &x, &fixed, self.method, budget);
-        let mut moved = layout.to_design(&again.x, &self.project.ball, self.project.infill.value);
-        for (capsule, kept) in moved.capsules.iter_mut().zip(&design.capsules) {
-            capsule.radius = kept.radius;
-            capsule.ball_radius = kept.ball_radius;
-        }
-        moved
-    }
-
-    /// `solved` with the radius of every unpinned capsule snapped to a stock ball plus the
-    /// clearance ([`snap`]; the larger ball only when it breaks no constraint the smaller keeps),
-    /// then those radii fixed and everything else solved again from there; the snapped point
-    /// itself when the second solve ends at a higher objective. `solved` itself when balls come
-    /// in any size.
-    fn snapped(
-        &self,
-        objective: &Objective,
-        bounds: &Bounds,
-        start: &[StartCapsule],
-        solved: Solve,
-        budget: Budget,
-    ) -> Solve {
-        let ball = &self.project.ball;
-        if !ball.is_listed() || start.iter().all(|c| c.pinned) {
-            return solved;
-        }
-        let mut x = solved.x.clone();
-        let mut fixed = bounds.clone();
-        for (j, capsule) in start.iter().enumerate() {
-            let i = j * CAPSULE_STRIDE + R;
-            if capsule.pinned {
-                continue;
-            }
-            let with = |radius: f64| {
-                let mut trial = x.clone();
-                trial[i] = radius;
-                objective.constraint_values(&trial)
-            };
-            let allowed = |larger: f64| {
-                let lower = ball
-                    .radius_for(x[i])
-                    .map_or(0.0, |b| capsule_radius(ball, b, self.scale));
-                larger <= bounds.range[i].1
-                    && with(larger)
-                        .iter()
-                        .zip(with(lower))
-                        .all(|(g, kept)| *g >= 0.0 || *g >= kept)
-            };
-            let Some((radius, _)) = snap(ball, x[i], self.scale, allowed) else {
-                continue;
-            };
-            x[i] = radius;
-            fixed.range[i] = (radius, radius);
-        }
-        // The snapped point itself, evaluated as a solve with nothing free: the second solve
-        // prefers a smaller constraint violation to a lower objective, and from a point just
-        // outside the constraints it can drift far from the design the first solve found.
-        let pinned = Bounds {
-            range: x.iter().map(|&v| (v, v)).collect(),
-            ..bounds.clone()
-        };
-        let at_snap = solve(objective, &x, &pinned, self.method, budget.clone());
-        let again = solve(objective, &x, &fixed, self.method, budget);
-        let evaluations = solved.evaluations + at_snap.evaluations + again.evaluations;
-        let best = if at_snap.value < again.value {
-            at_snap
-        } else {
-            again
-        };
-        Solve {
-            evaluations,
-            ..best
         }
     }
 

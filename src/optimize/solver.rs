@@ -165,7 +165,10 @@ const COBYLA_STALL_BASE: usize = 50;
 /// Whether a point with `(value, violation)` is preferred to one with `(other_value,
 /// other_violation)`: a feasible point to an infeasible one, then the lower objective among
 /// feasible points, the smaller violation among infeasible ones.
-fn preferred((value, violation): (f64, f64), (other_value, other_violation): (f64, f64)) -> bool {
+pub(crate) fn preferred(
+    (value, violation): (f64, f64),
+    (other_value, other_violation): (f64, f64),
+) -> bool {
     match (violation <= FEASIBLE, other_violation <= FEASIBLE) {
         (true, true) => value < other_value,
         (true, false) => true,

@@ -1,0 +1,273 @@
+//! Refining an explored design into the one the judge weighs: the smooth program solved again
+//! with its capsule term corrected towards the re-sliced material, the radii snapped to stock
+//! balls, capsules the exact check finds too close to the surface moved or shrunk.
+
+use super::{Explored, Outcome, Problem, StartCapsule};
+use crate::balance::{component_material, ComponentBody};
+use crate::design::Design;
+use crate::fabrication::CapsuleIssue;
+use crate::geometry::PrintCorrection;
+use crate::objective::{DesignLayout, Objective, CAPSULE_STRIDE, R};
+use crate::optimize::solver::{solve, Bounds, Budget, Solve, FEASIBLE};
+use crate::optimize::stock::{capsule_radius, snap};
+
+/// At most this many solves, after the first, with the closed-form capsule term corrected
+/// towards the re-sliced material ([`Problem::corrected_bodies`]).
+const CORRECTIONS: usize = 3;
+
+/// Whether two sets of bodies have the same material within what moves no goal: volumes within
+/// 1e-4 of each component's outer volume, first moments within that volume times 1e-4 of its
+/// size (its cube root).
+fn same_material(a: &[ComponentBody], b: &[ComponentBody]) -> bool {
+    a.iter().zip(b).all(|(a, b)| {
+        let volume = a.mass.volume.abs();
+        let size = volume.cbrt();
+        let moment =
+            |body: &ComponentBody| body.print.solid.centroid.coords * body.print.solid.volume;
+        (a.print.solid.volume - b.print.solid.volume).abs() <= 1e-4 * volume
+            && (moment(a) - moment(b)).norm() <= 1e-4 * volume * size
+    })
+}
+
+impl<'a> Problem<'a> {
+    /// Carries an explored design to the one the judge weighs, and judges it: the smooth
+    /// program solved again with its capsule term corrected towards the re-sliced material,
+    /// every radius snapped to a stock ball, and any capsule the exact check finds too close to
+    /// the surface moved or shrunk.
+    pub fn refine(&self, explored: &Explored) -> Outcome {
+        let Explored {
+            start,
+            layout,
+            bounds,
+            solved,
+            ..
+        } = explored;
+        let (start, layout, bounds) = (start.as_slice(), layout, bounds);
+        let objective_over = |bodies: &[ComponentBody]| self.objective_over(bodies, layout, start);
+        let budget = self.budget(layout);
+        let solved = solved.clone();
+        let to_design =
+            |x: &[f64]| layout.to_design(x, &self.project.ball, self.project.infill.value);
+        let mut corrected = self.corrected_bodies(&to_design(&solved.x));
+        let mut solved = solved;
+        for _ in 0..CORRECTIONS {
+            let again = solve(
+                &objective_over(&corrected),
+                &solved.x,
+                bounds,
+                self.method,
+                budget.clone(),
+            );
+            solved = Solve {
+                evaluations: solved.evaluations + again.evaluations,
+                ..again
+            };
+            let next = self.corrected_bodies(&to_design(&solved.x));
+            let settled = same_material(&corrected, &next);
+            corrected = next;
+            if settled {
+                break;
+            }
+        }
+        let objective = objective_over(&corrected);
+        let solved = self.snapped(&objective, bounds, start, solved, budget);
+        let mut design = layout.to_design(&solved.x, &self.project.ball, self.project.infill.value);
+        for (capsule, started) in design.capsules.iter_mut().zip(start) {
+            if let Some(ball) = self.project.ball.radius_for(capsule.radius) {
+                capsule.ball_radius = ball;
+            }
+            if started.pinned {
+                capsule.from = started.from;
+                capsule.to = started.to;
+                capsule.radius = started.radius;
+            }
+        }
+        let mut outcome = self.judge(design);
+        // The grid's interpolant can overestimate the distance to a sharp feature by a fraction
+        // of a cell: shrink any capsule that came too close, by the exact deficit, and re-judge.
+        // A stock radius cannot shrink by a fraction of a cell, only to the next smaller ball:
+        // first the capsules are moved instead, solved again as if wider by their deficit. A
+        // deficit past a cell is not the interpolant's but a solve that ended outside the
+        // constraints; solving again from there rarely mends it and costs as much as the solve,
+        // so such a capsule is only shrunk.
+        let listed = self.project.ball.is_listed();
+        let mut widening = vec![0.0; start.len()];
+        for attempt in 0..3 {
+            let move_first = listed && attempt < 2;
+            let mut shrunk = outcome.design.clone();
+            let (mut changed, mut moving) = (false, false);
+            for issue in &outcome.fabrication {
+                if let CapsuleIssue::TooCloseToSurface {
+                    capsule,
+                    distance,
+                    required,
+                    ..
+                } = *issue
+                {
+                    if start.get(capsule).is_none_or(|s| s.pinned) {
+                        continue;
+                    }
+                    let c = &mut shrunk.capsules[capsule];
+                    // Past the limit by what rounding the ends into the solution file may take.
+                    let deficit = (required - distance) * 1.01
+                        + 1e-9 * c.radius.abs()
+                        + self.rounding_slack();
+                    if move_first && required - distance <= self.grid_cell(c.component) {
+                        widening[capsule] += deficit;
+                        moving = true;
+                        continue;
+                    }
+                    let mut radius = c.radius - deficit;
+                    let Some(ball) = self.project.ball.radius_for(radius) else {
+                        continue;
+                    };
+                    if listed {
+                        radius = capsule_radius(&self.project.ball, ball, self.scale);
+                    }
+                    c.radius = radius;
+                    c.ball_radius = ball;
+                    changed = true;
+                }
+            }
+            if !changed && !moving {
+                break;
+            }
+            // A capsule shrunk beside one moved is shrunk at a later attempt, if still too close
+            // where the move left it.
+            if moving {
+                shrunk = self.moved(&objective, bounds, layout, &outcome.design, &widening);
+            }
+            outcome = self.judge(shrunk);
+        }
+        outcome.value = objective.value(&layout.to_vector(&outcome.design));
+        outcome.feasible = solved.violation <= FEASIBLE;
+        outcome.evaluations = solved.evaluations;
+        outcome
+    }
+
+    /// The bodies of the smooth objective near `design`: each component's bare material, plus
+    /// for one with capsules the difference between its material with `design`'s voids cut
+    /// ([`PartPrints::bodies`], what [`Problem::judge`] weighs) and the closed-form capsule term
+    /// at `design`, as a correction of its solid part.
+    fn corrected_bodies(&self, design: &Design) -> Vec<ComponentBody<'a>> {
+        let cut = self.parts.bodies(self.meshes, design);
+        self.bodies
+            .iter()
+            .zip(&cut)
+            .enumerate()
+            .map(|(index, (bare, cut))| {
+                if !design.capsules.iter().any(|c| c.component == index) {
+                    return *bare;
+                }
+                let truth = component_material(self.project, cut, design, index);
+                let surrogate = component_material(self.project, bare, design, index);
+                let correction = PrintCorrection::default().plus_difference(&truth, &surrogate);
+                match correction.apply(&bare.print) {
+                    Some(print) => ComponentBody { print, ..*bare },
+                    None => *bare,
+                }
+            })
+            .collect()
+    }
+
+    /// The spacing of component `component`'s distance grid (0 without one).
+    fn grid_cell(&self, component: usize) -> f64 {
+        self.interior
+            .grids
+            .get(component)
+            .map_or(0.0, |grid| grid.cell())
+    }
+
+    /// `design` with its capsules' ends and the infill solved again from where they are, every
+    /// radius fixed and each capsule seen by the constraints as `widening` wider than it is (so
+    /// that it keeps that much further from the surface); radii and balls stay `design`'s.
+    fn moved(
+        &self,
+        objective: &Objective,
+        bounds: &Bounds,
+        layout: &DesignLayout,
+        design: &Design,
+        widening: &[f64],
+    ) -> Design {
+        let mut x = layout.to_vector(design);
+        let mut fixed = bounds.clone();
+        for (j, extra) in widening.iter().enumerate() {
+            let i = j * CAPSULE_STRIDE + R;
+            x[i] += extra;
+            fixed.range[i] = (x[i], x[i]);
+        }
+        let again = solve(objective, &x, &fixed, self.method, self.budget(layout));
+        let mut moved = layout.to_design(&again.x, &self.project.ball, self.project.infill.value);
+        for (capsule, kept) in moved.capsules.iter_mut().zip(&design.capsules) {
+            capsule.radius = kept.radius;
+            capsule.ball_radius = kept.ball_radius;
+        }
+        moved
+    }
+
+    /// `solved` with the radius of every unpinned capsule snapped to a stock ball plus the
+    /// clearance ([`snap`]; the larger ball only when it breaks no constraint the smaller keeps),
+    /// then those radii fixed and everything else solved again from there; the snapped point
+    /// itself when the second solve ends at a higher objective. `solved` itself when balls come
+    /// in any size.
+    fn snapped(
+        &self,
+        objective: &Objective,
+        bounds: &Bounds,
+        start: &[StartCapsule],
+        solved: Solve,
+        budget: Budget,
+    ) -> Solve {
+        let ball = &self.project.ball;
+        if !ball.is_listed() || start.iter().all(|c| c.pinned) {
+            return solved;
+        }
+        let mut x = solved.x.clone();
+        let mut fixed = bounds.clone();
+        for (j, capsule) in start.iter().enumerate() {
+            let i = j * CAPSULE_STRIDE + R;
+            if capsule.pinned {
+                continue;
+            }
+            let with = |radius: f64| {
+                let mut trial = x.clone();
+                trial[i] = radius;
+                objective.constraint_values(&trial)
+            };
+            let allowed = |larger: f64| {
+                let lower = ball
+                    .radius_for(x[i])
+                    .map_or(0.0, |b| capsule_radius(ball, b, self.scale));
+                larger <= bounds.range[i].1
+                    && with(larger)
+                        .iter()
+                        .zip(with(lower))
+                        .all(|(g, kept)| *g >= 0.0 || *g >= kept)
+            };
+            let Some((radius, _)) = snap(ball, x[i], self.scale, allowed) else {
+                continue;
+            };
+            x[i] = radius;
+            fixed.range[i] = (radius, radius);
+        }
+        // The snapped point itself, evaluated as a solve with nothing free: the second solve
+        // prefers a smaller constraint violation to a lower objective, and from a point just
+        // outside the constraints it can drift far from the design the first solve found.
+        let pinned = Bounds {
+            range: x.iter().map(|&v| (v, v)).collect(),
+            ..bounds.clone()
+        };
+        let at_snap = solve(objective, &x, &pinned, self.method, budget.clone());
+        let again = solve(objective, &x, &fixed, self.method, budget);
+        let evaluations = solved.evaluations + at_snap.evaluations + again.evaluations;
+        let best = if at_snap.value < again.value {
+            at_snap
+        } else {
+            again
+        };
+        Solve {
+            evaluations,
+            ..best
+        }
+    }
+}
