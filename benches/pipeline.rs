@@ -53,6 +53,7 @@ fn project() -> Project {
         ball: Ball {
             density: 7.85,
             clearance: 0.02,
+            pause_clearance: 0.02,
             min_angle: 3.0,
             diameters: Vec::new(),
         },

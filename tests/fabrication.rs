@@ -58,6 +58,7 @@ fn printed_along(up: Vector3<f64>, components: usize) -> PrintSetup {
         grid: LayerGrid {
             first_layer_height: 0.35,
             layer_height: 0.3,
+            pause_clearance: 0.2,
         },
     }
 }
@@ -302,12 +303,13 @@ fn axis_shorter_than_the_radius_is_too_short() {
     );
     let (rise, required) = no_window(&issues[1..]);
     assert_close(rise, 3.0);
-    assert_close(required, 3.45);
-    let exactly = check(
+    assert_close(required, 4.05);
+    // 4.1 long: as long as its radius, and its window [22.1, 22.3] holds the boundary 22.25.
+    let long_enough = check(
         &[box_a()],
-        vec![capsule(0, p(18.0, 10.0, 10.0), p(22.0, 10.0, 10.0))],
+        vec![capsule(0, p(18.0, 10.0, 10.0), p(22.1, 10.0, 10.0))],
     );
-    assert_eq!(exactly, vec![]);
+    assert_eq!(long_enough, vec![]);
 }
 
 #[test]
@@ -325,10 +327,12 @@ fn zero_length_axis_is_too_short_and_still_placed() {
     );
     let (distance, _) = too_close(&issues[1..2], 0);
     // Too close to the floor, it is still inside: its window is checked. The bed at x = 0; the
-    // ball tops out at 20 − 4 + 7.6 = 23.6, the next boundary is 23.75: it needs 3.55.
+    // ball tops out at 20 − 4 + 7.6 = 23.6 on the smooth end, 24.1 with a layer for the stepped
+    // floor and the 0.2 pause clearance; the next boundary is 24.35, which the window's high end
+    // 20 + 0.2 reaches after a rise of 4.15.
     let (rise, required) = no_window(&issues[2..]);
     assert_close(rise, 0.0);
-    assert_close(required, 3.55);
+    assert_close(required, 4.15);
     assert_close(distance, 2.0);
 }
 
@@ -507,30 +511,32 @@ fn no_window(issues: &[CapsuleIssue]) -> (f64, f64) {
 fn an_axis_that_rises_too_little_has_no_insertion_window() {
     // Printed along x from the face x = 0: the ends are at heights 18 and 21 (the axis also
     // climbs 3 along z, so it is longer than its radius). The ball (3.8 in a void of 4) tops out
-    // at 18 − 4 + 7.6 = 21.6 and the opening ends at 21.2. The first boundary from 21.6 is
-    // 0.35 + 71 × 0.3 = 21.65, so the axis must rise 21.65 − 21.6 + 3 × 3.8 − 2 × 4 = 3.45.
+    // at 18 − 4 + 7.6 = 21.6 on the smooth end, so the window starts a layer (0.3) and the pause
+    // clearance (0.2) higher, at 22.1; the opening ends at 21.2. The first boundary from 22.1 is
+    // 0.35 + 73 × 0.3 = 22.25, so the axis must rise until 21.2's end reaches it: 4.05.
     let (rise, required) = no_window(&check(
         &[box_a()],
         vec![capsule(0, p(18.0, 10.0, 10.0), p(21.0, 10.0, 13.0))],
     ));
     assert_close(rise, 3.0);
-    assert_close(required, 3.45);
-    // Rising 3.5, the window [21.6, 21.7] holds the boundary 21.65.
+    assert_close(required, 4.05);
+    // Rising 4.1, the window [22.1, 22.3] holds the boundary 22.25.
     let enough = check(
         &[box_a()],
-        vec![capsule(0, p(18.0, 10.0, 10.0), p(21.5, 10.0, 13.0))],
+        vec![capsule(0, p(18.0, 10.0, 10.0), p(22.1, 10.0, 13.0))],
     );
     assert_eq!(enough, vec![]);
 }
 
 #[test]
 fn a_long_axis_across_the_print_direction_has_no_window() {
-    // 20 long along x, printed along z: it does not rise at all. Its ball tops out at
-    // 10 − 4 + 7.6 = 13.6; the first boundary from there is 13.85, so it needs 3.65.
+    // 20 long along x, printed along z: it does not rise at all. Its window starts at
+    // 10 − 4 + 7.6 + 0.3 + 0.2 = 14.1; the first boundary from there is 14.15, which the
+    // window's high end 10 + 0.2 reaches after a rise of 3.95.
     let placed = || vec![capsule(0, p(10.0, 10.0, 10.0), p(30.0, 10.0, 10.0))];
     let (rise, required) = no_window(&check_printed(&[box_a()], placed(), Vector3::z()));
     assert_close(rise, 0.0);
-    assert_close(required, 3.65);
+    assert_close(required, 3.95);
     // Printed along the diagonal of x and z it rises 20 / √2 and passes.
     assert_eq!(
         check_printed(&[box_a()], placed(), Vector3::new(1.0, 0.0, 1.0)),

@@ -246,6 +246,7 @@ fn insertion(design: &Design) -> Insertion {
             .collect(),
         clearance: 0.2,
         layer_height: 0.3,
+        pause_clearance: 0.2,
         slack: 0.02,
     }
 }
@@ -266,9 +267,10 @@ fn the_insertion_constraint_is_the_rise_beyond_a_layer_long_window() {
             .zip(&insertion.up)
             .filter_map(|(c, up)| {
                 let up = (*up)?;
-                // u·(q − p) − (r − 3c + h + slack): the window [z_P − r + 2b, z_Q + r − b] of the
-                // widest ball b = r − c is then at least a layer and the slack long.
-                Some(up.dot(&(c.to - c.from)) - (c.radius - 0.6 + 0.3 + 0.02))
+                // u·(q − p) − (r − 3c + 2h + g + slack): the window
+                // [z_P − r + 2b + h + g, z_Q + r − b] of the widest ball b = r − c is then at
+                // least a layer and the slack long.
+                Some(up.dot(&(c.to - c.from)) - (c.radius - 0.6 + 0.6 + 0.2 + 0.02))
             })
             .collect();
         assert_eq!(added.len(), expected.len());

@@ -58,6 +58,7 @@ fn plan(compilation: &ballast::compile::Compilation) -> PrintPlan {
     PrintPlan {
         first_layer_height: 0.35,
         layer_height: 0.3,
+        pause_clearance: 0.2,
         components,
     }
 }

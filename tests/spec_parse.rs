@@ -99,6 +99,7 @@ fn full_project() {
         ball: Ball {
             density: 7.8,
             clearance: 0.25,
+            pause_clearance: 0.2,
             min_angle: 4.0,
             diameters: vec![4.0, 5.0, 0.25 * Units::Inch.in_metres() / mm.in_metres()],
         },
@@ -211,6 +212,7 @@ fn defaults() {
         ball: Ball {
             density: 7.85,
             clearance: mm.from_millimetres(0.2),
+            pause_clearance: mm.from_millimetres(0.2),
             min_angle: 3.0,
             diameters: stock_diameters_mm(),
         },

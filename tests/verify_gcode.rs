@@ -69,6 +69,7 @@ fn plan(layers_done: usize, message: &str) -> PrintPlan {
     PrintPlan {
         first_layer_height: 0.35,
         layer_height: 0.3,
+        pause_clearance: 0.2,
         components: vec![ComponentPlan {
             component: 0,
             to_bed: Isometry3::translation(CORNER[0], CORNER[1], 0.0),

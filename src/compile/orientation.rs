@@ -104,6 +104,7 @@ pub fn layer_grid(project: &Project) -> LayerGrid {
     LayerGrid {
         first_layer_height: project.print.first_layer_height,
         layer_height: project.print.layer_height,
+        pause_clearance: project.ball.pause_clearance,
     }
 }
 
@@ -165,6 +166,7 @@ pub fn print_plan(
     PrintPlan {
         first_layer_height: project.print.first_layer_height,
         layer_height: project.print.layer_height,
+        pause_clearance: project.ball.pause_clearance,
         components: orientations
             .iter()
             .zip(placed)

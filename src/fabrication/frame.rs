@@ -40,13 +40,17 @@ impl PrintFrame {
     }
 }
 
-/// The heights at which layers end: `first_layer_height + k × layer_height`, `k ≥ 0`.
+/// The heights at which layers end: `first_layer_height + k × layer_height`, `k ≥ 0`; and how
+/// far below the top of the last layer before a pause a dropped ball must come to rest.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LayerGrid {
     /// Height of the first layer.
     pub first_layer_height: f64,
     /// Height of every later layer (positive).
     pub layer_height: f64,
+    /// Least gap between the top of a resting ball and the top of the paused layer (the ball's
+    /// `pause-clearance`).
+    pub pause_clearance: f64,
 }
 
 impl LayerGrid {
@@ -111,6 +115,7 @@ impl PrintSetup {
             grid: LayerGrid {
                 first_layer_height: plan.first_layer_height,
                 layer_height: plan.layer_height,
+                pause_clearance: plan.pause_clearance,
             },
         }
     }

@@ -3,8 +3,9 @@
 //! span of each void's ceiling (`docs/fabrication.md`, "When a ball can go in").
 //!
 //! Heights are measured along the print direction `up` from the bed, the lowest point of the
-//! component along `up`. A capsule's ends sit at heights `z_P ≤ z_Q`; with void radius `r` and
-//! ball radius `b < r`, the print may pause at any height in `[z_P − r + 2b, z_Q + r − b]`.
+//! component along `up`. A capsule's ends sit at heights `z_P ≤ z_Q`; with void radius `r`, ball
+//! radius `b < r`, layer height `h` and pause clearance `g`, the print may pause at any height in
+//! `[z_P − r + 2b + h + g, z_Q + r − b]`.
 
 use super::frame::{LayerGrid, PrintFrame};
 use super::plan::{CapsuleInsertion, Pause};
@@ -23,25 +24,39 @@ fn end_heights(capsule: &PlacedCapsule, frame: &PrintFrame) -> (f64, f64) {
 /// `None` when there are none (or the ball does not fit).
 ///
 /// Low: the ball, rolled to the lowest point of the void (its centre `r − b` below the lower end
-/// `P`), tops out at `z_P − r + 2b`, and must lie wholly below the printed height. High: a ball
-/// centred on the plane of the printed height at most `r − b` from the axis is inside the void
-/// with its upper half in the open, and rolls down the convex set of ball centres to its rest;
-/// that plane meets the set up to `z_Q + r − b`. The high end is sufficient, not necessary (a
-/// ball narrower than the opening passes a little higher).
-pub fn insertion_window(capsule: &PlacedCapsule, frame: &PrintFrame) -> Option<(f64, f64)> {
+/// `P`), tops out at `z_P − r + 2b` on the void's smooth end. The printed floor is a stack of
+/// layers, which holds the ball higher, by less than a layer height `h` (0.11-0.18 mm at 0.3 mm
+/// layers, `tests/ball_rest_examples.rs`), and the ball's top must lie the grid's pause
+/// clearance `g` below the printed height: the window starts at `z_P − r + 2b + h + g`. High: a
+/// ball centred on the plane of the printed height at most `r − b` from the axis is inside the
+/// void with its upper half in the open, and rolls down the convex set of ball centres to its
+/// rest; that plane meets the set up to `z_Q + r − b`. The high end is sufficient, not necessary
+/// (a ball narrower than the opening passes a little higher).
+pub fn insertion_window(
+    capsule: &PlacedCapsule,
+    frame: &PrintFrame,
+    grid: &LayerGrid,
+) -> Option<(f64, f64)> {
     let (r, b) = (capsule.radius, capsule.ball_radius);
     if !(b > 0.0 && b < r) {
         return None;
     }
     let (low_end, high_end) = end_heights(capsule, frame);
-    let window = (low_end - r + 2.0 * b, high_end + r - b);
+    let window = (rest_top(low_end, r, b, grid), high_end + r - b);
     (window.0 <= window.1).then_some(window)
+}
+
+/// The least printed height above which a ball of radius `b`, dropped into a void of radius `r`
+/// whose lower axis end is at `low_end`, rests with the grid's clearance: its top on the void's
+/// smooth end, raised by a layer height for the stepped floor and by the pause clearance.
+fn rest_top(low_end: f64, r: f64, b: f64, grid: &LayerGrid) -> f64 {
+    low_end - r + 2.0 * b + grid.layer_height + grid.pause_clearance
 }
 
 /// Whether `capsule`'s ball can go in at some pause on `grid`: its window holds a layer
 /// boundary (what [`plan_insertions`] gives a pause).
 pub fn has_window(capsule: &PlacedCapsule, frame: &PrintFrame, grid: &LayerGrid) -> bool {
-    insertion_window(capsule, frame)
+    insertion_window(capsule, frame, grid)
         .and_then(|(low, high)| grid.boundaries_in(low, high))
         .is_some()
 }
@@ -51,8 +66,9 @@ pub fn has_window(capsule: &PlacedCapsule, frame: &PrintFrame, grid: &LayerGrid)
 pub fn required_rise(capsule: &PlacedCapsule, frame: &PrintFrame, grid: &LayerGrid) -> (f64, f64) {
     let (r, b) = (capsule.radius, capsule.ball_radius);
     let (low_end, high_end) = end_heights(capsule, frame);
-    let low = low_end - r + 2.0 * b;
-    let needed = grid.boundary_from(low) - low + 3.0 * b - 2.0 * r;
+    let low = rest_top(low_end, r, b, grid);
+    // The window's high end, `z_Q + r − b`, must reach the first boundary from its low end.
+    let needed = grid.boundary_from(low) - low_end - (r - b);
     (high_end - low_end, needed)
 }
 
@@ -88,7 +104,7 @@ pub fn plan_insertions(
         .iter()
         .map(|(index, capsule)| CapsuleInsertion {
             capsule: *index,
-            window: insertion_window(capsule, frame),
+            window: insertion_window(capsule, frame, grid),
             pause: None,
             ceiling_bridge: ceiling_bridge(capsule.radius),
         })
@@ -170,6 +186,7 @@ mod tests {
     const GRID: LayerGrid = LayerGrid {
         first_layer_height: 0.35,
         layer_height: 0.3,
+        pause_clearance: 0.2,
     };
 
     /// The bed at z = 0, printed along +z.
@@ -197,32 +214,34 @@ mod tests {
 
     fn close(actual: (f64, f64), expected: (f64, f64)) {
         assert!(
-            (actual.0 - expected.0).abs() < 1e-12 && (actual.1 - expected.1).abs() < 1e-12,
+            (actual.0 - expected.0).abs() < 1e-9 && (actual.1 - expected.1).abs() < 1e-9,
             "{actual:?} is not {expected:?}"
         );
     }
 
     #[test]
     fn a_vertical_capsule_opens_from_the_ball_top_to_its_upper_end() {
-        // P at 10, Q at 20, r 4, b 3.8: the ball rests with its bottom at 6 and top at 13.6; a
+        // P at 10, Q at 20, r 4, b 3.8: the ball rests with its bottom at 6 and top at 13.6 on
+        // the smooth end, 14.1 with a layer (0.3) for the stepped floor and the 0.2 clearance; a
         // ball centred at Q's height + 0.2 still sits inside the void.
         let c = capsule("v", [5.0, 5.0, 20.0], [5.0, 5.0, 10.0], 4.0, 3.8);
-        close(insertion_window(&c, &flat()).unwrap(), (13.6, 20.2));
-        // With b = r (no clearance) the window is [z_P + r, z_Q]: eq. 16, |q − p| ≥ r.
-        let tight = capsule("t", [0.0, 0.0, 10.0], [0.0, 0.0, 14.0], 4.0, 4.0 - 1e-12);
-        let (low, high) = insertion_window(&tight, &flat()).unwrap();
-        assert!((low - 14.0).abs() < 1e-9 && (high - 14.0).abs() < 1e-9);
+        close(insertion_window(&c, &flat(), &GRID).unwrap(), (14.1, 20.2));
+        // With b = r (no clearance) the window is [z_P + r + h + g, z_Q]: eq. 16, |q − p| ≥ r,
+        // with the floor and the clearance.
+        let tight = capsule("t", [0.0, 0.0, 10.0], [0.0, 0.0, 14.5], 4.0, 4.0 - 1e-12);
+        let (low, high) = insertion_window(&tight, &flat(), &GRID).unwrap();
+        assert!((low - 14.5).abs() < 1e-9 && (high - 14.5).abs() < 1e-9);
     }
 
     #[test]
     fn a_horizontal_capsule_has_no_window_and_needs_a_rise() {
-        // Both ends at 10: the ball tops out at 13.6, the opening closes above 10.2.
+        // Both ends at 10: the window starts at 14.1, the opening closes above 10.2.
         let c = capsule("h", [0.0, 0.0, 10.0], [30.0, 0.0, 10.0], 4.0, 3.8);
-        assert_eq!(insertion_window(&c, &flat()), None);
-        // The first boundary at or above 13.6 is 0.35 + 45 × 0.3 = 13.85: the axis must rise
-        // 13.85 − 13.6 + 3 × 3.8 − 2 × 4 = 3.65.
+        assert_eq!(insertion_window(&c, &flat(), &GRID), None);
+        // The first boundary at or above 14.1 is 0.35 + 46 × 0.3 = 14.15: the axis must rise
+        // until Q's height + 0.2 reaches it, 14.15 − 10 − 0.2 = 3.95.
         let (rise, needed) = required_rise(&c, &flat(), &GRID);
-        close((rise, needed), (0.0, 3.65));
+        close((rise, needed), (0.0, 3.95));
     }
 
     #[test]
@@ -242,8 +261,8 @@ mod tests {
             bed: -2.0,
         };
         close(
-            insertion_window(&c, &frame).unwrap(),
-            (7.0 - 3.0 + 5.0, 17.0 + 0.5),
+            insertion_window(&c, &frame, &GRID).unwrap(),
+            (7.0 - 3.0 + 5.0 + 0.5, 17.0 + 0.5),
         );
         // The same capsule printed along x (the bed at x = −1): P at 1, Q at 1 + 20 cos 30°.
         let side = PrintFrame {
@@ -251,8 +270,8 @@ mod tests {
             bed: -1.0,
         };
         close(
-            insertion_window(&c, &side).unwrap(),
-            (1.0 + 2.0, 1.0 + 20.0 * cos + 0.5),
+            insertion_window(&c, &side, &GRID).unwrap(),
+            (1.0 + 2.0 + 0.5, 1.0 + 20.0 * cos + 0.5),
         );
         // The frame of a mesh puts the bed at its lowest vertex along a normalised up.
         let mesh = TriMesh {
@@ -271,37 +290,41 @@ mod tests {
 
     #[test]
     fn a_window_without_a_layer_boundary_gets_no_pause() {
-        // Vertical, r 4, b 3.8, P at 10 and Q at 13.6: the window [13.6, 13.8] lies between the
-        // boundaries 13.55 and 13.85.
-        let c = capsule("n", [0.0, 0.0, 10.0], [0.0, 0.0, 13.6], 4.0, 3.8);
-        close(insertion_window(&c, &flat()).unwrap(), (13.6, 13.8));
+        // Vertical, r 4, b 3.8, P at 10.06 and Q at 14.16: the window [14.16, 14.36] lies
+        // between the boundaries 14.15 and 14.45.
+        let c = capsule("n", [0.0, 0.0, 10.06], [0.0, 0.0, 14.16], 4.0, 3.8);
+        close(
+            insertion_window(&c, &flat(), &GRID).unwrap(),
+            (14.16, 14.36),
+        );
         let (insertions, pauses) = plan_insertions(&[(0, &c)], &flat(), &GRID, &mm);
         assert_eq!(insertions[0].pause, None);
         assert!(pauses.is_empty());
         let (rise, needed) = required_rise(&c, &flat(), &GRID);
         assert!(needed > rise);
-        close((rise, needed), (3.6, 3.65));
+        close((rise, needed), (4.1, 14.45 - 10.06 - 0.2));
     }
 
     #[test]
     fn capsules_share_the_fewest_pauses() {
-        // Windows (vertical, r 4, b 3.8, so [z_P + 3.6, z_Q + 0.2]):
-        // a [13.6, 30.2], c [28.6, 40.2], d [14.6, 16.2]; b (ball 3) [19, 26]. As layer counts
-        // (boundary of layer n at 0.35 + 0.3 (n − 1)): a 46 ..= 100, b 64 ..= 86, c 96 ..= 133,
-        // d 49 ..= 53; d, b and c are pairwise disjoint, so three pauses are the fewest.
+        // Windows (vertical, r 4, b 3.8, so [z_P + 3.6 + 0.5, z_Q + 0.2]):
+        // a [14.1, 30.2], c [29.1, 40.2], d [15.1, 16.2]; b (ball 3) [19.5, 26]. As layer
+        // counts (boundary of layer n at 0.35 + 0.3 (n − 1)): a 47 ..= 100, b 65 ..= 86,
+        // c 97 ..= 133, d 51 ..= 53; d, b and c are pairwise disjoint, so three pauses are the
+        // fewest.
         let a = capsule("a", [0.0, 0.0, 10.0], [0.0, 0.0, 30.0], 4.0, 3.8);
         let b = capsule("b", [20.0, 0.0, 25.0], [20.0, 0.0, 17.0], 4.0, 3.0);
         let c = capsule("c", [40.0, 0.0, 25.0], [40.0, 0.0, 40.0], 4.0, 3.8);
         let d = capsule("d", [60.0, 0.0, 11.0], [60.0, 0.0, 16.0], 4.0, 3.8);
-        close(insertion_window(&b, &flat()).unwrap(), (19.0, 26.0));
+        close(insertion_window(&b, &flat(), &GRID).unwrap(), (19.5, 26.0));
         let list = [(0, &a), (1, &b), (2, &c), (3, &d)];
         let (insertions, pauses) = plan_insertions(&list, &flat(), &GRID, &mm);
-        // d closes first: a and d share 49 ..= 53, paused in its middle; then b alone, in the
-        // middle of 64 ..= 86; a is served, so c alone, in the middle of 96 ..= 133.
+        // d closes first: a and d share 51 ..= 53, paused in its middle; then b alone, in the
+        // middle of 65 ..= 86; a is served, so c alone, in the middle of 97 ..= 133.
         let layers: Vec<usize> = pauses.iter().map(|p| p.layers_done).collect();
         let groups: Vec<Vec<usize>> = pauses.iter().map(|p| p.capsules.clone()).collect();
         assert_eq!(groups, vec![vec![0, 3], vec![1], vec![2]]);
-        assert_eq!(layers, vec![51, 75, 114]);
+        assert_eq!(layers, vec![52, 75, 115]);
         let pause_of: Vec<Option<usize>> = insertions.iter().map(|i| i.pause).collect();
         assert_eq!(pause_of, vec![Some(0), Some(1), Some(2), Some(0)]);
         for (insertion, capsule) in insertions.iter().zip([&a, &b, &c, &d]) {

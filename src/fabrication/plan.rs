@@ -20,6 +20,8 @@ pub struct PrintPlan {
     pub first_layer_height: f64,
     /// Height of every later layer.
     pub layer_height: f64,
+    /// Least gap between the top of a resting ball and the top of the paused layer.
+    pub pause_clearance: f64,
     /// One per component, in project order.
     pub components: Vec<ComponentPlan>,
 }
@@ -171,6 +173,7 @@ mod tests {
         PrintPlan {
             first_layer_height: 0.035,
             layer_height: 0.03,
+            pause_clearance: 0.02,
             components,
         }
     }

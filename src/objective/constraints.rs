@@ -65,16 +65,21 @@ pub struct Insertion {
     pub clearance: f64,
     /// Height of a printed layer `h`.
     pub layer_height: f64,
+    /// Least gap `g` between the top of a resting ball and the top of the paused layer.
+    pub pause_clearance: f64,
     /// Added to the rise required, for what rounding the design may take from it (project
     /// units).
     pub slack: f64,
 }
 
-/// Per constrained capsule: `u·(q − p) − (r − 3c + h + slack) ≥ 0`, `u` its print direction.
+/// Per constrained capsule: `u·(q − p) − (r − 3c + 2h + g + slack) ≥ 0`, `u` its print
+/// direction.
 ///
-/// The insertion window `[z_P − r + 2b, z_Q + r − b]` (heights along `u`, `b` the ball radius)
-/// holds a layer boundary whenever it is at least a layer `h` long, that is when the axis rises
-/// `z_Q − z_P ≥ 3b − 2r + h`; with `b ≤ r − c` this follows from `z_Q − z_P ≥ r − 3c + h`. Written
+/// The insertion window `[z_P − r + 2b + h + g, z_Q + r − b]` (heights along `u`, `b` the ball
+/// radius; a layer for the stepped floor, `fabrication::insertion_window`) holds a layer
+/// boundary whenever it is at least a layer `h` long, that is when the axis rises
+/// `z_Q − z_P ≥ 3b − 2r + 2h + g`; with `b ≤ r − c` this follows from
+/// `z_Q − z_P ≥ r − 3c + 2h + g`. Written
 /// with `q` as the upper end (linear, so its gradient never vanishes, even for an axis across
 /// `u`); the optimizer turns each capsule so that `q` is its upper end before it solves.
 pub(crate) fn insertion_constraints<D: Scalar>(
@@ -88,7 +93,8 @@ pub(crate) fn insertion_constraints<D: Scalar>(
         };
         let rise = capsule.q.sub(&capsule.p).dot_constant(up);
         let needed = capsule.r.clone()
-            + (insertion.layer_height + insertion.slack - 3.0 * insertion.clearance);
+            + (2.0 * insertion.layer_height + insertion.pause_clearance + insertion.slack
+                - 3.0 * insertion.clearance);
         out.push(rise - needed);
     }
 }

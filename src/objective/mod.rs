@@ -203,8 +203,9 @@ impl Objective {
     ///    balls beyond): some ball leaves its assigned end where that assignment settles,
     ///    `smax(−σ_i â_i·g_A) − ln(n)/s − sin(φ_min + 1°) ≥ 0` (`docs/optimizer.md`, "Uniqueness");
     /// 6. with an [`Insertion`] ([`with_insertion`](Self::with_insertion)), per capsule it
-    ///    constrains: `u·(q − p) − (r − 3c + h + slack) ≥ 0` (eq. 16 in the print direction `u`,
-    ///    project units; `docs/optimizer.md`);
+    ///    constrains: `u·(q − p) − (r − 3c + 2h + g + slack) ≥ 0` (eq. 16 in the print direction
+    ///    `u` with the stepped floor and the pause clearance `g`, project units;
+    ///    `docs/optimizer.md`);
     /// 7. with an [`InteriorDistance`] ([`with_interior`](Self::with_interior)), per capsule per
     ///    axis sample: `d(x) − r − wall − s ≥ 0` (eq. 15).
     ///

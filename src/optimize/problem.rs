@@ -294,6 +294,7 @@ impl<'a> Problem<'a> {
                 .collect(),
             clearance: self.project.ball.clearance,
             layer_height: self.print.grid.layer_height,
+            pause_clearance: self.print.grid.pause_clearance,
             slack: self.rounding_slack(),
         }
     }

@@ -282,6 +282,7 @@ mod tests {
         Ball {
             density: 7.85,
             clearance: 0.2,
+            pause_clearance: 0.2,
             min_angle: 3.0,
             diameters: Vec::new(),
         }
@@ -327,6 +328,7 @@ mod tests {
                 LayerGrid {
                     first_layer_height: 0.2,
                     layer_height: 0.2,
+                    pause_clearance: 0.2,
                 },
             ),
         };

@@ -84,6 +84,7 @@ mod tests {
         Ball {
             density: 7.85,
             clearance,
+            pause_clearance: 0.2,
             min_angle: 3.0,
             diameters: diameters.to_vec(),
         }

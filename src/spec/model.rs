@@ -230,6 +230,9 @@ pub struct Ball {
     /// Gap between a ball and its capsule's wall, project units: a ball's radius is at most the
     /// capsule radius minus this.
     pub clearance: f64,
+    /// Least gap between the top of a ball resting in its void and the top of the layer the
+    /// print pauses after for it, project units (`docs/fabrication.md`, "The window").
+    pub pause_clearance: f64,
     /// A capsule whose axis is within this many degrees of horizontal cannot be trusted to send its
     /// ball to either end.
     pub min_angle: f64,

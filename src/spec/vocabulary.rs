@@ -246,6 +246,7 @@ pub const DOCUMENT: &[NodeSpec] = &[
         props: &[
             prop("density", ValueKind::Positive),
             length_prop("clearance", ValueKind::NonNegative),
+            length_prop("pause-clearance", ValueKind::NonNegative),
             prop("min-angle", ValueKind::NonNegative),
             prop("any-size", ValueKind::Bool),
         ],

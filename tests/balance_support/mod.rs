@@ -38,6 +38,7 @@ pub fn project(components: &[&str]) -> Project {
         ball: Ball {
             density: STEEL,
             clearance: 0.2,
+            pause_clearance: 0.2,
             min_angle: MIN_ANGLE,
             diameters: Vec::new(),
         },

@@ -41,6 +41,7 @@ const BOUNDS: &[Bound] = &[
     bound("material", "density", 0.05, 25.0, "g/cm³"),
     bound("ball", "density", 0.5, 25.0, "g/cm³"),
     bound("ball", "clearance", 0.0, 5.0, "mm"),
+    bound("ball", "pause-clearance", 0.0, 5.0, "mm"),
     bound("ball", "min-angle", 0.0, 45.0, "°"),
     Bound {
         node: "ball",

@@ -12,6 +12,9 @@ use crate::spec::model::{Ball, Capsule, Infill, MassModel, Material, Optimize, O
 use crate::spec::stock::stock_diameters_mm;
 use crate::spec::tree::Node;
 
+/// The default least gap between a resting ball's top and the top of the paused layer, mm.
+const DEFAULT_PAUSE_CLEARANCE_MM: f64 = 0.2;
+
 impl Resolver<'_> {
     pub(super) fn material(&self) -> Material {
         let Some(node) = self.top("material") else {
@@ -59,6 +62,8 @@ impl Resolver<'_> {
         Ball {
             density: number("density").unwrap_or(7.85),
             clearance: number("clearance").unwrap_or(self.units.from_millimetres(0.2)),
+            pause_clearance: number("pause-clearance")
+                .unwrap_or(self.units.from_millimetres(DEFAULT_PAUSE_CLEARANCE_MM)),
             min_angle: number("min-angle").unwrap_or(3.0),
             diameters: match listed {
                 Some(listed) => listed.numbers().unwrap_or_default(),
