@@ -29,6 +29,20 @@ fn same_material(a: &[ComponentBody], b: &[ComponentBody]) -> bool {
     })
 }
 
+/// How far, in all, the capsules of `outcome` come closer to a surface than the wall allows.
+fn surface_deficit(outcome: &Outcome) -> f64 {
+    outcome
+        .fabrication
+        .iter()
+        .map(|issue| match *issue {
+            CapsuleIssue::TooCloseToSurface {
+                distance, required, ..
+            } => (required - distance).max(0.0),
+            _ => 0.0,
+        })
+        .sum()
+}
+
 impl<'a> Problem<'a> {
     /// Carries an explored design to the one the judge weighs, and judges it: the smooth
     /// program solved again with its capsule term corrected towards the re-sliced material,
@@ -92,8 +106,11 @@ impl<'a> Problem<'a> {
         // so such a capsule is only shrunk.
         let listed = self.project.ball.is_listed();
         let mut widening = vec![0.0; start.len()];
+        // Whether moving capsules still mends them: a move that leaves them no further from the
+        // surface is undone, and they are shrunk from then on.
+        let mut moves_mend = true;
         for attempt in 0..3 {
-            let move_first = listed && attempt < 2;
+            let move_first = listed && attempt < 2 && moves_mend;
             let mut shrunk = outcome.design.clone();
             let (mut changed, mut moving) = (false, false);
             for issue in &outcome.fabrication {
@@ -135,7 +152,16 @@ impl<'a> Problem<'a> {
             // A capsule shrunk beside one moved is shrunk at a later attempt, if still too close
             // where the move left it.
             if moving {
-                shrunk = self.moved(&objective, bounds, layout, &outcome.design, &widening);
+                let moved = self.moved(&objective, bounds, layout, &outcome.design, &widening);
+                let judged = self.judge(moved);
+                if judged.fabrication.len() <= outcome.fabrication.len()
+                    && surface_deficit(&judged) < surface_deficit(&outcome)
+                {
+                    outcome = judged;
+                } else {
+                    moves_mend = false;
+                }
+                continue;
             }
             outcome = self.judge(shrunk);
         }
