@@ -23,9 +23,10 @@ capsule "weight" component="box" radius=4 {
 fn a_vertical_capsule_gets_one_pause_in_the_middle_of_its_window() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/compile/err/insertion.kdl");
     let compilation = compile(PROJECT, &path).expect("compiles");
-    // The ball (3.8) tops out at 6 − 4 + 7.6 = 9.6; the opening closes at 14 + 0.2. The layer
-    // tops in [9.6, 14.2] are those of layers 32 (9.65) to 47 (14.15); the middle is layer 39,
-    // whose top is 0.35 + 38 × 0.3 = 11.75.
+    // The ball (3.8) tops out at 6 − 4 + 7.6 = 9.6 on the void's smooth end; one layer (0.3)
+    // for the stepped floor and the pause clearance (0.2) put the window's low end at 10.1. The
+    // opening closes at 14 + 0.2. The layer tops in [10.1, 14.2] are those of layers 34 (10.25)
+    // to 47 (14.15); the middle is layer 40, whose top is 0.35 + 39 × 0.3 = 12.05.
     let report: serde_json::Value =
         serde_json::from_str(&Report::new(&compilation, &path).to_json()).unwrap();
     let plan = &report["insertion"][0];
@@ -33,7 +34,7 @@ fn a_vertical_capsule_gets_one_pause_in_the_middle_of_its_window() {
     assert_eq!(plan["up"], serde_json::json!([0.0, 0.0, 1.0]));
     let window = plan["capsules"][0]["window"].as_array().unwrap();
     assert!(
-        (window[0].as_f64().unwrap() - 9.6).abs() < 1e-9,
+        (window[0].as_f64().unwrap() - 10.1).abs() < 1e-9,
         "{window:?}"
     );
     assert!(
@@ -45,9 +46,9 @@ fn a_vertical_capsule_gets_one_pause_in_the_middle_of_its_window() {
     assert!((bridge - 4.0 * 2f64.sqrt()).abs() < 1e-9);
     let pauses = plan["pauses"].as_array().unwrap();
     assert_eq!(pauses.len(), 1);
-    assert_eq!(pauses[0]["layers_done"], 39);
-    assert!((pauses[0]["height"].as_f64().unwrap() - 11.75).abs() < 1e-9);
-    assert!((pauses[0]["resume_height"].as_f64().unwrap() - 12.05).abs() < 1e-9);
+    assert_eq!(pauses[0]["layers_done"], 40);
+    assert!((pauses[0]["height"].as_f64().unwrap() - 12.05).abs() < 1e-9);
+    assert!((pauses[0]["resume_height"].as_f64().unwrap() - 12.35).abs() < 1e-9);
     assert_eq!(pauses[0]["capsules"], serde_json::json!(["weight"]));
     assert_eq!(
         pauses[0]["message"],

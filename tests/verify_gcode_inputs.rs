@@ -141,9 +141,9 @@ fn a_filament_diameter_outside_its_range_is_refused() {
 fn text_from_the_file_cannot_drive_the_terminal() {
     let folder = tempfile::tempdir().unwrap();
     let title = "\u{1b}]0;pwned\u{7}";
-    // The T's plan pauses after layer 56: a pause there showing another message.
+    // The T's plan pauses after layer 57: a pause there showing another message.
     let mut text = format!("M83\n; printing object T{title}\u{9b}2J id:0 copy 0\n");
-    for layer in 1..=56 {
+    for layer in 1..=57 {
         text.push_str(&format!(
             "G1 Z{}\nG1 X0 Y0\nG1 X100 E1\n",
             0.3 * layer as f64
