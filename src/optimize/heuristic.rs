@@ -77,7 +77,7 @@ pub fn run(
     // only that round's solve, and the next round only the solve too: the refinements run
     // beside the rounds that follow, at most one per core at a time, and are collected in
     // round order, so the candidates are those of running everything one after another.
-    let most_refining = cores().max(1);
+    let most_refining = cores();
     std::thread::scope(|scope| {
         let mut refining: VecDeque<Refining> = VecDeque::new();
         let mut finished: Vec<Option<Candidate>> = Vec::new();

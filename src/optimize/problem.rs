@@ -107,8 +107,11 @@ pub struct Outcome {
 pub struct Explored {
     /// The start, each unpinned capsule upright along its component's print direction.
     start: Vec<StartCapsule>,
+    /// Where each capsule's unknowns sit in the design vector.
     layout: DesignLayout,
+    /// The bounds the solve kept to (pinned capsules fixed).
     bounds: Bounds,
+    /// What the solve reached.
     solved: Solve,
     /// The design the solve reached (radii not yet snapped to stock balls).
     pub design: Design,

@@ -56,14 +56,17 @@ impl<'a> Problem<'a> {
             solved,
             ..
         } = explored;
-        let (start, layout, bounds) = (start.as_slice(), layout, bounds);
+        let start = start.as_slice();
         let objective_over = |bodies: &[ComponentBody]| self.objective_over(bodies, layout, start);
         let budget = self.budget(layout);
-        let solved = solved.clone();
+        // The closed-form capsule term is the smooth stand-in for the material the judge weighs
+        // (the design's voids cut from the print): correct it by their difference at the solved
+        // design and solve again from there, until the correction at the new design is the one
+        // it was solved with, so that the objective is that material's near the design.
         let to_design =
             |x: &[f64]| layout.to_design(x, &self.project.ball, self.project.infill.value);
         let mut corrected = self.corrected_bodies(&to_design(&solved.x));
-        let mut solved = solved;
+        let mut solved = solved.clone();
         for _ in 0..CORRECTIONS {
             let again = solve(
                 &objective_over(&corrected),
