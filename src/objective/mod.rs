@@ -201,7 +201,7 @@ impl Objective {
     /// 5. per pose, per `suspend` or `immerse` goal with `unique=#true`, per assignment of ball
     ///    ends other than the wanted one (all of them up to 6 capsules, those moving one or two
     ///    balls beyond): some ball leaves its assigned end where that assignment settles,
-    ///    `smax(−σ_i â_i·g_A) − ln(n)/s − sin(φ_min + 1°) ≥ 0` (`docs/optimizer.md`, "Uniqueness");
+    ///    `smax(−σ_i â_i·g_A) − ln(n)/s − sin(φ_min + 2°) ≥ 0` (`docs/optimizer.md`, "Uniqueness");
     /// 6. with an [`Insertion`] ([`with_insertion`](Self::with_insertion)), per capsule it
     ///    constrains: `u·(q − p) − (r − 3c + 2h + g + slack) ≥ 0` (eq. 16 in the print direction
     ///    `u` with the stepped floor and the pause clearance `g`, project units;

@@ -25,8 +25,10 @@ pub(crate) const MAX_CONSTRAINED_BALLS: usize = 6;
 const SHARPNESS: f64 = 200.0;
 
 /// Degrees added to the ball's min-angle: covers the ball's drop against its end cap (`r − b`,
-/// left out of `c_A` here) and the rounding of the solution.
-const SLACK_DEGREES: f64 = 1.0;
+/// left out of `c_A` here), the rounding of the solution, the step to the re-sliced material the
+/// judge weighs and the print's departure from it (an unwanted state close to its anchor turns
+/// by a fraction of a degree for each: `docs/optimizer.md`, "Uniqueness").
+const SLACK_DEGREES: f64 = 2.0;
 
 /// Whether `goal` asks for uniqueness, and about which point (world) the model then turns.
 fn anchor(goal: &GoalSetup, setup: &PoseSetup) -> Option<nalgebra::Vector3<f64>> {

@@ -156,11 +156,11 @@ fn worth_having(
     }
 }
 
-/// Evaluations per free unknown without a gain after which COBYLA's fallback stops.
-const COBYLA_STALL_PER_UNKNOWN: usize = 10;
+/// Evaluations per free unknown without a gain after which a pass of the hybrid stops.
+const STALL_PER_UNKNOWN: usize = 10;
 
-/// Evaluations without a gain after which COBYLA's fallback stops, beside those per unknown.
-const COBYLA_STALL_BASE: usize = 50;
+/// Evaluations without a gain after which a pass of the hybrid stops, beside those per unknown.
+const STALL_BASE: usize = 50;
 
 /// Whether a point with `(value, violation)` is preferred to one with `(other_value,
 /// other_violation)`: a feasible point to an infeasible one, then the lower objective among
@@ -196,10 +196,20 @@ pub fn solve(
     if method != Method::Hybrid {
         return solve_by(objective, x0, bounds, method, &budget);
     }
-    let first = solve_by(objective, x0, bounds, Method::Slsqp, &budget);
-    let fixed = bounds.range.iter().all(|(lo, hi)| lo >= hi);
+    // Each pass stops once it has gone a while without a gain worth having. SLSQP near a
+    // minimum can creep on by gains of a millionth for the whole budget (restarting after each
+    // failed line search); most COBYLA fallbacks start where SLSQP has already done what COBYLA
+    // can, and the rest of a full budget there costs COBYLA's own algebra (linear models of
+    // every constraint), not the objective.
+    let free = bounds.range.iter().filter(|(lo, hi)| lo < hi).count();
+    let pass = Budget {
+        stall: Some(STALL_PER_UNKNOWN * free + STALL_BASE),
+        ..budget
+    };
+    let first = solve_by(objective, x0, bounds, Method::Slsqp, &pass);
+    let fixed = free == 0;
     let met = first.violation <= FEASIBLE && first.value <= 0.0;
-    if fixed || met || budget.cancel.is_cancelled() {
+    if fixed || met || pass.cancel.is_cancelled() {
         return first;
     }
     let from = if first.violation <= FEASIBLE {
@@ -207,15 +217,7 @@ pub fn solve(
     } else {
         x0
     };
-    // Most fallbacks start where SLSQP has already done what COBYLA can; the rest of a full
-    // budget there costs COBYLA's own algebra (linear models of every constraint), not the
-    // objective. It stops once it has gone a while without a gain worth having.
-    let free = bounds.range.iter().filter(|(lo, hi)| lo < hi).count();
-    let fallback = Budget {
-        stall: Some(COBYLA_STALL_PER_UNKNOWN * free + COBYLA_STALL_BASE),
-        ..budget.clone()
-    };
-    let second = solve_by(objective, from, bounds, Method::Cobyla, &fallback);
+    let second = solve_by(objective, from, bounds, Method::Cobyla, &pass);
     let evaluations = first.evaluations + second.evaluations;
     let better = preferred(
         (second.value, second.violation),
