@@ -280,26 +280,28 @@ impl Classifier<'_> {
                 }
             }
         }
-        // (i, m): the layer whose surface is projected, and the layer over (under) it.
-        let pairs = (1..slicing.top_layers)
+        // (i, m): the layer whose surface is projected (its inside cells), and the layer over
+        // (under) it.
+        let pairs: Vec<_> = (1..slicing.top_layers)
             .map(|d| (k + d, k + d + 1))
             .chain((1..slicing.bottom_layers).filter_map(|d| {
                 let i = k.checked_sub(d)?;
                 Some((i, i.checked_sub(1)?))
             }))
-            .filter(|&(i, m)| i < layout.layers && m < layout.layers);
+            .filter(|&(i, m)| i < layout.layers && m < layout.layers)
+            .filter_map(|(i, m)| Some((self.inside.rows(i)?, m)))
+            .collect();
         // Row y of the area's cells of `valid`, in layer l's depths.
         let depth_row =
             |l: usize, y: usize| depth.row(l, area.j.start + y, valid.i.clone(), layout.columns);
         let mut widened = vec![false; valid.len()];
-        for (i, m) in pairs {
-            let Some(inside_i) = self.inside.rows(i) else {
-                continue;
-            };
-            for (y, marks) in rows.clone().zip(widened.chunks_mut(width)) {
+        for (y, marks) in rows.clone().zip(widened.chunks_mut(width)) {
+            // The layer's own row once for every pair (it may be a patched copy).
+            let here_row = depth_row(k, y);
+            for (inside_i, m) in &pairs {
                 // All of one length, so that the loop is vectorized.
-                let (here, there) = (depth_row(k, y), depth_row(m, y));
-                let (here, there) = (&here[..width], &there[..width]);
+                let there = depth_row(*m, y);
+                let (here, there) = (&here_row[..width], &there[..width]);
                 let inside_i = &inside_i.part(y, columns.clone())[..width];
                 let fill = &internal[(y - rows.start) * width..][..width];
                 let marks = &mut marks[..width];
