@@ -35,6 +35,7 @@ mod classes;
 mod depth;
 mod distance;
 mod layout;
+mod outline;
 mod overlap;
 mod sides;
 mod tally;
