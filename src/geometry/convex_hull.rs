@@ -111,6 +111,24 @@ struct Quickhull<'a> {
     pending: BinaryHeap<Reverse<usize>>,
     /// A point counts as outside a face when farther than this above it.
     epsilon: f64,
+    /// Buffers [`Quickhull::add_point`] reuses from one point to the next.
+    scratch: Scratch,
+}
+
+/// What adding one point works with, kept between points so that a hull of many vertices does
+/// not allocate five vectors for each.
+#[derive(Default)]
+struct Scratch {
+    /// The faces the point sees.
+    visible: Vec<usize>,
+    /// Each edge of the horizon, from `a` to `b` on a visible face, with the face beyond it.
+    horizon: Vec<(usize, usize, usize)>,
+    /// Each horizon edge's first corner and its index, by corner.
+    starts: Vec<(usize, usize)>,
+    /// The outside points of the faces that die.
+    orphans: Vec<usize>,
+    /// The new faces, one per horizon edge.
+    cone: Vec<usize>,
 }
 
 impl<'a> Quickhull<'a> {
@@ -158,6 +176,7 @@ impl<'a> Quickhull<'a> {
             faces: Vec::new(),
             pending: BinaryHeap::new(),
             epsilon,
+            scratch: Scratch::default(),
         };
         let centre = Point3::from((p(a).coords + p(b).coords + p(c).coords + p(d).coords) / 4.0);
         for corners in [[a, b, c], [a, b, d], [a, c, d], [b, c, d]] {
@@ -275,10 +294,24 @@ impl<'a> Quickhull<'a> {
     /// `apex`. When the visible faces' boundary is not one loop (possible only for points within
     /// rounding of several faces' planes), the point is dropped instead.
     fn add_point(&mut self, first: usize, apex: usize) {
-        let mut visible = vec![first];
+        let mut scratch = std::mem::take(&mut self.scratch);
+        self.add_point_with(first, apex, &mut scratch);
+        self.scratch = scratch;
+    }
+
+    /// [`Quickhull::add_point`] with its buffers.
+    fn add_point_with(&mut self, first: usize, apex: usize, scratch: &mut Scratch) {
+        let Scratch {
+            visible,
+            horizon,
+            starts,
+            orphans,
+            cone,
+        } = scratch;
+        visible.clear();
+        horizon.clear();
+        visible.push(first);
         self.faces[first].seen_by = Some(apex);
-        // Each edge of the horizon, from `a` to `b` on a visible face, with the face beyond it.
-        let mut horizon: Vec<(usize, usize, usize)> = Vec::new();
         let mut k = 0;
         while k < visible.len() {
             let face = &self.faces[visible[k]];
@@ -297,26 +330,25 @@ impl<'a> Quickhull<'a> {
                 }
             }
         }
-        let mut starts: Vec<(usize, usize)> = horizon
-            .iter()
-            .enumerate()
-            .map(|(k, &(a, _, _))| (a, k))
-            .collect();
+        starts.clear();
+        starts.extend(horizon.iter().enumerate().map(|(k, &(a, _, _))| (a, k)));
         starts.sort_unstable();
         starts.dedup_by_key(|&mut (a, _)| a);
         if starts.len() != horizon.len() || horizon.len() < 3 {
             return;
         }
-        let mut orphans = Vec::new();
-        for &f in &visible {
+        orphans.clear();
+        for &f in visible.iter() {
             let face = &mut self.faces[f];
             face.alive = false;
-            orphans.append(&mut face.outside);
+            // Taken, not drained: a dead face keeps no buffer.
+            orphans.extend_from_slice(&std::mem::take(&mut face.outside));
         }
-        let cone: Vec<usize> = horizon
-            .iter()
-            .map(|&(a, b, _)| self.add_face([a, b, apex]))
-            .collect();
+        cone.clear();
+        for &(a, b, _) in horizon.iter() {
+            let face = self.add_face([a, b, apex]);
+            cone.push(face);
+        }
         // Link each cone face to the face beyond its horizon edge, and to the cone faces on
         // either side: the one starting where it ends, and the one ending where it starts.
         let next = |b: usize| {
@@ -335,7 +367,7 @@ impl<'a> Quickhull<'a> {
                 .expect("the face beyond the horizon has its edge");
             self.faces[beyond].neighbours[slot] = cone[k];
         }
-        self.assign(&orphans, &cone);
+        self.assign(orphans, cone);
     }
 
     /// The live triangles merged into facets: from the largest triangle down, each facet takes
