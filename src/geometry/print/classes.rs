@@ -1,7 +1,6 @@
 //! Each cell's class: outside, solid (perimeters, top and bottom layers, small regions) or
 //! sparse, over a box of the raster and a range of layers.
 
-use std::borrow::Cow;
 use std::ops::{Range, RangeInclusive};
 
 use super::cells::{CellBox, Overlay, Rows};
@@ -80,31 +79,40 @@ pub(super) struct DepthPatch {
 }
 
 impl Depths<'_> {
-    /// Layer `l`'s depths of columns `columns` of raster row `j`.
-    fn row(&self, l: usize, j: usize, columns: Range<usize>, raster: usize) -> Cow<'_, [f32]> {
+    /// Layer `l`'s depths of columns `columns` of raster row `j`: borrowed where one source holds
+    /// them all, else patched together in `buffer`.
+    fn row<'b>(
+        &'b self,
+        l: usize,
+        j: usize,
+        columns: Range<usize>,
+        raster: usize,
+        buffer: &'b mut Vec<f32>,
+    ) -> &'b [f32] {
         let bare = &self.bare[l][j * raster..][columns.clone()];
         let patch = l
             .checked_sub(self.first)
             .and_then(|h| self.held.get(h)?.as_ref());
         let Some(patch) = patch.filter(|patch| patch.cells.j.contains(&j)) else {
-            return Cow::Borrowed(bare);
+            return bare;
         };
         let (from, to) = (
             columns.start.max(patch.cells.i.start),
             columns.end.min(patch.cells.i.end),
         );
         if from >= to {
-            return Cow::Borrowed(bare);
+            return bare;
         }
         let row = (j - patch.cells.j.start) * patch.cells.width();
         let (start, end) = (from - patch.cells.i.start, to - patch.cells.i.start);
         let patched = &patch.depth[row + start..row + end];
         if (from, to) == (columns.start, columns.end) {
-            return Cow::Borrowed(patched);
+            return patched;
         }
-        let mut row = bare.to_vec();
-        row[from - columns.start..to - columns.start].copy_from_slice(patched);
-        Cow::Owned(row)
+        buffer.clear();
+        buffer.extend_from_slice(bare);
+        buffer[from - columns.start..to - columns.start].copy_from_slice(patched);
+        buffer
     }
 }
 
@@ -291,16 +299,17 @@ impl Classifier<'_> {
             .filter(|&(i, m)| i < layout.layers && m < layout.layers)
             .filter_map(|(i, m)| Some((self.inside.rows(i)?, m)))
             .collect();
-        // Row y of the area's cells of `valid`, in layer l's depths.
-        let depth_row =
-            |l: usize, y: usize| depth.row(l, area.j.start + y, valid.i.clone(), layout.columns);
+        // Rows of the area's cells of `valid` in a layer's depths, patched together in these
+        // where a void's patch covers part of a row.
+        let (mut here_buffer, mut there_buffer) = (Vec::new(), Vec::new());
         let mut widened = vec![false; valid.len()];
         for (y, marks) in rows.clone().zip(widened.chunks_mut(width)) {
-            // The layer's own row once for every pair (it may be a patched copy).
-            let here_row = depth_row(k, y);
+            let j = area.j.start + y;
+            // The layer's own row once for every pair.
+            let here_row = depth.row(k, j, valid.i.clone(), layout.columns, &mut here_buffer);
             for (inside_i, m) in &pairs {
                 // All of one length, so that the loop is vectorized.
-                let there = depth_row(*m, y);
+                let there = depth.row(*m, j, valid.i.clone(), layout.columns, &mut there_buffer);
                 let (here, there) = (&here_row[..width], &there[..width]);
                 let inside_i = &inside_i.part(y, columns.clone())[..width];
                 let fill = &internal[(y - rows.start) * width..][..width];
