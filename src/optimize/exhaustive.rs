@@ -8,6 +8,7 @@ use super::heuristic::Candidate;
 use super::problem::{Origin, Problem, StartCapsule};
 use crate::objective::InteriorDistance;
 use crate::parallel::map_each;
+use crate::random::SplitMix64;
 
 /// The random starts for one capsule count and where the heuristic's result ranks among them.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -124,37 +125,4 @@ fn random_capsule(
     };
     let half = radius.max((hi - lo).norm() / 12.0 * random.unit());
     StartCapsule::centred(component, centre, direction * half, radius, Origin::Random)
-}
-
-/// SplitMix64 (Steele, Lea and Flood 2014): a small, fast generator whose output depends only on
-/// its seed.
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn new(seed: u64) -> SplitMix64 {
-        SplitMix64(seed)
-    }
-
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [0, 1).
-    fn unit(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    /// Uniform in [0, n); 0 when `n` is 0.
-    fn below(&mut self, n: usize) -> usize {
-        ((self.unit() * n as f64) as usize).min(n.saturating_sub(1))
-    }
-
-    /// Each coordinate uniform in [0, 1).
-    fn vector(&mut self) -> Vector3<f64> {
-        Vector3::new(self.unit(), self.unit(), self.unit())
-    }
 }

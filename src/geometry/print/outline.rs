@@ -219,21 +219,12 @@ pub(super) fn outline(segments: &[Segment], mut marks: Vec<Mark>) -> Vec<Segment
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// Deterministic pseudo-random numbers in [0, 1).
-    fn numbers(seed: u64) -> impl FnMut() -> f64 {
-        let mut state = seed;
-        move || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        }
-    }
+    use crate::random::SplitMix64;
 
     #[test]
     fn a_band_lists_every_segment_whose_span_holds_the_value() {
-        let mut next = numbers(7);
+        let mut random = SplitMix64::new(7);
+        let mut next = || random.unit();
         for count in [1, 2, 5, 40, 300] {
             let segments: Vec<Segment> = (0..count)
                 .map(|_| {
