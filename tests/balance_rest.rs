@@ -7,7 +7,8 @@ mod geometry_support;
 use std::path::Path;
 
 use balance_support::*;
-use ballast::geometry::{mass_properties, TriMesh};
+use ballast::balance::{resting_facets, ComponentBody};
+use ballast::geometry::{convex_hull, mass_properties, TriMesh};
 use geometry_support::box_mesh;
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 
@@ -341,4 +342,49 @@ fn an_imbalance_pose_that_rocks_onto_a_facet_two_degrees_over_does_not_topple() 
     assert_close("tilt margin", result.support.tilt_margin, by_hand, 1e-6);
     assert!(by_hand < -10.0);
     assert!(result.goals[0].met, "4° over, it topples");
+}
+
+/// The hull of an articulated model, from its components' hulls computed once in their rest
+/// frames (moved into the pose, their hull vertices merged), has the facets of the hull of every
+/// vertex of the posed model computed from scratch.
+#[test]
+fn an_articulated_models_hull_from_its_parts_hulls_is_the_hull_of_all_its_vertices() {
+    let meshes = [
+        box_mesh(30.0, 20.0, 10.0),
+        geometry_support::icosphere(2, 8.0, Point3::new(0.0, 0.0, 0.0)),
+    ];
+    let project = project(&["body", "head"]);
+    let hulls: Vec<_> = meshes.iter().map(|m| convex_hull(&m.positions)).collect();
+    let bodies: Vec<ComponentBody> = meshes
+        .iter()
+        .zip(&hulls)
+        .map(|(mesh, hull)| ComponentBody::for_project(mesh, &project).with_hull(hull.as_ref()))
+        .collect();
+    let head = Isometry3::from_parts(
+        Translation3::new(28.0, 4.0, 12.0),
+        UnitQuaternion::from_axis_angle(&Vector3::y_axis(), 0.4),
+    );
+    let posed = pose(
+        Isometry3::identity(),
+        vec![Isometry3::identity(), head],
+        vec![],
+    );
+    let facets = resting_facets(&project, &bodies, &posed, None).expect("a hull");
+    let all: Vec<Point3<f64>> = meshes[0]
+        .positions
+        .iter()
+        .copied()
+        .chain(meshes[1].positions.iter().map(|p| head * p))
+        .collect();
+    let scratch = convex_hull(&all).expect("a hull");
+    assert_eq!(facets.len(), scratch.facets.len());
+    for facet in &scratch.facets {
+        let normal = Vector3::from(facet.normal);
+        let twin = facets
+            .iter()
+            .find(|f| (Vector3::from(f.normal) - normal).norm() < 1e-9)
+            .expect("the same facet");
+        assert_close("area", twin.area, facet.area, 1e-9);
+        assert_eq!(twin.corners, facet.corners.len());
+    }
 }

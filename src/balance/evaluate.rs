@@ -7,6 +7,7 @@ use super::tilt::{RollingBall, TiltedModel};
 use super::{ball, equilibria, goals, mass, rest, rocking, support, BallMove, BallPlacement};
 use super::{mass::MassTotals, ComponentBody, PoseEvaluation, Support};
 use crate::design::Design;
+use crate::geometry::{convex_hull_among, ConvexHull};
 use crate::spec::model::{Pose, Project};
 
 /// What `design` does in `pose`: mass and centre of mass, where each ball rests, the support on
@@ -201,6 +202,31 @@ pub(crate) fn posed_vertices(bodies: &[ComponentBody], pose: &Pose) -> Vec<Point
         vertices.extend(body.mesh.positions.iter().map(|p| frame * p));
     }
     vertices
+}
+
+/// The convex hull of the model as `pose` places `bodies`, its corners indices into
+/// `vertices` ([`posed_vertices`] of the same pose): one component's rest-frame hull moved into
+/// place; for several, the hull of their hull vertices so placed (a mesh without a hull gives
+/// all its vertices). `None` when the model spans no volume.
+pub(crate) fn posed_hull(
+    bodies: &[ComponentBody],
+    pose: &Pose,
+    vertices: &[Point3<f64>],
+) -> Option<ConvexHull> {
+    if let [body] = bodies {
+        return Some(body.rest_hull()?.moved(&pose.component_frame(0)));
+    }
+    let mut candidates = Vec::new();
+    let mut first = 0;
+    for body in bodies {
+        let count = body.mesh.positions.len();
+        match body.rest_hull() {
+            Some(hull) => candidates.extend(hull.vertices.iter().map(|&i| first + i)),
+            None => candidates.extend(first..first + count),
+        }
+        first += count;
+    }
+    convex_hull_among(vertices, &candidates)
 }
 
 /// Diagonal of the bounding box of `points`; 0 when there are none.

@@ -7,7 +7,7 @@ use serde::Serialize;
 use super::rest::solid_centre;
 use super::{evaluate_pose, ComponentBody};
 use crate::design::Design;
-use crate::geometry::{convex_hull, ConvexHull, HullFacet};
+use crate::geometry::{ConvexHull, HullFacet};
 use crate::spec::model::{Axis, Goal, Pose, Project, Spanned};
 
 /// One facet of the hull and how the model rests on it.
@@ -114,7 +114,7 @@ pub fn resting_facets(
 ) -> Option<Vec<RestingFacet>> {
     let frame = model_frame(pose);
     let points = super::evaluate::posed_vertices(bodies, &frame);
-    let hull = convex_hull(&points)?;
+    let hull = super::evaluate::posed_hull(bodies, &frame, &points)?;
     let centre = solid_centre(bodies, &frame);
     let mut facets: Vec<RestingFacet> = hull
         .facets

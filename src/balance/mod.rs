@@ -51,10 +51,14 @@ pub use mass::{capsule_shell, component_material};
 pub use printed::{bare_bodies, component_voids, cut_bodies, PartPrints};
 pub use rest::{Resting, ROCKING_DEGREES, SNAP_WARNING};
 
+use std::borrow::Cow;
+
 use nalgebra::{Isometry3, Matrix3, Rotation3};
 use serde::Serialize;
 
-use crate::geometry::{print_volumes, MassProperties, PrintVolumes, Region, Slicing, TriMesh};
+use crate::geometry::{
+    convex_hull, print_volumes, ConvexHull, MassProperties, PrintVolumes, Region, Slicing, TriMesh,
+};
 use crate::spec::model::{Axis, MassModel, Print, Project};
 
 /// Per-component data that does not change with the pose: the mesh in its rest frame, its mass
@@ -80,6 +84,10 @@ pub struct ComponentBody<'a> {
     /// deposit, see [`ComponentBody::measured`]): then no void is removed from this component's
     /// material and no shell added; its balls still weigh.
     pub voids_in_print: bool,
+    /// The convex hull of `mesh`, rest frame, computed once for every pose
+    /// ([`ComponentBody::with_hull`]); `None` when not given, and then computed from `mesh` where
+    /// a pose needs it (the same hull).
+    pub hull: Option<&'a ConvexHull>,
 }
 
 impl<'a> ComponentBody<'a> {
@@ -98,6 +106,7 @@ impl<'a> ComponentBody<'a> {
             mass,
             print: component_print(project, mesh, &mass, up_to_print(project.up)),
             voids_in_print: false,
+            hull: None,
         }
     }
 
@@ -109,6 +118,21 @@ impl<'a> ComponentBody<'a> {
             mass,
             print,
             voids_in_print: false,
+            hull: None,
+        }
+    }
+
+    /// This body with its mesh's convex hull `hull` (rest frame, [`convex_hull`] of its
+    /// positions) computed already; `None` for a mesh with no hull.
+    pub fn with_hull(self, hull: Option<&'a ConvexHull>) -> Self {
+        ComponentBody { hull, ..self }
+    }
+
+    /// The convex hull of the mesh, rest frame: the one given, or computed now.
+    pub(crate) fn rest_hull(&self) -> Option<Cow<'a, ConvexHull>> {
+        match self.hull {
+            Some(hull) => Some(Cow::Borrowed(hull)),
+            None => convex_hull(&self.mesh.positions).map(Cow::Owned),
         }
     }
 
@@ -137,6 +161,7 @@ impl<'a> ComponentBody<'a> {
                 },
             },
             voids_in_print: true,
+            hull: None,
         }
     }
 }

@@ -19,7 +19,7 @@ use super::mass::{capsule_volume, Weighted};
 use super::{slicing, ComponentBody};
 use crate::design::Design;
 use crate::geometry::{
-    MassProperties, PrintCorrection, PrintRaster, PrintVolumes, Region, TriMesh, Void,
+    ConvexHull, MassProperties, PrintCorrection, PrintRaster, PrintVolumes, Region, TriMesh, Void,
 };
 use crate::spec::model::{MassModel, Print};
 
@@ -37,33 +37,42 @@ pub fn component_voids(design: &Design, component: usize) -> Vec<Void> {
         .collect()
 }
 
-/// The bodies of `meshes`, whose solids have the mass properties `solids`, whose material
-/// `printed` (one per mesh) has a design's voids cut from it already ([`PartPrints::cut`]).
+/// The bodies of `meshes`, whose convex hulls are `hulls` and whose solids have the mass
+/// properties `solids`, whose material `printed` (one per mesh) has a design's voids cut from it
+/// already ([`PartPrints::cut`]).
 pub fn cut_bodies<'a>(
     meshes: &'a [TriMesh],
+    hulls: &'a [Option<ConvexHull>],
     solids: &[MassProperties],
     printed: &[PrintVolumes],
 ) -> Vec<ComponentBody<'a>> {
     meshes
         .iter()
+        .zip(hulls)
         .zip(solids)
         .zip(printed)
-        .map(|((mesh, solid), print)| ComponentBody::with_voids_cut(mesh, *solid, *print))
+        .map(|(((mesh, hull), solid), print)| {
+            ComponentBody::with_voids_cut(mesh, *solid, *print).with_hull(hull.as_ref())
+        })
         .collect()
 }
 
-/// The bodies of `meshes`, whose solids have the mass properties `solids`, with their material
-/// `bare` (one per mesh) before any capsule is cut.
+/// The bodies of `meshes`, whose convex hulls are `hulls` and whose solids have the mass
+/// properties `solids`, with their material `bare` (one per mesh) before any capsule is cut.
 pub fn bare_bodies<'a>(
     meshes: &'a [TriMesh],
+    hulls: &'a [Option<ConvexHull>],
     solids: &[MassProperties],
     bare: &[PrintVolumes],
 ) -> Vec<ComponentBody<'a>> {
     meshes
         .iter()
+        .zip(hulls)
         .zip(solids)
         .zip(bare)
-        .map(|((mesh, solid), print)| ComponentBody::with_print(mesh, *solid, *print))
+        .map(|(((mesh, hull), solid), print)| {
+            ComponentBody::with_print(mesh, *solid, *print).with_hull(hull.as_ref())
+        })
         .collect()
 }
 
@@ -83,6 +92,8 @@ pub struct PartPrints {
     pub print: Print,
     /// Per component: the mass properties of its solid ([`ComponentBody::mass`]).
     pub solids: Vec<MassProperties>,
+    /// Per component: the convex hull of its mesh, rest frame ([`ComponentBody::hull`]).
+    pub hulls: Arc<[Option<ConvexHull>]>,
     /// Per component, its layers, once sliced.
     rasters: Vec<OnceLock<Arc<PrintRaster>>>,
     /// The latest cuts.
@@ -145,11 +156,12 @@ impl CutCache {
 }
 
 impl PartPrints {
-    /// What it takes to print components whose solids have the mass properties `solids`, whose
-    /// material before capsules are cut is `bare` (with `corrections` in it), printed turned by
-    /// `to_print`, with `print`.
+    /// What it takes to print components whose solids have the mass properties `solids` and whose
+    /// meshes have the convex hulls `hulls`, whose material before capsules are cut is `bare`
+    /// (with `corrections` in it), printed turned by `to_print`, with `print`.
     pub fn new(
         solids: Vec<MassProperties>,
+        hulls: Arc<[Option<ConvexHull>]>,
         bare: Vec<PrintVolumes>,
         to_print: Vec<Rotation3<f64>>,
         corrections: Vec<PrintCorrection>,
@@ -162,6 +174,7 @@ impl PartPrints {
             corrections,
             print,
             solids,
+            hulls,
             rasters,
             cuts: CutCache::default(),
         }
@@ -204,13 +217,13 @@ impl PartPrints {
 
     /// The bodies of `meshes` with `design`'s voids cut from their material
     /// ([`ComponentBody::voids_in_print`]): what a pose of `design` weighs.
-    pub fn bodies<'a>(&self, meshes: &'a [TriMesh], design: &Design) -> Vec<ComponentBody<'a>> {
-        cut_bodies(meshes, &self.solids, &self.cut(meshes, design))
+    pub fn bodies<'a>(&'a self, meshes: &'a [TriMesh], design: &Design) -> Vec<ComponentBody<'a>> {
+        cut_bodies(meshes, &self.hulls, &self.solids, &self.cut(meshes, design))
     }
 
     /// The bodies of `meshes` before any capsule is cut, for the closed-form capsule term.
-    pub fn bare_bodies<'a>(&self, meshes: &'a [TriMesh]) -> Vec<ComponentBody<'a>> {
-        bare_bodies(meshes, &self.solids, &self.bare)
+    pub fn bare_bodies<'a>(&'a self, meshes: &'a [TriMesh]) -> Vec<ComponentBody<'a>> {
+        bare_bodies(meshes, &self.hulls, &self.solids, &self.bare)
     }
 
     /// Component `index`'s material with `voids` cut.

@@ -24,7 +24,7 @@ use super::facets::facet_rotation;
 use super::support::{support_lines, GroundPlane};
 use super::ComponentBody;
 use crate::geometry::polygon::convex_hull as convex_hull_2d;
-use crate::geometry::{convex_hull, ConvexHull, HullFacet, COPLANAR};
+use crate::geometry::{ConvexHull, HullFacet, COPLANAR};
 use crate::spec::model::{Axis, Goal, Pose, Project};
 
 /// Settling that turns a pose by more than this, degrees, deserves a warning: the written rotation
@@ -104,7 +104,7 @@ pub(crate) fn settle_pose(
         return unsettled();
     };
     let vertices = super::evaluate::posed_vertices(bodies, pose);
-    let Some(hull) = convex_hull(&vertices) else {
+    let Some(hull) = super::evaluate::posed_hull(bodies, pose, &vertices) else {
         return unsettled();
     };
     let gravity = -project.up.unit_vector();

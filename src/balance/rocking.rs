@@ -10,7 +10,6 @@ use super::rest::{roll, Rule, ROCKING_DEGREES};
 use super::support::GroundPlane;
 use super::{ball, mass, ComponentBody};
 use crate::design::Design;
-use crate::geometry::convex_hull;
 use crate::spec::model::{Pose, Project};
 
 /// Downhill directions tried, evenly spaced about up from the first.
@@ -37,7 +36,7 @@ pub(crate) fn gentlest_rocking_slope(
     limit: f64,
     first: &Vector3<f64>,
 ) -> Option<(f64, Vector3<f64>)> {
-    let hull = convex_hull(vertices)?;
+    let hull = super::evaluate::posed_hull(bodies, pose, vertices)?;
     let plane = GroundPlane::new(project.up);
     let down = -plane.up;
     let within = ROCKING_DEGREES.to_radians().cos();

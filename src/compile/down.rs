@@ -7,7 +7,6 @@ use crate::balance::facets::{facet_along, facet_margin, model_frame};
 use crate::balance::rest::solid_centre;
 use crate::balance::{facet_rotation, ComponentBody};
 use crate::diagnostic::Problem;
-use crate::geometry::convex_hull;
 use crate::spec::model::{Goal, Project};
 
 /// The warning code of a `down` that names a facet the solid model rolls off in a `stand` pose.
@@ -31,7 +30,7 @@ pub fn place_down_poses(project: &mut Project, bodies: &[ComponentBody]) -> Vec<
         let frame = model_frame(pose);
         let points = crate::balance::evaluate::posed_vertices(bodies, &frame);
         let centre = solid_centre(bodies, &frame);
-        let Some(hull) = convex_hull(&points) else {
+        let Some(hull) = crate::balance::evaluate::posed_hull(bodies, &frame, &points) else {
             problems.push(
                 Problem::error(NO_HULL, "the model has no volume, so `down` names no facet")
                     .with_label(down.span, "this direction"),

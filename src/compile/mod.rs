@@ -76,6 +76,8 @@ pub use report::{Report, REPORT_FORMAT};
 pub use solution::{interrupted_solution_text, read_solution, solution_text};
 pub use workspace::{Failure, Stage, Workspace};
 
+use std::sync::Arc;
+
 use crate::balance::{
     bare_bodies, cut_bodies, evaluate_pose, ComponentBody, PartPrints, PoseEvaluation,
 };
@@ -83,7 +85,8 @@ use crate::design::Design;
 use crate::diagnostic::Problem;
 use crate::fabrication::{Orientation, PrintPlan};
 use crate::geometry::{
-    MassProperties, MeshLimits, PrintCorrection, PrintVolumes, ReadPolicy, TriMesh,
+    convex_hull, ConvexHull, MassProperties, MeshLimits, PrintCorrection, PrintVolumes, ReadPolicy,
+    TriMesh,
 };
 use crate::spec::model::Project;
 use crate::spec::parse_project_with;
@@ -145,6 +148,9 @@ pub struct Compilation {
     pub meshes: Vec<TriMesh>,
     /// Each component's volume, centroid and second moment, in project order.
     pub mass: Vec<MassProperties>,
+    /// Each component's convex hull, rest frame, in project order (`None` for a mesh with no
+    /// volume): computed once, moved into every pose.
+    pub hulls: Arc<[Option<ConvexHull>]>,
     /// Per component, where it is printed solid and where sparse (the project's mass model, plus
     /// the calibration file's correction), in its print orientation.
     pub prints: Vec<PrintVolumes>,
@@ -176,7 +182,7 @@ impl Compilation {
     /// The components' bodies with the design's voids cut from their material (`printed`): what
     /// every pose of the design weighs.
     pub fn bodies(&self) -> Vec<ComponentBody<'_>> {
-        cut_bodies(&self.meshes, &self.mass, &self.printed)
+        cut_bodies(&self.meshes, &self.hulls, &self.mass, &self.printed)
     }
 
     /// What it takes to print each component's material for any design (for the optimizer).
@@ -184,6 +190,7 @@ impl Compilation {
         part_prints(
             &self.project,
             self.mass.clone(),
+            self.hulls.clone(),
             self.prints.clone(),
             &self.orientations,
             &self.corrections,
@@ -192,7 +199,7 @@ impl Compilation {
 
     /// The components' bodies before any capsule is cut (`prints`).
     pub fn bare_bodies(&self) -> Vec<ComponentBody<'_>> {
-        bare_bodies(&self.meshes, &self.mass, &self.prints)
+        bare_bodies(&self.meshes, &self.hulls, &self.mass, &self.prints)
     }
 
     /// Whether every goal of every pose is met.
@@ -253,14 +260,22 @@ pub fn compile_with(
     let (loaded, mesh_problems) = load_components(&project, &mut workspace.meshes, &policy);
     problems.extend(mesh_problems);
     let (meshes, solids) = loaded.unzip();
+    // Each component's hull, once: the print orientation turns it, every pose moves it.
+    let hulls: Option<Arc<[Option<ConvexHull>]>> = meshes.as_ref().map(|meshes| {
+        meshes
+            .iter()
+            .map(|mesh| convex_hull(&mesh.positions))
+            .collect()
+    });
     // The written capsules as they stand, for the ball-gap warnings and the capsules the print
     // orientation is chosen for; their problems come with the fabrication checks below, and the
     // ball-gap warnings after them, since a gap matters only for a capsule that is valid.
     let (written, _) = hand_placed_design(&project);
     let ball_gaps = design::ball_gap_warnings(&project, &written);
     let known = design::fixed_capsules(&project, &written);
-    let orientations = meshes.as_ref().map(|meshes| {
-        let (orientations, orientation_problems) = print_orientations(&project, meshes, &known);
+    let orientations = meshes.as_ref().zip(hulls.as_ref()).map(|(meshes, hulls)| {
+        let (orientations, orientation_problems) =
+            print_orientations(&project, meshes, hulls, &known);
         problems.extend(orientation_problems);
         orientations
     });
@@ -280,10 +295,11 @@ pub fn compile_with(
     // The print volumes, computed once: here for the `down` poses, which rest on the print-true
     // body, or else below, once the project is known to be valid.
     let mut corrected: Option<calibration::Corrected> = None;
-    if let (Some(meshes), Some(solids), Some(orientations)) = (
+    if let (Some(meshes), Some(hulls), Some(solids), Some(orientations)) = (
         meshes
             .as_ref()
             .filter(|_| project.poses.iter().any(|pose| pose.down.is_some())),
+        &hulls,
         &solids,
         &orientations,
     ) {
@@ -297,7 +313,7 @@ pub fn compile_with(
                 workspace,
             ))
             .prints;
-        let bodies = bare_bodies(meshes, solids, prints);
+        let bodies = bare_bodies(meshes, hulls, solids, prints);
         problems.extend(down::place_down_poses(&mut project, &bodies));
     }
     let optimizing = project.optimize.is_some() && options.optimize.is_some();
@@ -312,11 +328,11 @@ pub fn compile_with(
     );
     problems.extend(design_problems);
     problems.extend(ball_gaps);
-    let (meshes, solids, orientations) = match (meshes, solids, orientations) {
-        (Some(meshes), Some(solids), Some(orientations))
+    let (meshes, hulls, solids, orientations) = match (meshes, hulls, solids, orientations) {
+        (Some(meshes), Some(hulls), Some(solids), Some(orientations))
             if !problems.iter().any(Problem::is_error) =>
         {
-            (meshes, solids, orientations)
+            (meshes, hulls, solids, orientations)
         }
         _ => return Err(Failure::Invalid(problems)),
     };
@@ -339,8 +355,15 @@ pub fn compile_with(
         .zip(&orientations)
         .map(|(mesh, o)| workspace.prints.raster(&project, mesh, o.to_print))
         .collect();
-    let parts =
-        part_prints(&project, solids, prints, &orientations, &corrections).with_rasters(rasters);
+    let parts = part_prints(
+        &project,
+        solids,
+        hulls.clone(),
+        prints,
+        &orientations,
+        &corrections,
+    )
+    .with_rasters(rasters);
     let print = print_setup(&project, &orientations);
     let (design, source, optimization) = match (&project.optimize, &options.optimize) {
         (None, _) => (written, DesignSource::Written, None),
@@ -386,7 +409,7 @@ pub fn compile_with(
         }
     };
     let printed = parts.cut(&meshes, &design);
-    let bodies = cut_bodies(&meshes, &parts.solids, &printed);
+    let bodies = cut_bodies(&meshes, &hulls, &parts.solids, &printed);
     let mass = parts.solids.clone();
     let poses: Vec<PoseEvaluation> = project
         .poses
@@ -416,6 +439,7 @@ pub fn compile_with(
         project,
         meshes,
         mass,
+        hulls,
         prints: parts.bare,
         printed,
         corrections,
@@ -436,12 +460,14 @@ pub fn compile_with(
 fn part_prints(
     project: &Project,
     solids: Vec<MassProperties>,
+    hulls: Arc<[Option<ConvexHull>]>,
     bare: Vec<PrintVolumes>,
     orientations: &[Orientation],
     corrections: &[PrintCorrection],
 ) -> PartPrints {
     PartPrints::new(
         solids,
+        hulls,
         bare,
         orientations.iter().map(|o| o.to_print).collect(),
         corrections.to_vec(),

@@ -10,7 +10,7 @@ use crate::fabrication::{
     choose, declared_down, declared_rotation, height, lay_out, plan_insertions, Bed, ComponentPlan,
     InsertionRank, LayerGrid, Orientation, OrientationChoice, PrintFrame, PrintPlan, PrintSetup,
 };
-use crate::geometry::{convex_hull, mass_properties, TriMesh};
+use crate::geometry::{mass_properties, ConvexHull, TriMesh};
 use crate::spec::model::{PrintOrientation, Project};
 
 /// The problem code of a `print { down }` on a component whose mesh has no volume.
@@ -32,6 +32,7 @@ pub const BED_GAP_MM: f64 = 10.0;
 pub fn print_orientations(
     project: &Project,
     meshes: &[TriMesh],
+    hulls: &[Option<ConvexHull>],
     known: &Design,
 ) -> (Vec<Orientation>, Vec<Problem>) {
     let grid = layer_grid(project);
@@ -39,12 +40,12 @@ pub fn print_orientations(
     let orientations = project
         .components
         .iter()
-        .zip(meshes)
+        .zip(meshes.iter().zip(hulls))
         .enumerate()
-        .map(|(index, (component, mesh))| {
+        .map(|(index, (component, (mesh, hull)))| {
             let points = &mesh.positions;
             let centre = mass_properties(mesh).centroid;
-            let Some(hull) = convex_hull(points) else {
+            let Some(hull) = hull else {
                 if let Some(PrintOrientation::Down(down)) = &component.print {
                     problems.push(
                         Problem::error(
@@ -62,13 +63,13 @@ pub fn print_orientations(
             };
             match &component.print {
                 Some(PrintOrientation::Down(down)) => {
-                    declared_down(&hull, points, &centre, &down.value)
+                    declared_down(hull, points, &centre, &down.value)
                         .unwrap_or_else(|| flat(project, points, None))
                 }
                 Some(PrintOrientation::Rotate(rotation)) => {
-                    declared_rotation(&hull, points, rotation.value.to_rotation_matrix())
+                    declared_rotation(hull, points, rotation.value.to_rotation_matrix())
                 }
-                None => choose(&hull, points, &centre, &-project.up.unit_vector(), &|r| {
+                None => choose(hull, points, &centre, &-project.up.unit_vector(), &|r| {
                     insertion_rank(known, index, mesh, r, &grid)
                 }),
             }

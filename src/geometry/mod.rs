@@ -48,7 +48,7 @@ mod tree;
 mod validate;
 mod winding;
 
-pub use convex_hull::{convex_hull, ConvexHull, HullFacet, COPLANAR};
+pub use convex_hull::{convex_hull, convex_hull_among, ConvexHull, HullFacet, COPLANAR};
 pub use distance::{
     distance_to_point, distance_to_segment, point_triangle_distance, segment_segment_distance,
     segment_triangle_distance,

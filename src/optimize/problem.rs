@@ -152,7 +152,7 @@ impl<'a> Problem<'a> {
     pub fn new(
         project: &'a Project,
         meshes: &'a [TriMesh],
-        parts: &PartPrints,
+        parts: &'a PartPrints,
         print: PrintSetup,
         interior: Arc<GridInterior>,
         method: Method,

@@ -203,9 +203,10 @@ pub fn verify_gcode(
     let bodies: Vec<ComponentBody> = compilation
         .meshes
         .iter()
+        .zip(compilation.hulls.iter())
         .zip(&compilation.mass)
         .zip(&components)
-        .map(|((mesh, solid), component)| {
+        .map(|(((mesh, hull), solid), component)| {
             ComponentBody::measured(
                 mesh,
                 *solid,
@@ -214,6 +215,7 @@ pub fn verify_gcode(
                     centroid: component.centroid.into(),
                 },
             )
+            .with_hull(hull.as_ref())
         })
         .collect();
     let poses = compilation
