@@ -16,35 +16,71 @@ use super::convex_hull::ConvexHull;
 pub struct HullWalk {
     /// The hull's vertices, indices into the points of the hull.
     vertices: Vec<usize>,
-    /// Per vertex (an index into `vertices`), its neighbours along the facets' edges.
-    neighbours: Vec<Vec<usize>>,
+    /// Vertex `v`'s neighbours along the facets' edges (indices into `vertices`, ascending) are
+    /// `adjacent[starts[v]..starts[v + 1]]`.
+    starts: Vec<usize>,
+    adjacent: Vec<usize>,
 }
 
 impl HullWalk {
     /// The walk over `hull`'s vertices and facet edges.
     pub fn new(hull: &ConvexHull) -> HullWalk {
         let vertices = hull.vertices.clone();
-        let local = |point: usize| vertices.binary_search(&point).ok();
-        let mut neighbours = vec![Vec::new(); vertices.len()];
-        for facet in &hull.facets {
-            let n = facet.corners.len();
-            for k in 0..n {
-                let (Some(a), Some(b)) =
-                    (local(facet.corners[k]), local(facet.corners[(k + 1) % n]))
-                else {
-                    continue;
-                };
-                neighbours[a].push(b);
-                neighbours[b].push(a);
-            }
+        // Each point's index among the vertices, `NONE` for a point that is none.
+        const NONE: usize = usize::MAX;
+        let mut local = vec![NONE; vertices.last().map_or(0, |&last| last + 1)];
+        for (v, &point) in vertices.iter().enumerate() {
+            local[point] = v;
         }
-        for list in &mut neighbours {
+        let local = |point: usize| local.get(point).copied().filter(|&v| v != NONE);
+        let edges = || {
+            hull.facets.iter().flat_map(move |facet| {
+                let n = facet.corners.len();
+                (0..n).filter_map(move |k| {
+                    Some((local(facet.corners[k])?, local(facet.corners[(k + 1) % n])?))
+                })
+            })
+        };
+        // Every edge counted at both ends, then placed, then each vertex's list sorted and its
+        // repeats (an edge seen from both of its facets) dropped.
+        let mut starts = vec![0; vertices.len() + 1];
+        for (a, b) in edges() {
+            starts[a + 1] += 1;
+            starts[b + 1] += 1;
+        }
+        for v in 0..vertices.len() {
+            starts[v + 1] += starts[v];
+        }
+        let mut filled = starts.clone();
+        let mut adjacent = vec![0; starts[vertices.len()]];
+        for (a, b) in edges() {
+            adjacent[filled[a]] = b;
+            filled[a] += 1;
+            adjacent[filled[b]] = a;
+            filled[b] += 1;
+        }
+        let mut kept = 0;
+        for v in 0..vertices.len() {
+            let list = &mut adjacent[starts[v]..starts[v + 1]];
             list.sort_unstable();
-            list.dedup();
+            let mut previous = None;
+            let start = kept;
+            for k in starts[v]..starts[v + 1] {
+                let neighbour = adjacent[k];
+                if previous != Some(neighbour) {
+                    adjacent[kept] = neighbour;
+                    kept += 1;
+                    previous = Some(neighbour);
+                }
+            }
+            starts[v] = start;
         }
+        starts[vertices.len()] = kept;
+        adjacent.truncate(kept);
         HullWalk {
             vertices,
-            neighbours,
+            starts,
+            adjacent,
         }
     }
 
@@ -86,7 +122,7 @@ impl HullWalk {
         let mut current = from;
         let mut here = value(current);
         loop {
-            let next = self.neighbours[current]
+            let next = self.adjacent[self.starts[current]..self.starts[current + 1]]
                 .iter()
                 .map(|&v| (v, value(v)))
                 .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));

@@ -188,8 +188,17 @@ fn cell_size(boxes: &[Aabb]) -> f64 {
 /// side of its plane to the other: the two surfaces cross. Touching (an end on the other's
 /// plane, a shared edge or vertex, a shared plane) is not crossing.
 fn triangles_cross(a: &[Point3<f64>; 3], b: &[Point3<f64>; 3]) -> bool {
-    (0..3).any(|i| edge_pierces(&a[i], &a[(i + 1) % 3], b))
-        || (0..3).any(|i| edge_pierces(&b[i], &b[(i + 1) % 3], a))
+    (straddles(a, b) && (0..3).any(|i| edge_pierces(&a[i], &a[(i + 1) % 3], b)))
+        || (straddles(b, a) && (0..3).any(|i| edge_pierces(&b[i], &b[(i + 1) % 3], a)))
+}
+
+/// Whether corners of `a` lie strictly on both sides of the plane of `t`, as [`edge_pierces`]
+/// measures it: when not, no edge of `a` pierces `t` (its ends must be on opposite sides beyond
+/// a tolerance), which two triangles of a smooth surface show most of the time.
+fn straddles(a: &[Point3<f64>; 3], t: &[Point3<f64>; 3]) -> bool {
+    let normal = (t[1] - t[0]).cross(&(t[2] - t[0]));
+    let side = a.map(|p| normal.dot(&(p - t[0])));
+    side.iter().any(|&s| s > 0.0) && side.iter().any(|&s| s < 0.0)
 }
 
 /// Whether the segment `p`–`q` crosses the plane of `t` strictly between its ends, at a point of
