@@ -51,7 +51,9 @@ pub struct Round {
 /// in that solve, removes the least grown of them (at most half of the unpinned capsules, and
 /// at least one even when none is marked) and starts the next round from the survivors' seeds.
 /// Only the round's kept solve is refined into the design the judge weighs
-/// ([`Problem::refine`]), beside the rounds that follow. It stops after the round with no
+/// ([`Problem::refine`]), beside the rounds that follow; when that design misses a goal, the
+/// round's next best solve is refined too and kept if it meets every goal (or has the lower
+/// objective). It stops after the round with no
 /// unpinned capsule left. With
 /// `stop_at = Some(n)` it stops after the round with `n` capsules instead (seeds are split first
 /// if there are fewer than `n`).
@@ -136,6 +138,18 @@ pub fn run(
                     current = starts[index].clone();
                 }
             }
+            // The next best solve of the round, refined too when the kept one's refinement
+            // misses a goal: the smooth program's order need not be the judge's.
+            let runner_up = (0..explored.len())
+                .filter(|&i| i != best)
+                .reduce(|a, b| {
+                    if explored[b].is_better_than(&explored[a]) {
+                        b
+                    } else {
+                        a
+                    }
+                })
+                .map(|i| (starts[i].clone(), explored[i].clone()));
             let chosen = explored.swap_remove(best);
             let growth: Vec<(usize, f64)> = current
                 .iter()
@@ -162,10 +176,24 @@ pub fn run(
                 starts: current.clone(),
                 refined: scope.spawn(move || {
                     let clock = Instant::now();
-                    let outcome = problem.refine(&chosen);
+                    let mut outcome = problem.refine(&chosen);
+                    let mut starts = None;
+                    if let Some((other_starts, other)) = runner_up.filter(|_| !outcome.meets_goals)
+                    {
+                        let second = problem.refine(&other);
+                        if second.meets_goals
+                            || (!outcome.meets_goals && second.value < outcome.value)
+                        {
+                            outcome = second;
+                            starts = Some(other_starts);
+                        }
+                    }
                     // A refinement the cancellation reached means nothing.
-                    (!problem.is_cancelled())
-                        .then(|| (outcome, explored_seconds + clock.elapsed().as_secs_f64()))
+                    (!problem.is_cancelled()).then(|| Refined {
+                        outcome,
+                        starts,
+                        seconds: explored_seconds + clock.elapsed().as_secs_f64(),
+                    })
                 }),
             });
             let floor = stop_at.unwrap_or(0);
@@ -199,8 +227,19 @@ pub fn run(
 struct Refining<'scope> {
     /// The round's start capsules.
     starts: Vec<StartCapsule>,
-    /// The judged outcome and the round's seconds; `None` when cancelled.
-    refined: ScopedJoinHandle<'scope, Option<(Outcome, f64)>>,
+    /// The judged outcome; `None` when cancelled.
+    refined: ScopedJoinHandle<'scope, Option<Refined>>,
+}
+
+/// A round's refinement, finished.
+struct Refined {
+    /// The judged design.
+    outcome: Outcome,
+    /// The start capsules it came from when they are not the round's: the runner-up's,
+    /// refined after the kept solve's design missed a goal.
+    starts: Option<Vec<StartCapsule>>,
+    /// The round's wall-clock seconds.
+    seconds: f64,
 }
 
 impl Refining<'_> {
@@ -210,11 +249,11 @@ impl Refining<'_> {
             .refined
             .join()
             .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
-        refined.map(|(outcome, seconds)| Candidate {
+        refined.map(|refined| Candidate {
             capsules: self.starts.len(),
-            outcome,
-            starts: self.starts,
-            seconds,
+            outcome: refined.outcome,
+            starts: refined.starts.unwrap_or(self.starts),
+            seconds: refined.seconds,
         })
     }
 }
