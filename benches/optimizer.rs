@@ -25,7 +25,7 @@ use std::time::Instant;
 
 use ballast::balance::PartPrints;
 use ballast::compile::{
-    self, compile_with, CompileOptions, OptimizeOptions, Preparation, Workspace,
+    self, compile_with, print_setup, CompileOptions, OptimizeOptions, Preparation, Workspace,
 };
 use ballast::fabrication::PrintSetup;
 use ballast::geometry::{load_mesh, DistanceGrid, MeshSelector, Skeleton, TriMesh};
@@ -85,12 +85,15 @@ impl Example {
         )
         .unwrap_or_else(|failure| panic!("{name} did not compile: {failure:?}"));
         let prints = compiled.part_prints();
+        // As `build` sets the optimizer up: from the orientations, not from the bed's plan (the
+        // same directions, rounded differently).
+        let print = print_setup(&compiled.project, &compiled.orientations);
         Example {
             name: name.to_string(),
             project: compiled.project,
             meshes: compiled.meshes,
             prints,
-            print: PrintSetup::from_plan(&compiled.print_plan),
+            print,
         }
     }
 
