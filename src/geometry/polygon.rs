@@ -16,9 +16,21 @@ pub(crate) fn convex_hull(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
 
 /// [`convex_hull`] as indices into `points`: of repeated points, the first.
 pub(crate) fn convex_hull_indices(points: &[[f64; 2]]) -> Vec<usize> {
-    let mut sorted: Vec<usize> = (0..points.len())
-        .filter(|&i| points[i].iter().all(|x| x.is_finite()))
-        .collect();
+    let (mut sorted, mut hull) = (Vec::new(), Vec::new());
+    convex_hull_indices_into(points, &mut sorted, &mut hull);
+    hull
+}
+
+/// [`convex_hull_indices`] written into `hull`, with `sorted` as working space: both are
+/// cleared first, so a caller making many hulls allocates them once.
+pub(crate) fn convex_hull_indices_into(
+    points: &[[f64; 2]],
+    sorted: &mut Vec<usize>,
+    hull: &mut Vec<usize>,
+) {
+    sorted.clear();
+    hull.clear();
+    sorted.extend((0..points.len()).filter(|&i| points[i].iter().all(|x| x.is_finite())));
     let order = |a: &usize, b: &usize| {
         let (p, q) = (points[*a], points[*b]);
         p[0].total_cmp(&q[0]).then(p[1].total_cmp(&q[1]))
@@ -26,21 +38,21 @@ pub(crate) fn convex_hull_indices(points: &[[f64; 2]]) -> Vec<usize> {
     sorted.sort_by(|a, b| order(a, b).then(a.cmp(b)));
     sorted.dedup_by(|later, earlier| points[*later] == points[*earlier]);
     if sorted.len() < 3 {
-        return sorted;
+        hull.extend_from_slice(sorted);
+        return;
     }
-    let mut hull: Vec<usize> = Vec::with_capacity(sorted.len() + 1);
-    for &p in &sorted {
-        pop_right_turns(points, &mut hull, 2, p);
+    hull.reserve(sorted.len() + 1);
+    for &p in sorted.iter() {
+        pop_right_turns(points, hull, 2, p);
         hull.push(p);
     }
     let lower_len = hull.len();
     for &p in sorted.iter().rev().skip(1) {
-        pop_right_turns(points, &mut hull, lower_len + 1, p);
+        pop_right_turns(points, hull, lower_len + 1, p);
         hull.push(p);
     }
     // The upper chain ends where the lower one started.
     hull.pop();
-    hull
 }
 
 /// Pops the last point of `hull` (indices into `points`) while it has at least `keep` points and

@@ -4,7 +4,22 @@ use nalgebra::Vector3;
 
 use super::quickhull::Quickhull;
 use super::{ConvexHull, HullFacet};
-use crate::geometry::polygon::convex_hull_indices;
+use crate::geometry::polygon::convex_hull_indices_into;
+
+/// What merging one facet works with, kept from one facet to the next: a hull of a million
+/// triangles has about as many facets.
+#[derive(Default)]
+struct Scratch {
+    /// The facet's triangles.
+    group: Vec<usize>,
+    /// Their corners, ascending, once each.
+    corners: Vec<usize>,
+    /// The corners in the facet's plane.
+    flat: Vec<[f64; 2]>,
+    /// The plane hull's working space and result (indices into `flat`).
+    sorted: Vec<usize>,
+    polygon: Vec<usize>,
+}
 
 impl Quickhull<'_> {
     /// The live triangles merged into facets: from the largest triangle down, each facet takes
@@ -22,6 +37,7 @@ impl Quickhull<'_> {
         order.sort_unstable_by(|x, y| y.0.total_cmp(&x.0).then(x.1.cmp(&y.1)));
         let mut taken = vec![false; self.faces.len()];
         let mut facets = Vec::new();
+        let mut scratch = Scratch::default();
         for &(_, seed) in &order {
             if taken[seed] {
                 continue;
@@ -36,7 +52,9 @@ impl Quickhull<'_> {
                         .iter()
                         .all(|&i| (normal.dot(&self.points[i].coords) - offset).abs() <= tolerance)
             };
-            let mut group = vec![seed];
+            let group = &mut scratch.group;
+            group.clear();
+            group.push(seed);
             let mut k = 0;
             while k < group.len() {
                 let neighbours = self.faces[group[k]].neighbours;
@@ -48,7 +66,7 @@ impl Quickhull<'_> {
                     }
                 }
             }
-            if let Some(facet) = self.facet(&group) {
+            if let Some(facet) = self.facet(&mut scratch) {
                 facets.push(facet);
             }
         }
@@ -66,9 +84,16 @@ impl Quickhull<'_> {
         }
     }
 
-    /// One facet of the triangles `group`: their corners' convex polygon in the plane of their
-    /// mean normal. `None` when that polygon has no area.
-    fn facet(&self, group: &[usize]) -> Option<HullFacet> {
+    /// One facet of the triangles `scratch.group`: their corners' convex polygon in the plane of
+    /// their mean normal. `None` when that polygon has no area.
+    fn facet(&self, scratch: &mut Scratch) -> Option<HullFacet> {
+        let Scratch {
+            group,
+            corners,
+            flat,
+            sorted,
+            polygon,
+        } = scratch;
         let sum: Vector3<f64> = group
             .iter()
             .map(|&f| {
@@ -77,21 +102,20 @@ impl Quickhull<'_> {
             })
             .sum();
         let normal = sum.try_normalize(0.0)?;
-        let mut corners: Vec<usize> = group.iter().flat_map(|&f| self.faces[f].corners).collect();
+        corners.clear();
+        corners.extend(group.iter().flat_map(|&f| self.faces[f].corners));
         corners.sort_unstable();
         corners.dedup();
         // (u, w, normal) is right-handed, so counter-clockwise in (u, w) is counter-clockwise
         // seen from outside.
         let u = normal.cross(&least_aligned_axis(&normal)).normalize();
         let w = normal.cross(&u);
-        let flat: Vec<[f64; 2]> = corners
-            .iter()
-            .map(|&i| {
-                let p = self.points[i].coords;
-                [u.dot(&p), w.dot(&p)]
-            })
-            .collect();
-        let polygon: Vec<usize> = convex_hull_indices(&flat);
+        flat.clear();
+        flat.extend(corners.iter().map(|&i| {
+            let p = self.points[i].coords;
+            [u.dot(&p), w.dot(&p)]
+        }));
+        convex_hull_indices_into(flat, sorted, polygon);
         if polygon.len() < 3 {
             return None;
         }
