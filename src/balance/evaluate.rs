@@ -206,8 +206,9 @@ pub(crate) fn posed_vertices(bodies: &[ComponentBody], pose: &Pose) -> Vec<Point
 
 /// The convex hull of the model as `pose` places `bodies`, its corners indices into
 /// `vertices` ([`posed_vertices`] of the same pose): one component's rest-frame hull moved into
-/// place; for several, the hull of their hull vertices so placed (a mesh without a hull gives
-/// all its vertices). `None` when the model spans no volume.
+/// place; for several, the hull of their hull vertices so placed (a body given no hull
+/// contributes all its vertices, rather than a hull computed only for them). `None` when the
+/// model spans no volume.
 pub(crate) fn posed_hull(
     bodies: &[ComponentBody],
     pose: &Pose,
@@ -220,7 +221,7 @@ pub(crate) fn posed_hull(
     let mut first = 0;
     for body in bodies {
         let count = body.mesh.positions.len();
-        match body.rest_hull() {
+        match body.hull {
             Some(hull) => candidates.extend(hull.vertices.iter().map(|&i| first + i)),
             None => candidates.extend(first..first + count),
         }
