@@ -484,8 +484,8 @@ fn the_t_shape_with_its_design_weighs_and_stands_as_prusaslicer_prints_it() {
         design.infill,
         to_print,
     );
-    // The mass the report weighs: the T re-sliced with its voids, plus its calibration file's
-    // correction (examples/t_shape.calibration.json).
+    // The mass the report weighs: the T re-sliced with its voids, plus the correction of a
+    // calibration file beside the project (the example has none).
     let model = modelled(
         body,
         &capsules,

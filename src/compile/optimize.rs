@@ -16,10 +16,9 @@ use crate::geometry::{DistanceGrid, Skeleton, TriMesh};
 use crate::objective::{GridInterior, Parameters};
 pub use crate::optimize::length_decimals;
 use crate::optimize::{
-    capsule_radius, choose, content_hash, default_cell, explain_conflicts, grid_scale, has_room,
-    rank, repair_seeds, run_heuristic, skeleton_seeds, smallest_capsule_radius, Candidate,
-    ConflictSpace, GoalRef, GridKey, Method, Origin, Outcome, Problem, Rules, SeedRepair, SeedSite,
-    StartCapsule,
+    choose, content_hash, default_cell, explain_conflicts, grid_scale, has_room, rank,
+    repair_seeds, run_heuristic, skeleton_seeds, smallest_capsule_radius, Candidate, ConflictSpace,
+    GoalRef, GridKey, Method, Origin, Outcome, Problem, Rules, SeedRepair, SeedSite, StartCapsule,
 };
 use crate::spec::model::{Optimize, Project};
 
@@ -291,18 +290,13 @@ fn optimize_from(
     )
     .with_cancel(workspace.cancel.clone());
     let requested = options.capsules.or(settings.capsules);
-    let mut candidates = run_heuristic(&problem, &seeds, requested, &|round| {
+    let candidates = run_heuristic(&problem, &seeds, requested, &|round| {
         workspace.report(Stage::Round(round))
     });
     // Interrupted (not cancelled), the rounds finished so far still hold designs worth keeping.
     let interrupted = || workspace.cancel.interruption();
     if candidates.is_empty() || (problem.is_cancelled() && interrupted().is_none()) {
         return None;
-    }
-    // Every candidate is judged as the solution file would hold it, so the table, the choice
-    // and `check` agree even for a design on the edge of a goal.
-    for candidate in &mut candidates {
-        candidate.outcome = rounded(&problem, &candidate.outcome, meshes);
     }
     let heuristic = clock.elapsed().as_secs_f64();
 
@@ -349,11 +343,7 @@ fn optimize_from(
             })
             .collect();
         let starts = conflict_starts(&seeds, &candidates, chosen, requested);
-        let written = |problem: &Problem, outcome: &Outcome| rounded(problem, outcome, meshes);
-        let space = ConflictSpace {
-            starts: &starts,
-            written: &written,
-        };
+        let space = ConflictSpace { starts: &starts };
         let achieved: Vec<Vec<GoalRef>> = candidates
             .iter()
             .enumerate()
@@ -462,53 +452,6 @@ fn warm_capsules(design: &Design, pinned: &[StartCapsule]) -> Vec<StartCapsule> 
             origin: Origin::Earlier,
         })
         .collect()
-}
-
-/// `outcome`'s design with every length rounded to [`length_decimals`], judged again. Ends move
-/// to the nearest step. With any ball size, each unpinned radius shrinks by at least one step, so
-/// rounding cannot bring a capsule closer to the surface or to another capsule than it was; with
-/// stock balls the optimizer's radius, a ball plus the clearance, is already on the grid and is
-/// kept.
-fn rounded(problem: &Problem, outcome: &Outcome, meshes: &[TriMesh]) -> Outcome {
-    // k / 10^d, both exact, is the double the solution file's decimal `k·10^-d` reads back as;
-    // k · 10^-d is not always (−1503 · 0.01 = −15.030000000000001).
-    let scale = grid_scale(length_decimals(meshes));
-    let round = |v: f64| (v * scale).round() / scale;
-    let ball = &problem.project().ball;
-    let written = &problem.project().capsules;
-    let mut design = outcome.design.clone();
-    for capsule in &mut design.capsules {
-        let pinned = written
-            .iter()
-            .any(|w| w.pinned && w.name.value == capsule.name);
-        if pinned {
-            continue;
-        }
-        capsule.from = capsule.from.map(round);
-        capsule.to = capsule.to.map(round);
-        let stock = ball
-            .radius_for(capsule.radius)
-            .filter(|_| ball.is_listed())
-            .map(|b| (capsule_radius(ball, b, scale), b));
-        match stock {
-            Some((radius, b)) => {
-                capsule.radius = radius;
-                capsule.ball_radius = b;
-            }
-            None => {
-                capsule.radius = ((capsule.radius * scale).floor() - 1.0) / scale;
-                if let Some(b) = ball.radius_for(capsule.radius) {
-                    capsule.ball_radius = b;
-                }
-            }
-        }
-    }
-    if problem.project().infill.range.is_some() {
-        design.infill = (design.infill * 1e6).round() / 1e6;
-    }
-    let mut judged = problem.judge(design);
-    judged.value = outcome.value;
-    judged
 }
 
 /// `design` with every capsule named after where it is, unless pinned (a pinned capsule keeps the

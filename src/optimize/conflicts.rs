@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use serde::Serialize;
 
-use super::problem::{Outcome, Problem, StartCapsule};
+use super::problem::{Problem, StartCapsule};
 use super::solver::Method;
 use crate::balance::PartPrints;
 use crate::cancel::Cancel;
@@ -53,9 +53,6 @@ pub struct Space<'a> {
     /// The starts, each a design of the space (e.g. the capsule count asked for): the heuristic's
     /// designs and the seeds of their rounds.
     pub starts: &'a [Vec<StartCapsule>],
-    /// Turns a reached outcome into the design the solution file would hold, judged again: a
-    /// set of goals counts as met only when that design meets it.
-    pub written: &'a (dyn Fn(&Problem, &Outcome) -> Outcome + Sync),
 }
 
 /// Explains why the goals `unmet` (of `project`) were not met by optimizing for smaller sets of
@@ -126,7 +123,7 @@ pub fn explain(
             let count = batch.min(space.starts.len() - first);
             let reached = map_each(count, |i| {
                 let start = &space.starts[first + i];
-                let written = (space.written)(&problem, &problem.optimize(start));
+                let written = problem.optimize(start);
                 (written.meets_goals, written.value.to_degrees())
             });
             for result in reached {

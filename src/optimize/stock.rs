@@ -2,6 +2,7 @@
 //! ball plus the clearance, on the solution file's length grid, so the design it judges is the one
 //! that is printed and filled.
 
+use crate::design::Design;
 use crate::geometry::TriMesh;
 use crate::spec::model::Ball;
 
@@ -76,9 +77,60 @@ pub fn snap(
     }
 }
 
+/// `design` as the solution file holds it, on the grid of `scale`: the ends of every capsule not
+/// `pinned` (by design index) at the nearest step; its radius a stock ball plus the clearance
+/// ([`capsule_radius`], on the grid already) or, with any ball size, on the grid below it and one
+/// step further down when rounding moved an end, so that rounding brings no capsule closer to the
+/// surface or to another capsule than it was; a ranged infill (`ranged_infill`) to six decimals.
+/// A design already on the grid comes back as it is.
+pub fn on_file_grid(
+    mut design: Design,
+    pinned: &[bool],
+    ball: &Ball,
+    scale: f64,
+    ranged_infill: bool,
+) -> Design {
+    let round = |v: f64| (v * scale).round() / scale;
+    for (j, capsule) in design.capsules.iter_mut().enumerate() {
+        if pinned.get(j).copied().unwrap_or(false) {
+            continue;
+        }
+        let (from, to) = (capsule.from.map(round), capsule.to.map(round));
+        let moved = from != capsule.from || to != capsule.to;
+        (capsule.from, capsule.to) = (from, to);
+        let stock = ball
+            .radius_for(capsule.radius)
+            .filter(|_| ball.is_listed())
+            .map(|b| (capsule_radius(ball, b, scale), b));
+        match stock {
+            Some((radius, b)) => {
+                capsule.radius = radius;
+                capsule.ball_radius = b;
+            }
+            None => {
+                let steps = if round(capsule.radius) == capsule.radius {
+                    (capsule.radius * scale).round()
+                } else {
+                    (capsule.radius * scale).floor()
+                };
+                capsule.radius = (steps - f64::from(u8::from(moved))) / scale;
+                if let Some(b) = ball.radius_for(capsule.radius) {
+                    capsule.ball_radius = b;
+                }
+            }
+        }
+    }
+    if ranged_infill {
+        design.infill = (design.infill * 1e6).round() / 1e6;
+    }
+    design
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::design::PlacedCapsule;
+    use nalgebra::Point3;
 
     fn ball(diameters: &[f64], clearance: f64) -> Ball {
         Ball {
@@ -130,5 +182,61 @@ mod tests {
         assert_eq!(ball_radius, 4.0 * mm);
         assert_eq!(radius, 0.1654);
         assert_eq!(b.radius_for(radius), Some(ball_radius));
+    }
+
+    fn design(radius: f64, from: [f64; 3], to: [f64; 3]) -> Design {
+        Design {
+            capsules: vec![PlacedCapsule {
+                name: "c".into(),
+                component: 0,
+                from: Point3::from(from),
+                to: Point3::from(to),
+                radius,
+                ball_radius: 0.0,
+            }],
+            infill: 0.2,
+        }
+    }
+
+    #[test]
+    fn a_design_on_the_file_grid_keeps_its_capsules_no_closer_to_anything() {
+        let any = ball(&[], 0.2);
+        let reached = design(2.3456, [1.234, -0.005, 3.0], [7.0001, 2.0, 3.5]);
+        let written = on_file_grid(reached.clone(), &[false], &any, 100.0, true);
+        let c = &written.capsules[0];
+        assert_eq!(c.from, Point3::new(1.23, -0.01, 3.0));
+        assert_eq!(c.to, Point3::new(7.0, 2.0, 3.5));
+        // Floored to 2.34, then a step down for the moved ends: at least the ends' move narrower.
+        assert_eq!(c.radius, 2.33);
+        assert!(reached.capsules[0].radius - c.radius >= 0.5 * 3f64.sqrt() / 100.0);
+        assert_eq!(any.radius_for(c.radius), Some(c.ball_radius));
+        assert_eq!(written.infill, 0.2);
+        // Written again, it is unchanged: a judge of the written design can be trusted.
+        assert_eq!(
+            on_file_grid(written.clone(), &[false], &any, 100.0, true),
+            written
+        );
+        // A radius narrowed off the grid with the ends on it is only floored.
+        let mut narrowed = written.clone();
+        narrowed.capsules[0].radius = 2.1789;
+        let again = on_file_grid(narrowed, &[false], &any, 100.0, true);
+        assert_eq!(again.capsules[0].radius, 2.17);
+        assert_eq!(again.capsules[0].from, c.from);
+    }
+
+    #[test]
+    fn stock_and_pinned_capsules_on_the_file_grid() {
+        let stock = ball(&[4.0, 5.0], 0.2);
+        let reached = design(2.2, [0.123, 0.0, 0.0], [5.0, 0.0, 0.0]);
+        let written = on_file_grid(reached.clone(), &[false], &stock, 100.0, false);
+        // The stock radius is on the grid already and kept, whatever the ends did.
+        assert_eq!(written.capsules[0].radius, 2.2);
+        assert_eq!(written.capsules[0].ball_radius, 2.0);
+        assert_eq!(written.capsules[0].from, Point3::new(0.12, 0.0, 0.0));
+        // A pinned capsule is left as written.
+        assert_eq!(
+            on_file_grid(reached.clone(), &[true], &stock, 100.0, false),
+            reached
+        );
     }
 }

@@ -9,7 +9,7 @@ use crate::fabrication::CapsuleIssue;
 use crate::geometry::PrintCorrection;
 use crate::objective::{DesignLayout, Objective, CAPSULE_STRIDE, R};
 use crate::optimize::solver::{solve, Bounds, Budget, Solve, FEASIBLE};
-use crate::optimize::stock::{capsule_radius, snap};
+use crate::optimize::stock::{capsule_radius, on_file_grid, snap};
 
 /// At most this many solves, after the first, with the closed-form capsule term corrected
 /// towards the re-sliced material ([`Problem::corrected_bodies`]).
@@ -47,7 +47,8 @@ impl<'a> Problem<'a> {
     /// Carries an explored design to the one the judge weighs, and judges it: the smooth
     /// program solved again with its capsule term corrected towards the re-sliced material,
     /// every radius snapped to a stock ball, and any capsule the exact check finds too close to
-    /// the surface moved or shrunk.
+    /// the surface moved or shrunk. Every design it judges is the one the solution file would
+    /// hold ([`Problem::written`]), so the outcome is that design's.
     pub fn refine(&self, explored: &Explored) -> Outcome {
         let Explored {
             start,
@@ -99,21 +100,26 @@ impl<'a> Problem<'a> {
                 capsule.radius = started.radius;
             }
         }
-        let mut outcome = self.judge(design);
+        let mut outcome = self.judge(self.written(design, start));
         // The grid's interpolant can overestimate the distance to a sharp feature by a fraction
         // of a cell: shrink any capsule that came too close, by the exact deficit, and re-judge.
         // A stock radius cannot shrink by a fraction of a cell, only to the next smaller ball:
-        // first the capsules are moved instead, solved again as if wider by their deficit. A
+        // first the capsules are moved instead (up to three times), solved again as if wider by
+        // their deficit. A
         // deficit past a cell is not the interpolant's but a solve that ended outside the
         // constraints; solving again from there rarely mends it and costs as much as the solve,
         // so such a capsule is only shrunk.
         let listed = self.project.ball.is_listed();
         let mut widening = vec![0.0; start.len()];
-        // Whether moving capsules still mends them: a move that leaves them no further from the
-        // surface is undone, and they are shrunk from then on.
+        // Whether moving capsules still mends them: a move that leaves more of them too close,
+        // or closer in all, is undone, and they are shrunk from then on. A move that leaves them
+        // as close is kept: the judged designs are on the file's grid, where distances to a
+        // flat face come in its steps and often tie, and the next move widens the capsule it
+        // left too close on top of the first's (three capsules in the T printed on its foot
+        // meet every goal only after a third move).
         let mut moves_mend = true;
-        for attempt in 0..3 {
-            let move_first = listed && attempt < 2 && moves_mend;
+        for attempt in 0..4 {
+            let move_first = listed && attempt < 3 && moves_mend;
             let mut shrunk = outcome.design.clone();
             let (mut changed, mut moving) = (false, false);
             for issue in &outcome.fabrication {
@@ -156,9 +162,9 @@ impl<'a> Problem<'a> {
             // where the move left it.
             if moving {
                 let moved = self.moved(&objective, bounds, layout, &outcome.design, &widening);
-                let judged = self.judge(moved);
+                let judged = self.judge(self.written(moved, start));
                 if judged.fabrication.len() <= outcome.fabrication.len()
-                    && surface_deficit(&judged) < surface_deficit(&outcome)
+                    && surface_deficit(&judged) <= surface_deficit(&outcome)
                 {
                     outcome = judged;
                 } else {
@@ -166,7 +172,7 @@ impl<'a> Problem<'a> {
                 }
                 continue;
             }
-            outcome = self.judge(shrunk);
+            outcome = self.judge(self.written(shrunk, start));
         }
         outcome.value = objective.value(&layout.to_vector(&outcome.design));
         outcome.feasible = solved.violation <= FEASIBLE;
@@ -197,6 +203,14 @@ impl<'a> Problem<'a> {
                 }
             })
             .collect()
+    }
+
+    /// `design` as the solution file holds it ([`on_file_grid`]), the capsules pinned in
+    /// `start` as they are.
+    pub(super) fn written(&self, design: Design, start: &[StartCapsule]) -> Design {
+        let pinned: Vec<bool> = start.iter().map(|c| c.pinned).collect();
+        let ranged = self.project.infill.range.is_some();
+        on_file_grid(design, &pinned, &self.project.ball, self.scale, ranged)
     }
 
     /// The spacing of component `component`'s distance grid (0 without one).
