@@ -79,6 +79,41 @@ pub(super) struct DepthPatch {
 }
 
 impl Depths<'_> {
+    /// Layer `l`'s depths of columns `columns` of raster row `j`, in at most three pieces in
+    /// order (some perhaps empty), each with where it starts among `columns`: the bare layer's,
+    /// the patch's where it covers part of the row, the bare layer's again. Read in place.
+    fn pieces(
+        &self,
+        l: usize,
+        j: usize,
+        columns: Range<usize>,
+        raster: usize,
+    ) -> [(usize, &[f32]); 3] {
+        let bare = &self.bare[l][j * raster..][columns.clone()];
+        let whole = [(0, bare), (0, &[][..]), (0, &[][..])];
+        let patch = l
+            .checked_sub(self.first)
+            .and_then(|h| self.held.get(h)?.as_ref());
+        let Some(patch) = patch.filter(|patch| patch.cells.j.contains(&j)) else {
+            return whole;
+        };
+        let (from, to) = (
+            columns.start.max(patch.cells.i.start),
+            columns.end.min(patch.cells.i.end),
+        );
+        if from >= to {
+            return whole;
+        }
+        let row = (j - patch.cells.j.start) * patch.cells.width();
+        let (start, end) = (from - patch.cells.i.start, to - patch.cells.i.start);
+        let (before, after) = (from - columns.start, to - columns.start);
+        [
+            (0, &bare[..before]),
+            (before, &patch.depth[row + start..row + end]),
+            (after, &bare[after..]),
+        ]
+    }
+
     /// Layer `l`'s depths of columns `columns` of raster row `j`: borrowed where one source holds
     /// them all, else patched together in `buffer`.
     fn row<'b>(
@@ -89,29 +124,17 @@ impl Depths<'_> {
         raster: usize,
         buffer: &'b mut Vec<f32>,
     ) -> &'b [f32] {
-        let bare = &self.bare[l][j * raster..][columns.clone()];
-        let patch = l
-            .checked_sub(self.first)
-            .and_then(|h| self.held.get(h)?.as_ref());
-        let Some(patch) = patch.filter(|patch| patch.cells.j.contains(&j)) else {
-            return bare;
-        };
-        let (from, to) = (
-            columns.start.max(patch.cells.i.start),
-            columns.end.min(patch.cells.i.end),
-        );
-        if from >= to {
-            return bare;
+        let pieces = self.pieces(l, j, columns, raster);
+        if let [(_, whole), (_, []), (_, [])] = pieces {
+            return whole;
         }
-        let row = (j - patch.cells.j.start) * patch.cells.width();
-        let (start, end) = (from - patch.cells.i.start, to - patch.cells.i.start);
-        let patched = &patch.depth[row + start..row + end];
-        if (from, to) == (columns.start, columns.end) {
-            return patched;
+        if let [(_, []), (_, whole), (_, [])] = pieces {
+            return whole;
         }
         buffer.clear();
-        buffer.extend_from_slice(bare);
-        buffer[from - columns.start..to - columns.start].copy_from_slice(patched);
+        for (_, piece) in pieces {
+            buffer.extend_from_slice(piece);
+        }
         buffer
     }
 }
@@ -299,34 +322,60 @@ impl Classifier<'_> {
             .filter(|&(i, m)| i < layout.layers && m < layout.layers)
             .filter_map(|(i, m)| Some((self.inside.rows(i)?, m)))
             .collect();
-        // Rows of the area's cells of `valid` in a layer's depths, patched together in these
-        // where a void's patch covers part of a row.
-        let (mut here_buffer, mut there_buffer) = (Vec::new(), Vec::new());
+        // The layer's own rows of the area's cells of `valid`, patched together in this where a
+        // void's patch covers part of a row; the other layers' rows are read in pieces.
+        let mut here_buffer = Vec::new();
         let mut widened = vec![false; valid.len()];
         for (y, marks) in rows.clone().zip(widened.chunks_mut(width)) {
             let j = area.j.start + y;
             // The layer's own row once for every pair.
             let here_row = depth.row(k, j, valid.i.clone(), layout.columns, &mut here_buffer);
+            let fill = &internal[(y - rows.start) * width..][..width];
             for (inside_i, m) in &pairs {
-                // All of one length, so that the loop is vectorized.
-                let there = depth.row(*m, j, valid.i.clone(), layout.columns, &mut there_buffer);
-                let (here, there) = (&here_row[..width], &there[..width]);
-                let inside_i = &inside_i.part(y, columns.clone())[..width];
-                let fill = &internal[(y - rows.start) * width..][..width];
-                let marks = &mut marks[..width];
-                for x in 0..width {
-                    let (here, there) = (here[x], there[x]);
-                    // Outside m and inside i, or within the widening of m's outline and the
-                    // strip's width beyond the fill boundary.
-                    // Without short cuts, so that the loop is vectorized.
-                    let b = here - there;
-                    let outside = (there < 0.0) & inside_i[x];
-                    let strip = (there >= 0.0) & (there <= w) & (b > f) & (b < f + 2.0 * w);
-                    marks[x] |= fill[x] & (outside | strip);
+                let inside_i = inside_i.part(y, columns.clone());
+                for (at, there) in depth.pieces(*m, j, valid.i.clone(), layout.columns) {
+                    let span = at..at + there.len();
+                    mark_strips(
+                        Strip {
+                            here: &here_row[span.clone()],
+                            there,
+                            inside_i: &inside_i[span.clone()],
+                            fill: &fill[span.clone()],
+                        },
+                        (w, f),
+                        &mut marks[span],
+                    );
                 }
             }
         }
         widened.iter().any(|&w| w).then_some(widened)
+    }
+}
+
+/// One piece of a row, for [`mark_strips`]: the depths of the layer classified (`here`) and of
+/// the layer `m` over (under) the projected layer `i` (`there`), `i`'s inside cells and the
+/// classified layer's fill, all of one length.
+struct Strip<'a> {
+    here: &'a [f32],
+    there: &'a [f32],
+    inside_i: &'a [bool],
+    fill: &'a [bool],
+}
+
+/// Marks in `marks` the fill cells of `strip` in a widened strip, for the widening `w` and the
+/// fill boundary `f`: outside `m` and inside `i`, or within the widening of `m`'s outline and the
+/// strip's width beyond the fill boundary.
+fn mark_strips(strip: Strip, (w, f): (f32, f32), marks: &mut [bool]) {
+    let n = marks.len();
+    // All of one length and without short cuts, so that the loop is vectorized.
+    let (here, there) = (&strip.here[..n], &strip.there[..n]);
+    let (inside_i, fill) = (&strip.inside_i[..n], &strip.fill[..n]);
+    for x in 0..n {
+        let (here, there) = (here[x], there[x]);
+        let b = here - there;
+        let outside = (there < 0.0) & inside_i[x];
+        let strip = (there >= 0.0) & (there <= w) & (b > f) & (b < f + 2.0 * w);
+        marks[x] |= fill[x] & (outside | strip);
     }
 }
 
