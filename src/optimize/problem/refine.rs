@@ -68,7 +68,7 @@ impl<'a> Problem<'a> {
             |x: &[f64]| layout.to_design(x, &self.project.ball, self.project.infill.value);
         let mut corrected = self.corrected_bodies(&to_design(&solved.x));
         let mut solved = solved.clone();
-        for _ in 0..CORRECTIONS {
+        for correction in 1..=CORRECTIONS {
             let again = solve(
                 &objective_over(&corrected),
                 &solved.x,
@@ -80,6 +80,10 @@ impl<'a> Problem<'a> {
                 evaluations: solved.evaluations + again.evaluations,
                 ..again
             };
+            // After the last solve, the rest is solved with the correction it was solved with.
+            if correction == CORRECTIONS {
+                break;
+            }
             let next = self.corrected_bodies(&to_design(&solved.x));
             let settled = same_material(&corrected, &next);
             corrected = next;
