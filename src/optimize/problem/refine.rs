@@ -48,7 +48,7 @@ impl<'a> Problem<'a> {
     /// program solved again with its capsule term corrected towards the re-sliced material,
     /// every radius snapped to a stock ball, and any capsule the exact check finds too close to
     /// the surface moved or shrunk. Every design it judges is the one the solution file would
-    /// hold ([`Problem::written`]), so the outcome is that design's.
+    /// hold ([`on_file_grid`]), so the outcome is that design's.
     pub fn refine(&self, explored: &Explored) -> Outcome {
         let Explored {
             start,
@@ -109,10 +109,9 @@ impl<'a> Problem<'a> {
         // of a cell: shrink any capsule that came too close, by the exact deficit, and re-judge.
         // A stock radius cannot shrink by a fraction of a cell, only to the next smaller ball:
         // first the capsules are moved instead (up to three times), solved again as if wider by
-        // their deficit. A
-        // deficit past a cell is not the interpolant's but a solve that ended outside the
-        // constraints; solving again from there rarely mends it and costs as much as the solve,
-        // so such a capsule is only shrunk.
+        // their deficit. A deficit past a cell is not the interpolant's but a solve that ended
+        // outside the constraints; solving again from there rarely mends it and costs as much as
+        // the solve, so such a capsule is only shrunk.
         let listed = self.project.ball.is_listed();
         let mut widening = vec![0.0; start.len()];
         // Whether moving capsules still mends them: a move that leaves more of them too close,
@@ -211,7 +210,7 @@ impl<'a> Problem<'a> {
 
     /// `design` as the solution file holds it ([`on_file_grid`]), the capsules pinned in
     /// `start` as they are.
-    pub(super) fn written(&self, design: Design, start: &[StartCapsule]) -> Design {
+    fn written(&self, design: Design, start: &[StartCapsule]) -> Design {
         let pinned: Vec<bool> = start.iter().map(|c| c.pinned).collect();
         let ranged = self.project.infill.range.is_some();
         on_file_grid(design, &pinned, &self.project.ball, self.scale, ranged)
