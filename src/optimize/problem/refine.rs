@@ -137,7 +137,9 @@ impl<'a> Problem<'a> {
                         continue;
                     }
                     let c = &mut shrunk.capsules[capsule];
-                    // Past the limit by what rounding the ends into the solution file may take.
+                    // Past the limit by what rounding a moved capsule's ends onto the file's grid
+                    // may take; a narrowed one keeps its ends (on the grid already) and the same
+                    // margin, as the smooth constraints keep it.
                     let deficit = (required - distance) * 1.01
                         + 1e-9 * c.radius.abs()
                         + self.rounding_slack();
