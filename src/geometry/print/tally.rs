@@ -239,6 +239,27 @@ impl Totals {
         self.outline.add(sign, corners, i, j, k);
     }
 
+    /// Counts the change in block (`i`, `j`) of layer `k`'s sparse outline ([`Outline`]) when
+    /// the cells `flipped` says became sparse or stopped being sparse, `was_sparse` saying which
+    /// were sparse before.
+    pub(super) fn flip_block(
+        &mut self,
+        layout: &Layout,
+        (i, j, k): (usize, usize, usize),
+        was_sparse: impl Fn(usize, usize) -> bool,
+        flipped: impl Fn(usize, usize) -> bool,
+    ) {
+        let cells = block_corners(i, j)
+            .map(|corner| corner.filter(|&(i, j)| i < layout.columns && j < layout.rows));
+        let before = cells.map(|cell| cell.is_some_and(|(i, j)| was_sparse(i, j)));
+        let after =
+            std::array::from_fn(|c| before[c] != cells[c].is_some_and(|(i, j)| flipped(i, j)));
+        if after != before {
+            self.outline.add(-1, before, i, j, k);
+            self.outline.add(1, after, i, j, k);
+        }
+    }
+
     /// Counts every cell of layer `k`, of `class` (row by row over the raster), and every
     /// block of its sparse outline.
     pub(super) fn add_layer(&mut self, layout: &Layout, k: usize, class: &[Cell]) {

@@ -83,13 +83,13 @@ impl Void {
 }
 
 impl Layout {
-    /// Each cell of `area`'s squared distance from its centre to the nearest of `voids`'
-    /// cross-sections in layer `k` (print frame), for the cells `inside` (in `area`'s order)
-    /// within `reach` cells of a section's box; infinite for the others. Exact (to the
-    /// sections' polygons): the nearest side is walked to from the last cell's
-    /// ([`Sides::nearest_from`]). A straight line from a cell to a hole that crosses the outline
-    /// is longer than the cell's distance to the outline, so the depth a cut layer takes from
-    /// this and the bare layer's is what measuring inside it would give.
+    /// For each of `voids`' cross-sections in layer `k` (print frame), the squared distance from
+    /// each cell `inside` (in `area`'s order) within `reach` cells of the section's box to the
+    /// section, handed to `measured` with the cell's index in `area`: a cell near two sections
+    /// is measured twice. Exact (to the sections' polygons): the nearest side is walked to from
+    /// the last cell's ([`Sides::nearest_from`]). A straight line from a cell to a hole that
+    /// crosses the outline is longer than the cell's distance to the outline, so the depth a
+    /// cut layer takes from this and the bare layer's is what measuring inside it would give.
     pub(super) fn hole_distances(
         &self,
         k: usize,
@@ -97,8 +97,8 @@ impl Layout {
         area: &CellBox,
         inside: &[bool],
         reach: usize,
-    ) -> Vec<f64> {
-        let mut distances = vec![f64::INFINITY; area.len()];
+        mut measured: impl FnMut(usize, f64),
+    ) {
         let z = self.slice_height(k);
         let width = area.width();
         for void in voids {
@@ -126,11 +126,10 @@ impl Layout {
                         (row_start, first) = (side, false);
                     }
                     along = side;
-                    distances[c] = distances[c].min(d2);
+                    measured(c, d2);
                 }
             }
         }
-        distances
     }
 
     /// The cells of `area` in layer `k` whose centres lie in one of `voids` (print frame), in

@@ -16,7 +16,7 @@ use super::cells::{CellBox, Overlay, Planes};
 use super::classes::{neighbours, Cell, Classifier, DepthPatch, Depths};
 use super::depth::{depth_value, DEPTH_RANGE};
 use super::layout::Layout;
-use super::tally::{block_corners, Totals};
+use super::tally::Totals;
 use super::{Layers, Void};
 use crate::parallel::map_each;
 
@@ -165,24 +165,18 @@ impl Layers {
                     cut_inside.extend_from_slice(row);
                     let j = changed.j.start + y;
                     let bare = j * layout.columns + changed.i.start;
-                    depth.extend_from_slice(&self.depth[k][bare..bare + width]);
+                    let cells = self.depth[k][bare..bare + width].iter().zip(&*row);
+                    depth.extend(cells.map(|(&d, &inside)| if inside { d } else { -1.0 }));
                 }
-                let from_holes = layout.hole_distances(k, voids, &changed, &cut_inside, reach);
+                // A cell within the perimeter thickness of a hole is a perimeter, and its depth
+                // is its distance to the nearest hole where that is less than the bare layer's.
                 let thickness2 = thickness * thickness;
-                for y in 0..changed.height() {
-                    let row = y * width..(y + 1) * width;
-                    let near = &mut near[at(y)..at(y) + width];
-                    let cells = near.iter_mut().zip(&mut depth[row.clone()]);
-                    let measured = cut_inside[row.clone()].iter().zip(&from_holes[row]);
-                    for ((near, depth), (&inside, &d2)) in cells.zip(measured) {
-                        *near |= inside && d2 < thickness2;
-                        *depth = if inside {
-                            depth.min(depth_value(true, d2))
-                        } else {
-                            -1.0
-                        };
-                    }
-                }
+                let measured = |c: usize, d2: f64| {
+                    let (y, x) = (c / width, c % width);
+                    near[at(y) + x] |= d2 < thickness2;
+                    depth[c] = depth[c].min(depth_value(true, d2));
+                };
+                layout.hole_distances(k, voids, &changed, &cut_inside, reach, measured);
                 let patch = DepthPatch {
                     cells: changed,
                     depth,
@@ -329,15 +323,10 @@ impl Layers {
         // The blocks of the sparse outline with a flipped cell at a corner, before and after:
         // over the box of the flipped cells (blocks reach one cell further up and right).
         if let Some(flips) = Flips::of(&flipped, columns) {
-            let before = |i: usize, j: usize| bare[j * columns + i] == Cell::Sparse;
-            let after = |i: usize, j: usize| before(i, j) != flips.holds(i, j);
-            for j in flips.cells.j.start..=flips.cells.j.end {
-                for i in flips.cells.i.start..=flips.cells.i.end {
-                    if flips.touches_block(i, j) {
-                        change.add_block(layout, -1, (i, j, k), before);
-                        change.add_block(layout, 1, (i, j, k), after);
-                    }
-                }
+            let was_sparse = |i: usize, j: usize| bare[j * columns + i] == Cell::Sparse;
+            let flipped = |i: usize, j: usize| flips.holds(i, j);
+            for (i, j) in flips.blocks() {
+                change.flip_block(layout, (i, j, k), was_sparse, flipped);
             }
         }
         change
@@ -379,11 +368,24 @@ impl Flips {
             && self.flipped[(j - cells.j.start) * cells.width() + (i - cells.i.start)]
     }
 
-    /// Whether a corner of outline block (`i`, `j`) flipped.
-    fn touches_block(&self, i: usize, j: usize) -> bool {
-        block_corners(i, j)
-            .into_iter()
-            .any(|corner| corner.is_some_and(|(i, j)| self.holds(i, j)))
+    /// The outline blocks with a flipped cell at a corner, row by row (blocks reach one cell
+    /// further up and right than cells).
+    fn blocks(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        let cells = &self.cells;
+        let (width, height) = (cells.width() + 1, cells.height() + 1);
+        // A cell is a corner of its own block and of the blocks right of and above it.
+        let mut touched = vec![false; width * height];
+        for (index, _) in self.flipped.iter().enumerate().filter(|(_, &f)| f) {
+            let (x, y) = (index % cells.width(), index / cells.width());
+            for at in [y * width + x, y * width + x + 1] {
+                touched[at] = true;
+                touched[at + width] = true;
+            }
+        }
+        let (i0, j0) = (cells.i.start, cells.j.start);
+        (0..width * height)
+            .filter(move |&at| touched[at])
+            .map(move |at| (i0 + at % width, j0 + at / width))
     }
 }
 
