@@ -144,15 +144,16 @@ struct Outline {
 }
 
 impl Outline {
-    /// Counts block (`i`, `j`) of layer `k`, whose cells' sparseness is `sparse` (lower left,
-    /// lower right, upper left, upper right), with `sign`.
-    fn add(&mut self, sign: i64, sparse: [bool; 4], i: usize, j: usize, k: usize) {
-        let (straight, diagonal) = segments(sparse);
-        if straight > 0 {
-            self.straight.add(sign * straight, i, j, k);
+    /// Counts the change in block (`i`, `j`) of layer `k` when its sparse corners
+    /// ([`Corners`]) go from `before` to `after`.
+    fn change(&mut self, before: Corners, after: Corners, i: usize, j: usize, k: usize) {
+        let (straight_before, diagonal_before) = segments(before);
+        let (straight, diagonal) = segments(after);
+        if straight != straight_before {
+            self.straight.add(straight - straight_before, i, j, k);
         }
-        if diagonal > 0 {
-            self.diagonal.add(sign * diagonal, i, j, k);
+        if diagonal != diagonal_before {
+            self.diagonal.add(diagonal - diagonal_before, i, j, k);
         }
     }
 
@@ -166,29 +167,45 @@ impl Outline {
     }
 }
 
-/// The straight and the diagonal segments of a block of 2×2 cells whose sparseness is
-/// `sparse` (lower left, lower right, upper left, upper right).
-fn segments(sparse: [bool; 4]) -> (i64, i64) {
-    match sparse.iter().filter(|&&s| s).count() {
+/// The corners of an outline block that hold a sparse cell (or some other set), as bits:
+/// lower left 1, lower right 2, upper left 4, upper right 8 (cells `i − 1` and `i` by `j − 1`
+/// and `j` of block (`i`, `j`)).
+pub(super) type Corners = u8;
+
+/// The corners of block (`i`, `j`) whose cells `holds` says are in a set, the cells before or
+/// past a raster `columns` × `rows` in none.
+pub(super) fn corners(
+    (i, j): (usize, usize),
+    (columns, rows): (usize, usize),
+    holds: impl Fn(usize, usize) -> bool,
+) -> Corners {
+    let (left, below) = (i.checked_sub(1), j.checked_sub(1));
+    let cells = [
+        (left, below),
+        (Some(i), below),
+        (left, Some(j)),
+        (Some(i), Some(j)),
+    ];
+    cells
+        .into_iter()
+        .enumerate()
+        .filter(|(_, (i, j))| match (*i, *j) {
+            (Some(i), Some(j)) => i < columns && j < rows && holds(i, j),
+            _ => false,
+        })
+        .fold(0, |corners, (bit, _)| corners | 1 << bit)
+}
+
+/// The straight and the diagonal segments of a block of 2×2 cells whose sparse corners are
+/// `sparse`.
+fn segments(sparse: Corners) -> (i64, i64) {
+    match sparse.count_ones() {
         0 | 4 => (0, 0),
         1 | 3 => (0, 1),
         // Two opposite corners: a saddle, two corners cut off.
-        _ if sparse[0] == sparse[3] => (0, 2),
+        _ if sparse == 0b1001 || sparse == 0b0110 => (0, 2),
         _ => (1, 0),
     }
-}
-
-/// The cells at the corners of outline block (`i`, `j`): lower left, lower right, upper left,
-/// upper right (cells `i − 1` and `i` by `j − 1` and `j`); `None` for one before the raster.
-pub(super) fn block_corners(i: usize, j: usize) -> [Option<(usize, usize)>; 4] {
-    let (left, below) = (i.checked_sub(1), j.checked_sub(1));
-    let at = |i: Option<usize>, j: Option<usize>| Some((i?, j?));
-    [
-        at(left, below),
-        at(Some(i), below),
-        at(left, Some(j)),
-        at(Some(i), Some(j)),
-    ]
 }
 
 /// Length of the joins PrusaSlicer lays between neighbouring ends of the sparse infill's lines
@@ -223,41 +240,15 @@ impl Totals {
         }
     }
 
-    /// Counts block (`i`, `j`) of layer `k`'s sparse outline ([`Outline`]) as it is when
-    /// `is_sparse` says which of the layer's cells are sparse (`sign` 1) or no longer (−1).
-    pub(super) fn add_block(
-        &mut self,
-        layout: &Layout,
-        sign: i64,
-        (i, j, k): (usize, usize, usize),
-        is_sparse: impl Fn(usize, usize) -> bool,
-    ) {
-        let corners = block_corners(i, j).map(|corner| match corner {
-            Some((i, j)) if i < layout.columns && j < layout.rows => is_sparse(i, j),
-            _ => false,
-        });
-        self.outline.add(sign, corners, i, j, k);
-    }
-
     /// Counts the change in block (`i`, `j`) of layer `k`'s sparse outline ([`Outline`]) when
-    /// the cells `flipped` says became sparse or stopped being sparse, `was_sparse` saying which
-    /// were sparse before.
-    pub(super) fn flip_block(
+    /// its sparse corners ([`Corners`]) go from `before` to `after`.
+    pub(super) fn change_block(
         &mut self,
-        layout: &Layout,
+        before: Corners,
+        after: Corners,
         (i, j, k): (usize, usize, usize),
-        was_sparse: impl Fn(usize, usize) -> bool,
-        flipped: impl Fn(usize, usize) -> bool,
     ) {
-        let cells = block_corners(i, j)
-            .map(|corner| corner.filter(|&(i, j)| i < layout.columns && j < layout.rows));
-        let before = cells.map(|cell| cell.is_some_and(|(i, j)| was_sparse(i, j)));
-        let after =
-            std::array::from_fn(|c| before[c] != cells[c].is_some_and(|(i, j)| flipped(i, j)));
-        if after != before {
-            self.outline.add(-1, before, i, j, k);
-            self.outline.add(1, after, i, j, k);
-        }
+        self.outline.change(before, after, i, j, k);
     }
 
     /// Counts every cell of layer `k`, of `class` (row by row over the raster), and every
@@ -269,9 +260,10 @@ impl Totals {
             }
         }
         let of = |i: usize, j: usize| class[j * layout.columns + i] == Cell::Sparse;
+        let raster = (layout.columns, layout.rows);
         for j in 0..=layout.rows {
             for i in 0..=layout.columns {
-                self.add_block(layout, 1, (i, j, k), of);
+                self.outline.change(0, corners((i, j), raster, of), i, j, k);
             }
         }
     }

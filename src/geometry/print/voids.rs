@@ -85,8 +85,8 @@ impl Void {
 impl Layout {
     /// For each of `voids`' cross-sections in layer `k` (print frame), the squared distance from
     /// each cell `inside` (in `area`'s order) within `reach` cells of the section's box to the
-    /// section, handed to `measured` with the cell's index in `area`: a cell near two sections
-    /// is measured twice. Exact (to the sections' polygons): the nearest side is walked to from
+    /// section, handed to `measured` with the cell's column and row in `area`: a cell near two
+    /// sections is measured twice. Exact (to the sections' polygons): the nearest side is walked to from
     /// the last cell's ([`Sides::nearest_from`]). A straight line from a cell to a hole that
     /// crosses the outline is longer than the cell's distance to the outline, so the depth a
     /// cut layer takes from this and the bare layer's is what measuring inside it would give.
@@ -97,7 +97,7 @@ impl Layout {
         area: &CellBox,
         inside: &[bool],
         reach: usize,
-        mut measured: impl FnMut(usize, f64),
+        mut measured: impl FnMut(usize, usize, f64),
     ) {
         let z = self.slice_height(k);
         let width = area.width();
@@ -126,7 +126,7 @@ impl Layout {
                         (row_start, first) = (side, false);
                     }
                     along = side;
-                    measured(c, d2);
+                    measured(i - area.i.start, j - area.j.start, d2);
                 }
             }
         }

@@ -16,7 +16,7 @@ use super::cells::{CellBox, Overlay, Planes};
 use super::classes::{neighbours, Cell, Classifier, DepthPatch, Depths};
 use super::depth::{depth_value, DEPTH_RANGE};
 use super::layout::Layout;
-use super::tally::Totals;
+use super::tally::{corners, Corners, Totals};
 use super::{Layers, Void};
 use crate::parallel::map_each;
 
@@ -171,10 +171,10 @@ impl Layers {
                 // A cell within the perimeter thickness of a hole is a perimeter, and its depth
                 // is its distance to the nearest hole where that is less than the bare layer's.
                 let thickness2 = thickness * thickness;
-                let measured = |c: usize, d2: f64| {
-                    let (y, x) = (c / width, c % width);
+                let measured = |x: usize, y: usize, d2: f64| {
                     near[at(y) + x] |= d2 < thickness2;
-                    depth[c] = depth[c].min(depth_value(true, d2));
+                    let depth = &mut depth[y * width + x];
+                    *depth = depth.min(depth_value(true, d2));
                 };
                 layout.hole_distances(k, voids, &changed, &cut_inside, reach, measured);
                 let patch = DepthPatch {
@@ -324,10 +324,11 @@ impl Layers {
         // over the box of the flipped cells (blocks reach one cell further up and right).
         if let Some(flips) = Flips::of(&flipped, columns) {
             let was_sparse = |i: usize, j: usize| bare[j * columns + i] == Cell::Sparse;
-            let flipped = |i: usize, j: usize| flips.holds(i, j);
-            for (i, j) in flips.blocks() {
-                change.flip_block(layout, (i, j, k), was_sparse, flipped);
-            }
+            let raster = (columns, layout.rows);
+            flips.each_block(|block, flipped| {
+                let before = corners(block, raster, was_sparse);
+                change.change_block(before, before ^ flipped, (block.0, block.1, k));
+            });
         }
         change
     }
@@ -368,24 +369,27 @@ impl Flips {
             && self.flipped[(j - cells.j.start) * cells.width() + (i - cells.i.start)]
     }
 
-    /// The outline blocks with a flipped cell at a corner, row by row (blocks reach one cell
-    /// further up and right than cells).
-    fn blocks(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+    /// Each outline block with a flipped cell at a corner, and its flipped corners
+    /// ([`Corners`]), row by row (blocks reach one cell further up and right than cells).
+    fn each_block(&self, mut visit: impl FnMut((usize, usize), Corners)) {
         let cells = &self.cells;
-        let (width, height) = (cells.width() + 1, cells.height() + 1);
-        // A cell is a corner of its own block and of the blocks right of and above it.
-        let mut touched = vec![false; width * height];
-        for (index, _) in self.flipped.iter().enumerate().filter(|(_, &f)| f) {
-            let (x, y) = (index % cells.width(), index / cells.width());
-            for at in [y * width + x, y * width + x + 1] {
-                touched[at] = true;
-                touched[at + width] = true;
+        // Per column, whether the cells below and above a block's row flipped (bits 1 and 2).
+        let column = |i: usize, j: usize| {
+            let below = j.checked_sub(1).is_some_and(|below| self.holds(i, below));
+            u8::from(below) | u8::from(self.holds(i, j)) << 1
+        };
+        for j in cells.j.start..=cells.j.end {
+            let mut left = cells.i.start.checked_sub(1).map_or(0, |i| column(i, j));
+            for i in cells.i.start..=cells.i.end {
+                let right = column(i, j);
+                if left | right != 0 {
+                    let flipped =
+                        (left & 1) | (right & 1) << 1 | (left & 2) << 1 | (right & 2) << 2;
+                    visit((i, j), flipped);
+                }
+                left = right;
             }
         }
-        let (i0, j0) = (cells.i.start, cells.j.start);
-        (0..width * height)
-            .filter(move |&at| touched[at])
-            .map(move |at| (i0 + at % width, j0 + at / width))
     }
 }
 
