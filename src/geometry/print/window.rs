@@ -362,30 +362,31 @@ impl Flips {
         Some(Flips { cells, flipped })
     }
 
-    /// Whether cell (`i`, `j`) flipped.
-    fn holds(&self, i: usize, j: usize) -> bool {
-        let cells = &self.cells;
-        cells.contains(i, j)
-            && self.flipped[(j - cells.j.start) * cells.width() + (i - cells.i.start)]
-    }
-
     /// Each outline block with a flipped cell at a corner, and its flipped corners
     /// ([`Corners`]), row by row (blocks reach one cell further up and right than cells).
     fn each_block(&self, mut visit: impl FnMut((usize, usize), Corners)) {
         let cells = &self.cells;
-        // Per column, whether the cells below and above a block's row flipped (bits 1 and 2).
-        let column = |i: usize, j: usize| {
-            let below = j.checked_sub(1).is_some_and(|below| self.holds(i, below));
-            u8::from(below) | u8::from(self.holds(i, j)) << 1
+        let (width, height) = (cells.width(), cells.height());
+        // Row `y` of the box's flipped cells; none past the box.
+        let row = |y: Option<usize>| {
+            y.filter(|&y| y < height)
+                .map_or(&[][..], |y| &self.flipped[y * width..(y + 1) * width])
         };
-        for j in cells.j.start..=cells.j.end {
-            let mut left = cells.i.start.checked_sub(1).map_or(0, |i| column(i, j));
-            for i in cells.i.start..=cells.i.end {
-                let right = column(i, j);
+        for y in 0..=height {
+            let (below, above) = (row(y.checked_sub(1)), row(Some(y)));
+            // Whether the cells of column `x` below and above the block row flipped (bits 1
+            // and 2); none left or right of the box.
+            let column = |x: usize| {
+                let flipped = |row: &[bool]| u8::from(row.get(x).copied().unwrap_or(false));
+                flipped(below) | flipped(above) << 1
+            };
+            let mut left = 0;
+            for x in 0..=width {
+                let right = column(x);
                 if left | right != 0 {
                     let flipped =
                         (left & 1) | (right & 1) << 1 | (left & 2) << 1 | (right & 2) << 2;
-                    visit((i, j), flipped);
+                    visit((cells.i.start + x, cells.j.start + y), flipped);
                 }
                 left = right;
             }
