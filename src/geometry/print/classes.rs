@@ -59,7 +59,7 @@ pub(super) struct Classifier<'a> {
     /// The layer of `surfaces[0]`.
     surfaces_from: usize,
     /// Every layer's depth ([`Layout::depth`]).
-    depth: Option<Depths<'a>>,
+    depth: Depths<'a>,
 }
 
 /// Every layer's depth of each cell ([`Layout::depth`]): the bare layer's, but within the
@@ -140,13 +140,14 @@ impl Depths<'_> {
 }
 
 impl<'a> Classifier<'a> {
-    /// The surfaces the classes of `layers` read, from every layer's `inside` cells and
-    /// perimeters (`near`), both read over the same area.
+    /// The surfaces the classes of `layers` read, from every layer's `inside` cells, perimeters
+    /// (`near`), both read over the same area, and `depth`.
     pub(super) fn new(
         layout: &'a Layout,
         inside: Overlay<'a>,
         near: Overlay<'a>,
         layers: RangeInclusive<usize>,
+        depth: Depths<'a>,
     ) -> Classifier<'a> {
         debug_assert_eq!(inside.area(), near.area());
         let (low, high) = (*layers.start(), *layers.end());
@@ -158,15 +159,13 @@ impl<'a> Classifier<'a> {
         let surfaces = map_each(tops_to - bottoms_from + 1, |offset| {
             let k = bottoms_from + offset;
             let of = |next: Option<usize>| {
-                let here = inside.rows(k)?;
-                let rim = near.rows(k)?;
-                surface(
-                    layout,
-                    inside.area(),
-                    here,
-                    rim,
-                    next.and_then(|l| inside.rows(l)),
-                )
+                let layer = Layer {
+                    here: inside.rows(k)?,
+                    rim: near.rows(k)?,
+                    index: k,
+                };
+                let next = next.and_then(|l| Some((inside.rows(l)?, l)));
+                surface(layout, inside.area(), layer, next, depth)
             };
             let top = (k >= low).then(|| of(k.checked_add(1))).flatten();
             let bottom = (k <= high).then(|| of(k.checked_sub(1))).flatten();
@@ -179,14 +178,8 @@ impl<'a> Classifier<'a> {
             layers,
             surfaces,
             surfaces_from: bottoms_from,
-            depth: None,
+            depth,
         }
-    }
-
-    /// The classifier reading every layer's `depth`.
-    pub(super) fn with_depth(mut self, depth: Depths<'a>) -> Classifier<'a> {
-        self.depth = Some(depth);
-        self
     }
 
     /// The class of every cell of `valid` in layer `k` (one of the layers classified) before
@@ -286,7 +279,7 @@ impl Classifier<'_> {
         let (layout, area) = (self.layout, self.inside.area());
         let slicing = &layout.slicing;
         let w = slicing.shell_widening as f32;
-        let depth = self.depth?;
+        let depth = self.depth;
         if w <= 0.0 {
             return None;
         }
@@ -379,26 +372,58 @@ fn mark_strips(strip: Strip, (w, f): (f32, f32), marks: &mut [bool]) {
     }
 }
 
-/// The fill cells of a layer (`here` less its perimeters `rim`, over `area`) under which (or
-/// over which) the layer `next` (`None` past the raster) is outside, grown by the surface margin
-/// within the fill: the slicer's top (or bottom) surface of the layer with the ring it adds
-/// around it, over `area`; `None` when it holds no cell.
+/// One layer's rows for [`surface`]: its inside cells, its perimeters and its index.
+#[derive(Clone, Copy)]
+struct Layer<'a> {
+    here: Rows<'a>,
+    rim: Rows<'a>,
+    index: usize,
+}
+
+/// The fill cells of `layer` (its inside cells less its perimeters, over `area`) within the
+/// surface margin of its top (or bottom) surface, where the layer `next` above (below; with its
+/// index, `None` past the raster) leaves its fill region uncovered: the slicer's top (bottom)
+/// surface of the layer with the ring it adds around it, over `area`; `None` when it holds no
+/// cell.
+///
+/// The uncovered fill is found from the exact depths: a cell whose centre lies in the fill
+/// region (within the fill boundary) and outside `next`, or whose centre lies inside `next`
+/// within half a cell's diagonal of its outline where that outline runs through the fill region
+/// (the layer's depth less `next`'s at the cell reaches the fill boundary). PrusaSlicer grows a
+/// top or bottom surface by the margin however narrow its part in the fill region
+/// (`LayerRegion::process_external_surfaces`), and on a sloping face that part is a sliver
+/// under a cell, which no cell's centre shows.
 fn surface(
     layout: &Layout,
     area: &CellBox,
-    here: Rows,
-    rim: Rows,
-    next: Option<Rows>,
+    layer: Layer,
+    next: Option<(Rows, usize)>,
+    depth: Depths,
 ) -> Option<Vec<bool>> {
+    let f = layout.slicing.fill_boundary as f32;
+    let reach = (layout.cell * std::f64::consts::FRAC_1_SQRT_2) as f32;
     let mut fill = Vec::with_capacity(area.len());
     let mut exposed = Vec::with_capacity(area.len());
+    let (mut here_buffer, mut next_buffer) = (Vec::new(), Vec::new());
+    let raster = layout.columns;
     for y in 0..area.height() {
+        let j = area.j.start + y;
         let start = fill.len();
-        fill.extend(here.row(y).iter().zip(rim.row(y)).map(|(&h, &r)| h && !r));
-        let fill = &fill[start..];
+        let (here, rim) = (layer.here.row(y), layer.rim.row(y));
+        fill.extend(here.iter().zip(rim).map(|(&h, &r)| h && !r));
+        let depth_here = depth.row(layer.index, j, area.i.clone(), raster, &mut here_buffer);
         match next {
-            Some(next) => exposed.extend(fill.iter().zip(next.row(y)).map(|(&f, &n)| f && !n)),
-            None => exposed.extend_from_slice(fill),
+            Some((rows, l)) => {
+                let depth_next = depth.row(l, j, area.i.clone(), raster, &mut next_buffer);
+                let cells = here
+                    .iter()
+                    .zip(rows.row(y))
+                    .zip(depth_here.iter().zip(depth_next));
+                exposed.extend(cells.map(|((&h, &n), (&d, &e))| {
+                    h & (d >= f) & (!n | ((e <= reach) & (d - e >= f)))
+                }));
+            }
+            None => exposed.extend_from_slice(&fill[start..]),
         }
     }
     // Without a short cut, so that the scan is vectorized.
@@ -407,7 +432,7 @@ fn surface(
     }
     let reach = layout.slicing.surface_margin / layout.cell;
     if reach <= 0.0 {
-        return Some(exposed);
+        return Some(exposed.iter().zip(&fill).map(|(&e, &f)| e && f).collect());
     }
     let limit = reach * reach;
     let near = near_marked(&exposed, area.width(), area.height(), reach, |d| d <= limit);

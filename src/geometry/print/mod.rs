@@ -11,9 +11,10 @@
 //!   above, or the `bottom_layers` below (the solid layers under every top surface and over
 //!   every bottom surface, sloping ones included); or within `surface_margin` of a top surface
 //!   (the part of a layer's fill region, inside the perimeters, that the layer above does not
-//!   cover) of this layer or one of the `top_layers − 1` above, or of a bottom surface of this
-//!   layer or one of the `bottom_layers − 1` below (PrusaSlicer grows every top and bottom
-//!   surface by a margin before it adds the solid layers);
+//!   cover, however narrow: found from the exact depths) of this layer or one of the
+//!   `top_layers − 1` above, or of a bottom surface of this layer or one of the
+//!   `bottom_layers − 1` below (PrusaSlicer grows every top and bottom surface by a margin
+//!   before it adds the solid layers);
 //!   or within `shell_widening` of a strip narrower than twice that, which the surfaces of
 //!   one of the `top_layers − 1` layers above (or the `bottom_layers − 1` below) add to this
 //!   layer's fill (PrusaSlicer widens such strips "so that they do not collapse");
@@ -275,12 +276,12 @@ impl Layers {
         };
         let (unsettled, classes): (Vec<Vec<Cell>>, Vec<Vec<Cell>>) = {
             let all = 0..=layout.layers - 1;
-            let classifier =
-                Classifier::new(&layout, over(&inside), over(&near), all).with_depth(Depths {
-                    bare: &depth,
-                    first: 0,
-                    held: &[],
-                });
+            let depths = Depths {
+                bare: &depth,
+                first: 0,
+                held: &[],
+            };
+            let classifier = Classifier::new(&layout, over(&inside), over(&near), all, depths);
             map_each(layout.layers, |k| {
                 let mut unsettled = vec![Cell::Outside; whole.len()];
                 classifier.layer(k, &whole, &mut unsettled);
