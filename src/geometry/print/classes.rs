@@ -6,6 +6,7 @@ use std::ops::{Range, RangeInclusive};
 use super::cells::{CellBox, Overlay, Rows};
 use super::distance::near_marked;
 use super::layout::Layout;
+use super::narrow::widened_narrow;
 use crate::parallel::map_each;
 
 /// What a raster cell of one layer holds.
@@ -184,7 +185,8 @@ impl<'a> Classifier<'a> {
 
     /// The class of every cell of `valid` in layer `k` (one of the layers classified) before
     /// the small-region rule, written to `classes` (the whole layer, row by row). `valid` must
-    /// lie within the area grown back by the surface margin and a cell.
+    /// lie within the area grown back by the surface margin, the raster's strips' reach
+    /// ([`strip_reach`]) and a cell.
     pub(super) fn layer(&self, k: usize, valid: &CellBox, classes: &mut [Cell]) {
         debug_assert!(self.layers.contains(&k));
         let (layout, area) = (self.layout, self.inside.area());
@@ -274,7 +276,9 @@ impl Classifier<'_> {
     /// surface of a layer above (`top_layers − 1` at most) or the bottom surface of a layer
     /// below adds to `k`'s fill, less `k`'s own surfaces, is narrower than twice the widening,
     /// the strip grown by the widening within that fill (`PrintObject::discover_horizontal_shells`:
-    /// a strip that narrow would collapse); `None` when no strip is narrow.
+    /// a strip that narrow would collapse); `None` when no strip is narrow. The slivers a
+    /// surface's slice adds are found from the exact depths ([`mark_strips`]), the strips its
+    /// margin adds on the raster ([`Classifier::narrow_margins`]).
     fn widened(&self, k: usize, here: Rows, rim: Rows, valid: &CellBox) -> Option<Vec<bool>> {
         let (layout, area) = (self.layout, self.inside.area());
         let slicing = &layout.slicing;
@@ -289,20 +293,38 @@ impl Classifier<'_> {
         let (width, from) = (valid.width(), valid.i.start - area.i.start);
         let columns = from..from + width;
         let rows = valid.j.start - area.j.start..valid.j.end - area.j.start;
-        // The layer's fill less its own top and bottom surfaces.
+        // The layer's fill less its own top and bottom surfaces, over `valid` grown by what the
+        // raster's strips read.
         let own = held(k)?;
-        let mut internal = Vec::with_capacity(valid.len());
-        for y in rows.clone() {
-            let (h, r) = (here.part(y, columns.clone()), rim.part(y, columns.clone()));
-            internal.extend(h.iter().zip(r).map(|(&h, &r)| h && !r));
+        let wide = valid.grown(strip_reach(layout), layout).within(area)?;
+        let wide_columns = wide.i.start - area.i.start..wide.i.end - area.i.start;
+        let wide_rows = wide.j.start - area.j.start..wide.j.end - area.j.start;
+        let mut internal_wide = Vec::with_capacity(wide.len());
+        for y in wide_rows.clone() {
+            let (h, r) = (
+                here.part(y, wide_columns.clone()),
+                rim.part(y, wide_columns.clone()),
+            );
+            internal_wide.extend(h.iter().zip(r).map(|(&h, &r)| h && !r));
         }
         for surface in [&own.top, &own.bottom].into_iter().flatten() {
             let surface = Rows::held(surface, area);
-            for (y, internal) in rows.clone().zip(internal.chunks_mut(width)) {
-                for (i, &s) in internal.iter_mut().zip(surface.part(y, columns.clone())) {
+            let chunks = internal_wide.chunks_mut(wide.width());
+            for (y, internal) in wide_rows.clone().zip(chunks) {
+                for (i, &s) in internal
+                    .iter_mut()
+                    .zip(surface.part(y, wide_columns.clone()))
+                {
                     *i &= !s;
                 }
             }
+        }
+        // Where `valid`'s rows lie in a set held over `wide`.
+        let (dx, dy) = (valid.i.start - wide.i.start, valid.j.start - wide.j.start);
+        let in_valid = (0..valid.height()).map(|y| (y + dy) * wide.width() + dx..);
+        let mut internal = Vec::with_capacity(valid.len());
+        for start in in_valid.clone() {
+            internal.extend_from_slice(&internal_wide[start][..width]);
         }
         // (i, m): the layer whose surface is projected (its inside cells), and the layer over
         // (under) it.
@@ -341,8 +363,84 @@ impl Classifier<'_> {
                 }
             }
         }
+        if let Some(margins) = self.narrow_margins(k, &wide, &internal_wide) {
+            for (marks, start) in widened.chunks_mut(width).zip(in_valid) {
+                for (mark, &g) in marks.iter_mut().zip(&margins[start]) {
+                    *mark |= g;
+                }
+            }
+        }
         widened.iter().any(|&w| w).then_some(widened)
     }
+
+    /// Layer `k`'s widened strips over `wide` (in its order) that the raster shows: the solid
+    /// that the top surface of a layer above (`top_layers − 1` at most) or the bottom surface
+    /// of a layer below adds to `k`'s `internal` fill (its slice's uncovered ring and its
+    /// margin, read on the raster), where narrower than twice the widening, grown by it within
+    /// that fill ([`widened_narrow`]); `None` when none is narrow. PrusaSlicer's surface adds
+    /// its margin, and what its neighbour's own surfaces leave of that is often narrow: a band
+    /// beside them on a gentle slope, or along an overhang.
+    fn narrow_margins(&self, k: usize, wide: &CellBox, internal: &[bool]) -> Option<Vec<bool>> {
+        let (layout, area) = (self.layout, self.inside.area());
+        let slicing = &layout.slicing;
+        let held = |l: usize| self.surfaces.get(l.checked_sub(self.surfaces_from)?);
+        let columns = wide.i.start - area.i.start..wide.i.end - area.i.start;
+        let rows = wide.j.start - area.j.start..wide.j.end - area.j.start;
+        let widening = slicing.shell_widening / layout.cell;
+        // (s, m, top): the layer whose surface is projected, the layer over (under) it, and
+        // whether the surface is a top one.
+        let sources = (1..slicing.top_layers)
+            .map(|d| (k + d, Some(k + d + 1), true))
+            .chain((1..slicing.bottom_layers).filter_map(|d| {
+                let s = k.checked_sub(d)?;
+                Some((s, s.checked_sub(1), false))
+            }));
+        let mut widened: Option<Vec<bool>> = None;
+        for (s, m, top) in sources {
+            let (Some(source), Some(surfaces)) = (self.inside.rows(s), held(s)) else {
+                continue;
+            };
+            let over = m.and_then(|m| self.inside.rows(m));
+            let surface = if top { &surfaces.top } else { &surfaces.bottom };
+            let surface = surface.as_deref().map(|cells| Rows::held(cells, area));
+            let mut strip = vec![false; wide.len()];
+            let chunks = strip
+                .chunks_mut(wide.width())
+                .zip(internal.chunks(wide.width()));
+            for (y, (strip, internal)) in rows.clone().zip(chunks) {
+                // Without short cuts, so that the loops are vectorized.
+                strip.copy_from_slice(source.part(y, columns.clone()));
+                if let Some(over) = over {
+                    for (cell, &o) in strip.iter_mut().zip(over.part(y, columns.clone())) {
+                        *cell &= !o;
+                    }
+                }
+                if let Some(surface) = surface {
+                    for (cell, &m) in strip.iter_mut().zip(surface.part(y, columns.clone())) {
+                        *cell |= m;
+                    }
+                }
+                for (cell, &i) in strip.iter_mut().zip(internal) {
+                    *cell &= i;
+                }
+            }
+            let Some(grown) = widened_narrow(&strip, internal, wide.width(), widening) else {
+                continue;
+            };
+            match &mut widened {
+                Some(widened) => widened.iter_mut().zip(grown).for_each(|(w, g)| *w |= g),
+                None => widened = Some(grown),
+            }
+        }
+        widened
+    }
+}
+
+/// How many cells from a cell the raster's narrow strips read ([`widened_narrow`]: three
+/// reaches of the widening and half a cell, and a cell).
+pub(super) fn strip_reach(layout: &Layout) -> usize {
+    let widening = layout.slicing.shell_widening.max(0.0) / layout.cell;
+    (3.0 * (widening + 0.5)).ceil() as usize + 1
 }
 
 /// One piece of a row, for [`mark_strips`]: the depths of the layer classified (`here`) and of

@@ -17,7 +17,8 @@
 //!   before it adds the solid layers);
 //!   or within `shell_widening` of a strip narrower than twice that, which the surfaces of
 //!   one of the `top_layers − 1` layers above (or the `bottom_layers − 1` below) add to this
-//!   layer's fill (PrusaSlicer widens such strips "so that they do not collapse");
+//!   layer's fill, their slices' slivers and their margins alike, less this layer's own
+//!   surfaces (PrusaSlicer widens such strips "so that they do not collapse");
 //! - **small region**: what is left forms a region (4-connected cells) smaller than
 //!   `min_sparse_area`, which the slicer fills solid;
 //! - **sparse**: the rest, printed at the infill fraction.
@@ -36,6 +37,7 @@ mod classes;
 mod depth;
 mod distance;
 mod layout;
+mod narrow;
 mod outline;
 mod overlap;
 mod sides;
