@@ -56,7 +56,7 @@ pub use voids::Void;
 /// Which rules [`print_volumes`] follows: raised whenever what it gives for some mesh and
 /// settings changes, so that what was measured against an earlier model (a calibration) is
 /// known not to hold.
-pub const MODEL_REVISION: u32 = 2;
+pub const MODEL_REVISION: u32 = 3;
 
 /// How the slicer prints, in the mesh's units.
 #[derive(Debug, Clone, Copy, PartialEq)]
