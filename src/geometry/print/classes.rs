@@ -6,6 +6,7 @@ use std::ops::{Range, RangeInclusive};
 use super::cells::{CellBox, Overlay, Rows};
 use super::distance::near_marked;
 use super::layout::Layout;
+use super::narrow::widened_narrow;
 use crate::parallel::map_each;
 
 /// What a raster cell of one layer holds.
@@ -59,7 +60,7 @@ pub(super) struct Classifier<'a> {
     /// The layer of `surfaces[0]`.
     surfaces_from: usize,
     /// Every layer's depth ([`Layout::depth`]).
-    depth: Option<Depths<'a>>,
+    depth: Depths<'a>,
 }
 
 /// Every layer's depth of each cell ([`Layout::depth`]): the bare layer's, but within the
@@ -140,13 +141,14 @@ impl Depths<'_> {
 }
 
 impl<'a> Classifier<'a> {
-    /// The surfaces the classes of `layers` read, from every layer's `inside` cells and
-    /// perimeters (`near`), both read over the same area.
+    /// The surfaces the classes of `layers` read, from every layer's `inside` cells, perimeters
+    /// (`near`), both read over the same area, and `depth`.
     pub(super) fn new(
         layout: &'a Layout,
         inside: Overlay<'a>,
         near: Overlay<'a>,
         layers: RangeInclusive<usize>,
+        depth: Depths<'a>,
     ) -> Classifier<'a> {
         debug_assert_eq!(inside.area(), near.area());
         let (low, high) = (*layers.start(), *layers.end());
@@ -158,15 +160,13 @@ impl<'a> Classifier<'a> {
         let surfaces = map_each(tops_to - bottoms_from + 1, |offset| {
             let k = bottoms_from + offset;
             let of = |next: Option<usize>| {
-                let here = inside.rows(k)?;
-                let rim = near.rows(k)?;
-                surface(
-                    layout,
-                    inside.area(),
-                    here,
-                    rim,
-                    next.and_then(|l| inside.rows(l)),
-                )
+                let layer = Layer {
+                    here: inside.rows(k)?,
+                    rim: near.rows(k)?,
+                    index: k,
+                };
+                let next = next.and_then(|l| Some((inside.rows(l)?, l)));
+                surface(layout, inside.area(), layer, next, depth)
             };
             let top = (k >= low).then(|| of(k.checked_add(1))).flatten();
             let bottom = (k <= high).then(|| of(k.checked_sub(1))).flatten();
@@ -179,19 +179,14 @@ impl<'a> Classifier<'a> {
             layers,
             surfaces,
             surfaces_from: bottoms_from,
-            depth: None,
+            depth,
         }
-    }
-
-    /// The classifier reading every layer's `depth`.
-    pub(super) fn with_depth(mut self, depth: Depths<'a>) -> Classifier<'a> {
-        self.depth = Some(depth);
-        self
     }
 
     /// The class of every cell of `valid` in layer `k` (one of the layers classified) before
     /// the small-region rule, written to `classes` (the whole layer, row by row). `valid` must
-    /// lie within the area grown back by the surface margin and a cell.
+    /// lie within the area grown back by the surface margin, the raster's strips' reach
+    /// ([`strip_reach`]) and a cell.
     pub(super) fn layer(&self, k: usize, valid: &CellBox, classes: &mut [Cell]) {
         debug_assert!(self.layers.contains(&k));
         let (layout, area) = (self.layout, self.inside.area());
@@ -281,12 +276,14 @@ impl Classifier<'_> {
     /// surface of a layer above (`top_layers − 1` at most) or the bottom surface of a layer
     /// below adds to `k`'s fill, less `k`'s own surfaces, is narrower than twice the widening,
     /// the strip grown by the widening within that fill (`PrintObject::discover_horizontal_shells`:
-    /// a strip that narrow would collapse); `None` when no strip is narrow.
+    /// a strip that narrow would collapse); `None` when no strip is narrow. The slivers a
+    /// surface's slice adds are found from the exact depths ([`mark_strips`]), the strips its
+    /// margin adds on the raster ([`Classifier::narrow_margins`]).
     fn widened(&self, k: usize, here: Rows, rim: Rows, valid: &CellBox) -> Option<Vec<bool>> {
         let (layout, area) = (self.layout, self.inside.area());
         let slicing = &layout.slicing;
         let w = slicing.shell_widening as f32;
-        let depth = self.depth?;
+        let depth = self.depth;
         if w <= 0.0 {
             return None;
         }
@@ -296,20 +293,38 @@ impl Classifier<'_> {
         let (width, from) = (valid.width(), valid.i.start - area.i.start);
         let columns = from..from + width;
         let rows = valid.j.start - area.j.start..valid.j.end - area.j.start;
-        // The layer's fill less its own top and bottom surfaces.
+        // The layer's fill less its own top and bottom surfaces, over `valid` grown by what the
+        // raster's strips read.
         let own = held(k)?;
-        let mut internal = Vec::with_capacity(valid.len());
-        for y in rows.clone() {
-            let (h, r) = (here.part(y, columns.clone()), rim.part(y, columns.clone()));
-            internal.extend(h.iter().zip(r).map(|(&h, &r)| h && !r));
+        let wide = valid.grown(strip_reach(layout), layout).within(area)?;
+        let wide_columns = wide.i.start - area.i.start..wide.i.end - area.i.start;
+        let wide_rows = wide.j.start - area.j.start..wide.j.end - area.j.start;
+        let mut internal_wide = Vec::with_capacity(wide.len());
+        for y in wide_rows.clone() {
+            let (h, r) = (
+                here.part(y, wide_columns.clone()),
+                rim.part(y, wide_columns.clone()),
+            );
+            internal_wide.extend(h.iter().zip(r).map(|(&h, &r)| h && !r));
         }
         for surface in [&own.top, &own.bottom].into_iter().flatten() {
             let surface = Rows::held(surface, area);
-            for (y, internal) in rows.clone().zip(internal.chunks_mut(width)) {
-                for (i, &s) in internal.iter_mut().zip(surface.part(y, columns.clone())) {
+            let chunks = internal_wide.chunks_mut(wide.width());
+            for (y, internal) in wide_rows.clone().zip(chunks) {
+                for (i, &s) in internal
+                    .iter_mut()
+                    .zip(surface.part(y, wide_columns.clone()))
+                {
                     *i &= !s;
                 }
             }
+        }
+        // Where `valid`'s rows lie in a set held over `wide`.
+        let (dx, dy) = (valid.i.start - wide.i.start, valid.j.start - wide.j.start);
+        let in_valid = (0..valid.height()).map(|y| (y + dy) * wide.width() + dx..);
+        let mut internal = Vec::with_capacity(valid.len());
+        for start in in_valid.clone() {
+            internal.extend_from_slice(&internal_wide[start][..width]);
         }
         // (i, m): the layer whose surface is projected (its inside cells), and the layer over
         // (under) it.
@@ -348,8 +363,84 @@ impl Classifier<'_> {
                 }
             }
         }
+        if let Some(margins) = self.narrow_margins(k, &wide, &internal_wide) {
+            for (marks, start) in widened.chunks_mut(width).zip(in_valid) {
+                for (mark, &g) in marks.iter_mut().zip(&margins[start]) {
+                    *mark |= g;
+                }
+            }
+        }
         widened.iter().any(|&w| w).then_some(widened)
     }
+
+    /// Layer `k`'s widened strips over `wide` (in its order) that the raster shows: the solid
+    /// that the top surface of a layer above (`top_layers − 1` at most) or the bottom surface
+    /// of a layer below adds to `k`'s `internal` fill (its slice's uncovered ring and its
+    /// margin, read on the raster), where narrower than twice the widening, grown by it within
+    /// that fill ([`widened_narrow`]); `None` when none is narrow. PrusaSlicer's surface adds
+    /// its margin, and what its neighbour's own surfaces leave of that is often narrow: a band
+    /// beside them on a gentle slope, or along an overhang.
+    fn narrow_margins(&self, k: usize, wide: &CellBox, internal: &[bool]) -> Option<Vec<bool>> {
+        let (layout, area) = (self.layout, self.inside.area());
+        let slicing = &layout.slicing;
+        let held = |l: usize| self.surfaces.get(l.checked_sub(self.surfaces_from)?);
+        let columns = wide.i.start - area.i.start..wide.i.end - area.i.start;
+        let rows = wide.j.start - area.j.start..wide.j.end - area.j.start;
+        let widening = slicing.shell_widening / layout.cell;
+        // (s, m, top): the layer whose surface is projected, the layer over (under) it, and
+        // whether the surface is a top one.
+        let sources = (1..slicing.top_layers)
+            .map(|d| (k + d, Some(k + d + 1), true))
+            .chain((1..slicing.bottom_layers).filter_map(|d| {
+                let s = k.checked_sub(d)?;
+                Some((s, s.checked_sub(1), false))
+            }));
+        let mut widened: Option<Vec<bool>> = None;
+        for (s, m, top) in sources {
+            let (Some(source), Some(surfaces)) = (self.inside.rows(s), held(s)) else {
+                continue;
+            };
+            let over = m.and_then(|m| self.inside.rows(m));
+            let surface = if top { &surfaces.top } else { &surfaces.bottom };
+            let surface = surface.as_deref().map(|cells| Rows::held(cells, area));
+            let mut strip = vec![false; wide.len()];
+            let chunks = strip
+                .chunks_mut(wide.width())
+                .zip(internal.chunks(wide.width()));
+            for (y, (strip, internal)) in rows.clone().zip(chunks) {
+                // Without short cuts, so that the loops are vectorized.
+                strip.copy_from_slice(source.part(y, columns.clone()));
+                if let Some(over) = over {
+                    for (cell, &o) in strip.iter_mut().zip(over.part(y, columns.clone())) {
+                        *cell &= !o;
+                    }
+                }
+                if let Some(surface) = surface {
+                    for (cell, &m) in strip.iter_mut().zip(surface.part(y, columns.clone())) {
+                        *cell |= m;
+                    }
+                }
+                for (cell, &i) in strip.iter_mut().zip(internal) {
+                    *cell &= i;
+                }
+            }
+            let Some(grown) = widened_narrow(&strip, internal, wide.width(), widening) else {
+                continue;
+            };
+            match &mut widened {
+                Some(widened) => widened.iter_mut().zip(grown).for_each(|(w, g)| *w |= g),
+                None => widened = Some(grown),
+            }
+        }
+        widened
+    }
+}
+
+/// How many cells from a cell the raster's narrow strips read ([`widened_narrow`]: three
+/// reaches of the widening and half a cell, and a cell).
+pub(super) fn strip_reach(layout: &Layout) -> usize {
+    let widening = layout.slicing.shell_widening.max(0.0) / layout.cell;
+    (3.0 * (widening + 0.5)).ceil() as usize + 1
 }
 
 /// One piece of a row, for [`mark_strips`]: the depths of the layer classified (`here`) and of
@@ -379,26 +470,58 @@ fn mark_strips(strip: Strip, (w, f): (f32, f32), marks: &mut [bool]) {
     }
 }
 
-/// The fill cells of a layer (`here` less its perimeters `rim`, over `area`) under which (or
-/// over which) the layer `next` (`None` past the raster) is outside, grown by the surface margin
-/// within the fill: the slicer's top (or bottom) surface of the layer with the ring it adds
-/// around it, over `area`; `None` when it holds no cell.
+/// One layer's rows for [`surface`]: its inside cells, its perimeters and its index.
+#[derive(Clone, Copy)]
+struct Layer<'a> {
+    here: Rows<'a>,
+    rim: Rows<'a>,
+    index: usize,
+}
+
+/// The fill cells of `layer` (its inside cells less its perimeters, over `area`) within the
+/// surface margin of its top (or bottom) surface, where the layer `next` above (below; with its
+/// index, `None` past the raster) leaves its fill region uncovered: the slicer's top (bottom)
+/// surface of the layer with the ring it adds around it, over `area`; `None` when it holds no
+/// cell.
+///
+/// The uncovered fill is found from the exact depths: a cell whose centre lies in the fill
+/// region (within the fill boundary) and outside `next`, or whose centre lies inside `next`
+/// within half a cell's diagonal of its outline where that outline runs through the fill region
+/// (the layer's depth less `next`'s at the cell reaches the fill boundary). PrusaSlicer grows a
+/// top or bottom surface by the margin however narrow its part in the fill region
+/// (`LayerRegion::process_external_surfaces`), and on a sloping face that part is a sliver
+/// under a cell, which no cell's centre shows.
 fn surface(
     layout: &Layout,
     area: &CellBox,
-    here: Rows,
-    rim: Rows,
-    next: Option<Rows>,
+    layer: Layer,
+    next: Option<(Rows, usize)>,
+    depth: Depths,
 ) -> Option<Vec<bool>> {
+    let f = layout.slicing.fill_boundary as f32;
+    let reach = (layout.cell * std::f64::consts::FRAC_1_SQRT_2) as f32;
     let mut fill = Vec::with_capacity(area.len());
     let mut exposed = Vec::with_capacity(area.len());
+    let (mut here_buffer, mut next_buffer) = (Vec::new(), Vec::new());
+    let raster = layout.columns;
     for y in 0..area.height() {
+        let j = area.j.start + y;
         let start = fill.len();
-        fill.extend(here.row(y).iter().zip(rim.row(y)).map(|(&h, &r)| h && !r));
-        let fill = &fill[start..];
+        let (here, rim) = (layer.here.row(y), layer.rim.row(y));
+        fill.extend(here.iter().zip(rim).map(|(&h, &r)| h && !r));
+        let depth_here = depth.row(layer.index, j, area.i.clone(), raster, &mut here_buffer);
         match next {
-            Some(next) => exposed.extend(fill.iter().zip(next.row(y)).map(|(&f, &n)| f && !n)),
-            None => exposed.extend_from_slice(fill),
+            Some((rows, l)) => {
+                let depth_next = depth.row(l, j, area.i.clone(), raster, &mut next_buffer);
+                let cells = here
+                    .iter()
+                    .zip(rows.row(y))
+                    .zip(depth_here.iter().zip(depth_next));
+                exposed.extend(cells.map(|((&h, &n), (&d, &e))| {
+                    h & (d >= f) & (!n | ((e <= reach) & (d - e >= f)))
+                }));
+            }
+            None => exposed.extend_from_slice(&fill[start..]),
         }
     }
     // Without a short cut, so that the scan is vectorized.
@@ -407,7 +530,7 @@ fn surface(
     }
     let reach = layout.slicing.surface_margin / layout.cell;
     if reach <= 0.0 {
-        return Some(exposed);
+        return Some(exposed.iter().zip(&fill).map(|(&e, &f)| e && f).collect());
     }
     let limit = reach * reach;
     let near = near_marked(&exposed, area.width(), area.height(), reach, |d| d <= limit);

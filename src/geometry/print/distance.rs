@@ -98,7 +98,7 @@ fn row_gaps(row: &[bool]) -> Option<Vec<u32>> {
 /// The box of the marked cells (columns and rows, half-open) grown by `reach` and a cell on every
 /// side (the whole raster for an infinite or NaN reach), within the raster; `None` without a
 /// marked cell.
-fn grown_marked_box(
+pub(super) fn grown_marked_box(
     marked: &[bool],
     columns: usize,
     rows: usize,

@@ -11,12 +11,14 @@
 //!   above, or the `bottom_layers` below (the solid layers under every top surface and over
 //!   every bottom surface, sloping ones included); or within `surface_margin` of a top surface
 //!   (the part of a layer's fill region, inside the perimeters, that the layer above does not
-//!   cover) of this layer or one of the `top_layers − 1` above, or of a bottom surface of this
-//!   layer or one of the `bottom_layers − 1` below (PrusaSlicer grows every top and bottom
-//!   surface by a margin before it adds the solid layers);
+//!   cover, however narrow: found from the exact depths) of this layer or one of the
+//!   `top_layers − 1` above, or of a bottom surface of this layer or one of the
+//!   `bottom_layers − 1` below (PrusaSlicer grows every top and bottom surface by a margin
+//!   before it adds the solid layers);
 //!   or within `shell_widening` of a strip narrower than twice that, which the surfaces of
 //!   one of the `top_layers − 1` layers above (or the `bottom_layers − 1` below) add to this
-//!   layer's fill (PrusaSlicer widens such strips "so that they do not collapse");
+//!   layer's fill, their slices' slivers and their margins alike, less this layer's own
+//!   surfaces (PrusaSlicer widens such strips "so that they do not collapse");
 //! - **small region**: what is left forms a region (4-connected cells) smaller than
 //!   `min_sparse_area`, which the slicer fills solid;
 //! - **sparse**: the rest, printed at the infill fraction.
@@ -35,6 +37,7 @@ mod classes;
 mod depth;
 mod distance;
 mod layout;
+mod narrow;
 mod outline;
 mod overlap;
 mod sides;
@@ -53,7 +56,7 @@ pub use voids::Void;
 /// Which rules [`print_volumes`] follows: raised whenever what it gives for some mesh and
 /// settings changes, so that what was measured against an earlier model (a calibration) is
 /// known not to hold.
-pub const MODEL_REVISION: u32 = 2;
+pub const MODEL_REVISION: u32 = 3;
 
 /// How the slicer prints, in the mesh's units.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -275,12 +278,12 @@ impl Layers {
         };
         let (unsettled, classes): (Vec<Vec<Cell>>, Vec<Vec<Cell>>) = {
             let all = 0..=layout.layers - 1;
-            let classifier =
-                Classifier::new(&layout, over(&inside), over(&near), all).with_depth(Depths {
-                    bare: &depth,
-                    first: 0,
-                    held: &[],
-                });
+            let depths = Depths {
+                bare: &depth,
+                first: 0,
+                held: &[],
+            };
+            let classifier = Classifier::new(&layout, over(&inside), over(&near), all, depths);
             map_each(layout.layers, |k| {
                 let mut unsettled = vec![Cell::Outside; whole.len()];
                 classifier.layer(k, &whole, &mut unsettled);

@@ -13,7 +13,7 @@
 use std::ops::RangeInclusive;
 
 use super::cells::{CellBox, Overlay, Planes};
-use super::classes::{neighbours, Cell, Classifier, DepthPatch, Depths};
+use super::classes::{neighbours, strip_reach, Cell, Classifier, DepthPatch, Depths};
 use super::depth::{depth_value, DEPTH_RANGE};
 use super::layout::Layout;
 use super::tally::{corners, Corners, Totals};
@@ -77,11 +77,11 @@ impl Layers {
             .flatten()
             .cloned()
             .reduce(|a, b| a.union(&b))?;
-        let changed = (changed_reach(&layout.slicing) / layout.cell).ceil() as usize + 2;
+        let changed = (changed_reach(layout) / layout.cell).ceil() as usize + 2;
         // Every layer's window lies within `cover` grown by `changed`; what its classes read,
-        // within the surface margin of that.
+        // within the raster's strips' reach and the surface margin of that.
         let margin = (layout.slicing.surface_margin.max(0.0) / layout.cell).ceil() as usize + 2;
-        let area = cover.grown(changed + margin, layout);
+        let area = cover.grown(changed + strip_reach(layout) + margin, layout);
         let (inside, near, depth) = self.cut_planes(voids, first..=last, &area);
         let overlay = |bare, planes| Overlay {
             columns: layout.columns,
@@ -92,11 +92,12 @@ impl Layers {
         let window = reach(layout, first, last);
         let low = *window.start();
         let count = window.clone().count();
-        let classifier = Classifier::new(layout, inside, near, window).with_depth(Depths {
+        let depths = Depths {
             bare: &self.depth,
             first,
             held: &depth,
-        });
+        };
+        let classifier = Classifier::new(layout, inside, near, window, depths);
         let (top, bottom) = (layout.slicing.top_layers, layout.slicing.bottom_layers);
         Some(map_each(count, |offset| {
             let k = low + offset;
@@ -472,12 +473,20 @@ impl Flood {
 }
 
 /// How far from a void's cross-section in a layer the classes of the layers that read it can
-/// change: the perimeters and the surface margin around the hole, or a widened strip, which
+/// change: the surfaces around the hole (their uncovered fill, found within the perimeters or
+/// the fill boundary and half a cell's diagonal, and their margin), and the raster's narrow
+/// strips within three widenings and half-cells of those; or an exact widened strip, which
 /// reads depths up to the fill boundary and three widenings ([`Classifier`]).
-fn changed_reach(slicing: &super::Slicing) -> f64 {
-    let perimeters = slicing.perimeter_thickness + slicing.surface_margin.max(0.0);
-    let strips = slicing.fill_boundary.max(0.0) + 3.0 * slicing.shell_widening.max(0.0);
-    perimeters.max(strips)
+fn changed_reach(layout: &Layout) -> f64 {
+    let slicing = &layout.slicing;
+    let widening = slicing.shell_widening.max(0.0);
+    let uncovered = slicing
+        .perimeter_thickness
+        .max(slicing.fill_boundary + layout.cell * std::f64::consts::FRAC_1_SQRT_2);
+    let surfaces = uncovered + slicing.surface_margin.max(0.0);
+    let raster_strips = surfaces + 3.0 * (widening + layout.cell / 2.0);
+    let strips = slicing.fill_boundary.max(0.0) + 3.0 * widening;
+    raster_strips.max(strips)
 }
 
 /// The layers whose class cutting the layers `first` to `last` can change: a layer's class
