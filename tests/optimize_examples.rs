@@ -251,17 +251,6 @@ fn hammer_hangs_level_and_fish_self_rights_from_every_orientation() {
             .collect();
         let expected = if name == "fish" { 1 } else { 2 };
         assert_eq!(states, vec![expected], "{name}: stable states");
-        if name == "fish" {
-            // Its three-capsule round meets every goal only when the round's other solve is
-            // refined after the kept one's design misses: the rounds after the first have two.
-            let missed: Vec<usize> = optimization
-                .candidates
-                .iter()
-                .filter(|c| (1..=3).contains(&c.capsules) && !c.meets_goals)
-                .map(|c| c.capsules)
-                .collect();
-            assert!(missed.is_empty(), "fish: counts missing a goal: {missed:?}");
-        }
     }
 }
 

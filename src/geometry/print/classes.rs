@@ -487,8 +487,9 @@ struct Layer<'a> {
 /// The uncovered fill is found from the exact depths: a cell whose centre lies in the fill
 /// region (within the fill boundary) and outside `next`, or whose centre lies inside `next`
 /// within half a cell's diagonal of its outline where that outline runs through the fill region
-/// (the layer's depth less `next`'s at the cell reaches the fill boundary). PrusaSlicer grows a
-/// top or bottom surface by the margin however narrow its part in the fill region
+/// (the layer's depth less `next`'s at the cell passes the fill boundary; an outline `next`
+/// shares with the layer, a vertical wall, leaves nothing uncovered). PrusaSlicer grows a top
+/// or bottom surface by the margin however narrow its part in the fill region
 /// (`LayerRegion::process_external_surfaces`), and on a sloping face that part is a sliver
 /// under a cell, which no cell's centre shows.
 fn surface(
@@ -518,7 +519,7 @@ fn surface(
                     .zip(rows.row(y))
                     .zip(depth_here.iter().zip(depth_next));
                 exposed.extend(cells.map(|((&h, &n), (&d, &e))| {
-                    h & (d >= f) & (!n | ((e <= reach) & (d - e >= f)))
+                    h & (d >= f) & (!n | ((e <= reach) & (d - e > f)))
                 }));
             }
             None => exposed.extend_from_slice(&fill[start..]),
