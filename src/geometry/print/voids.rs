@@ -86,10 +86,11 @@ impl Layout {
     /// For each of `voids`' cross-sections in layer `k` (print frame), the squared distance from
     /// each cell `inside` (in `area`'s order) within `reach` cells of the section's box to the
     /// section, handed to `measured` with the cell's column and row in `area`: a cell near two
-    /// sections is measured twice. Exact (to the sections' polygons): the nearest side is walked to from
-    /// the last cell's ([`Sides::nearest_from`]). A straight line from a cell to a hole that
-    /// crosses the outline is longer than the cell's distance to the outline, so the depth a
-    /// cut layer takes from this and the bare layer's is what measuring inside it would give.
+    /// sections is measured twice. Exact (to the sections' polygons): the nearest side is
+    /// walked to from the last cell's ([`Sides::nearest_from`]). A straight line from a cell to
+    /// a hole that crosses the outline is longer than the cell's distance to the outline, so
+    /// the depth a cut layer takes from this and the bare layer's is what measuring inside it
+    /// would give.
     pub(super) fn hole_distances(
         &self,
         k: usize,
