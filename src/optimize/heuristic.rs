@@ -73,7 +73,7 @@ pub fn run(
         split_until(&mut current, n);
     }
     // The survivors of the previous round where that round's solve left them.
-    let mut warm: Option<Vec<StartCapsule>> = None;
+    let mut survivors_left: Option<Vec<StartCapsule>> = None;
     let alone_seeds = seeds.iter().filter(|s| !s.pinned).count();
     // Each round's refinement (the judge's corrections, stock balls, the exact check) needs
     // only that round's solve, and the next round only the solve too: the refinements run
@@ -91,6 +91,11 @@ pub fn run(
             let one_left = current.len() - pinned == 1;
             let (capsules, most_rounds) =
                 (current.len(), round + current.len().saturating_sub(floor));
+            // Survivors the last solve left where they started (none left to move) would only
+            // repeat the solve from the seeds.
+            let warm = survivors_left
+                .take()
+                .filter(|survivors| *survivors != current);
             let solves = 1 + usize::from(warm.is_some()) + if one_left { alone_seeds } else { 0 };
             let at = |solve: usize| Round {
                 round,
@@ -212,7 +217,7 @@ pub fn run(
                 current.remove(j);
                 survivors.remove(j);
             }
-            warm = Some(survivors);
+            survivors_left = Some(survivors);
         }
         finished.extend(refining.into_iter().map(Refining::join));
         // The rounds finished before a cancellation.
