@@ -1,7 +1,7 @@
 //! The capsule-count heuristic of section 4.5: optimize from every seed, remove the capsules that
 //! did not grow, reset the rest to their seeds, and repeat down to no capsules.
 
-use std::collections::VecDeque;
+use std::sync::mpsc::{channel, Sender};
 use std::thread::ScopedJoinHandle;
 use std::time::Instant;
 
@@ -77,12 +77,15 @@ pub fn run(
     let alone_seeds = seeds.iter().filter(|s| !s.pinned).count();
     // Each round's refinement (the judge's corrections, stock balls, the exact check) needs
     // only that round's solve, and the next round only the solve too: the refinements run
-    // beside the rounds that follow, at most one per core at a time, and are collected in
-    // round order, so the candidates are those of running everything one after another.
+    // beside the rounds that follow, at most one per core at a time (the next round waits for
+    // whichever finishes first), and are collected in round order, so the candidates are those
+    // of running everything one after another.
     let most_refining = cores();
     std::thread::scope(|scope| {
-        let mut refining: VecDeque<Refining> = VecDeque::new();
-        let mut finished: Vec<Option<Candidate>> = Vec::new();
+        let mut refining: Vec<Refining> = Vec::new();
+        // Each refinement says here when it is done, by its round.
+        let (done, finishing) = channel::<usize>();
+        let mut finished: Vec<(usize, Option<Candidate>)> = Vec::new();
         let mut round = 0;
         loop {
             round += 1;
@@ -173,13 +176,22 @@ pub fn run(
                     ..start.clone()
                 })
                 .collect();
-            if refining.len() >= most_refining {
-                finished.extend(refining.pop_front().map(Refining::join));
+            while refining.len() >= most_refining {
+                // Every running refinement holds a sender, and so does this loop: a message
+                // always comes.
+                let Ok(round) = finishing.recv() else { break };
+                if let Some(at) = refining.iter().position(|r| r.round == round) {
+                    finished.push((round, refining.swap_remove(at).join()));
+                }
             }
             let explored_seconds = clock.elapsed().as_secs_f64();
-            refining.push_back(Refining {
+            let done = Done(done.clone(), round);
+            refining.push(Refining {
+                round,
                 starts: current.clone(),
                 refined: scope.spawn(move || {
+                    // Says the refinement is done when it returns or unwinds.
+                    let _done = done;
                     let clock = Instant::now();
                     let mut outcome = problem.refine(&chosen);
                     let mut starts = None;
@@ -219,17 +231,31 @@ pub fn run(
             }
             survivors_left = Some(survivors);
         }
-        finished.extend(refining.into_iter().map(Refining::join));
+        finished.extend(refining.into_iter().map(|r| (r.round, r.join())));
+        finished.sort_by_key(|&(round, _)| round);
         // The rounds finished before a cancellation.
         finished
             .into_iter()
-            .map_while(|candidate| candidate)
+            .map_while(|(_, candidate)| candidate)
             .collect()
     })
 }
 
+/// Sends its round when dropped: a refinement's thread holds it, so the loop hears when the
+/// refinement is done, whether it returned or unwound.
+struct Done(Sender<usize>, usize);
+
+impl Drop for Done {
+    fn drop(&mut self) {
+        // The loop may have stopped listening (all its refinements joined): nothing to say.
+        let _ = self.0.send(self.1);
+    }
+}
+
 /// A round whose chosen solve is being refined beside the rounds that follow.
 struct Refining<'scope> {
+    /// The round, counted from 1.
+    round: usize,
     /// The round's start capsules.
     starts: Vec<StartCapsule>,
     /// The judged outcome; `None` when cancelled.
