@@ -15,7 +15,7 @@ use crate::spec::model::{Pose, Project};
 /// stable state of a hanging or floating goal).
 ///
 /// A pose with a `stand` or `imbalance` goal is first settled onto its hull
-/// ([`rest`](super::rest)) with the design's centre of mass in the written pose, and everything is
+/// (`rest`) with the design's centre of mass in the written pose, and everything is
 /// evaluated in the settled pose; [`PoseEvaluation::resting`] says which facet and how far the
 /// written rotation was from it. An `imbalance` pose must topple: its tilt margin is that of a
 /// model that may rock onto a neighbouring facet within

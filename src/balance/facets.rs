@@ -100,7 +100,7 @@ pub fn facet_rotation(normal: &Vector3<f64>, up: Axis) -> UnitQuaternion<f64> {
     })
 }
 
-/// Every facet of the hull of the model as `pose` places its components (see [`model_frame`]),
+/// Every facet of the hull of the model as `pose` places its components (see `model_frame`),
 /// with the solid model's margin on it (`bodies` before capsules are cut) and, given a `design`
 /// with its bodies (the design's voids cut, [`PartPrints::bodies`](super::PartPrints::bodies)),
 /// the design's; most stable first

@@ -89,7 +89,7 @@ pub(crate) fn mass_totals(
 
 /// The material of component `index` as the mass model prints it, before its balls go in:
 /// its volume at the material's full density (cubic project units) and its centroid, rest frame.
-/// The same sum as [`mass_totals`] makes for one component: the solid part, the sparse part at
+/// The same sum as `mass_totals` makes for one component: the solid part, the sparse part at
 /// `design.infill`, and for each of its capsules the sparse material of the dilated capsule
 /// taken out and its shell put back solid (nothing for a measured body, whose voids are in it).
 pub fn component_material(

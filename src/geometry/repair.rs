@@ -13,7 +13,7 @@ use nalgebra::Point3;
 use super::mass;
 use super::mesh::TriMesh;
 
-/// What [`repair`] changed in a mesh.
+/// What `repair` changed in a mesh.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Repairs {
     /// Triangles (0-based, in the file's order) whose corners fall on fewer than three points:

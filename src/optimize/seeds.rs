@@ -25,7 +25,7 @@ pub struct SeedSite {
     pub depth: f64,
     /// Whether a capsule was seeded there: the midpoint is deep enough inside its component for
     /// the smallest capsule and the wall, the component has room along its print direction for
-    /// an insertable capsule (see [`skeleton_seeds`]), and the site is among the [`MAX_SEEDS`]
+    /// an insertable capsule (see [`skeleton_seeds`]), and the site is among the `MAX_SEEDS`
     /// with the most leverage.
     pub seeded: bool,
 }
@@ -33,7 +33,7 @@ pub struct SeedSite {
 /// One start capsule of radius `radius` per skeleton segment whose midpoint lies at least
 /// `radius + wall` inside its component (checked with `interior`) in a component with `room`,
 /// along the segment, half as long as it (and at least `2 · radius`), centred on the midpoint;
-/// of more than [`MAX_SEEDS`] such segments, only the [`MAX_SEEDS`] with the most leverage (see
+/// of more than `MAX_SEEDS` such segments, only the `MAX_SEEDS` with the most leverage (see
 /// `leverage`). `skeletons` and `room` are indexed like the components: `room[c]` is whether
 /// component `c` can hold any capsule the fabrication rules allow ([`has_room`]; a component past
 /// its end has room). Returns the capsules and every site, seeded or not, in component then

@@ -67,7 +67,7 @@ pub struct Budget {
     /// a few trivial evaluations, and its result means nothing.
     pub cancel: Cancel,
     /// Stop, as when cancelled but keeping the best point, after this many evaluations in a row
-    /// that gain nothing worth having over the best point before them ([`worth_having`]);
+    /// that gain nothing worth having over the best point before them (`worth_having`);
     /// `None`: run to the budget or the solver's own tolerances.
     pub stall: Option<usize>,
 }

@@ -7,12 +7,12 @@
 //! capsule; a convex-hull collider per component), then:
 //!
 //! - `stand`: sets it down on a ground and tilts the ground slowly, in the worst direction ballast
-//!   computed and eleven others around it, until it topples ([`stand`]);
+//!   computed and eleven others around it, until it topples (`stand`);
 //! - `imbalance`: sets it down and sees whether it topples;
 //! - `suspend`: hangs it from a spherical joint and lets it go from several orientations
-//!   ([`suspend`]);
+//!   (`suspend`);
 //! - `immerse`: floats it with buoyancy at its centre of buoyancy and lets it go from several
-//!   orientations ([`immerse`]).
+//!   orientations (`immerse`).
 //!
 //! Each goal's measured value is put beside the computed one; they agree when they are within
 //! [`AGREEMENT_DEGREES`] and the state (stands or topples, where each ball ends) is the same.

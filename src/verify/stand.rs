@@ -31,7 +31,7 @@ pub struct TiltRun {
     /// The horizontal unit vector pointing downhill, world.
     pub direction: [f64; 3],
     /// The ground's tilt at which the model toppled, degrees; `None` when it still stood at
-    /// [`MAX_TILT`].
+    /// `MAX_TILT`.
     pub topples_at: Option<f64>,
 }
 
@@ -196,7 +196,7 @@ pub struct SlopeRun {
     /// The horizontal unit vector pointing downhill, world.
     pub direction: [f64; 3],
     /// The gentlest slope the model, set down on it, stood on, degrees; `None` when it toppled on
-    /// every slope tried (up to [`MAX_TILT`] in the first direction, up to the gentlest slope
+    /// every slope tried (up to `MAX_TILT` in the first direction, up to the gentlest slope
     /// found so far in the others).
     pub stands_from: Option<f64>,
 }

@@ -143,8 +143,8 @@ pub fn print_volumes_with_voids(mesh: &TriMesh, slicing: &Slicing, voids: &[Void
 /// perimeters, and its cells' classes before a void is cut. Cutting voids re-classifies only
 /// the cells they can change: in the layers they cross and the solid layers above and below
 /// those, within the perimeters and the surface margin of the voids' cross-sections in the
-/// layers each one reads, and the regions the small-region rule joins to those ([`window`]).
-/// The material is summed exactly, as counts of cells and sums of their indices ([`tally`]): a
+/// layers each one reads, and the regions the small-region rule joins to those (`window`).
+/// The material is summed exactly, as counts of cells and sums of their indices (`tally`): a
 /// cut takes the cells it changes away from the bare sums and adds them back as they now are,
 /// and gives the same bits as slicing the whole mesh with the voids again.
 #[derive(Clone)]

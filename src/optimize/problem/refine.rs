@@ -48,7 +48,7 @@ impl<'a> Problem<'a> {
     /// program solved again with its capsule term corrected towards the re-sliced material,
     /// every radius snapped to a stock ball, and any capsule the exact check finds too close to
     /// the surface moved or shrunk. Every design it judges is the one the solution file would
-    /// hold ([`on_file_grid`]), so the outcome is that design's.
+    /// hold (`on_file_grid`), so the outcome is that design's.
     pub fn refine(&self, explored: &Explored) -> Outcome {
         let Explored {
             start,
