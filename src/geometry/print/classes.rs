@@ -322,10 +322,6 @@ impl Classifier<'_> {
         // Where `valid`'s rows lie in a set held over `wide`.
         let (dx, dy) = (valid.i.start - wide.i.start, valid.j.start - wide.j.start);
         let in_valid = (0..valid.height()).map(|y| (y + dy) * wide.width() + dx..);
-        let mut internal = Vec::with_capacity(valid.len());
-        for start in in_valid.clone() {
-            internal.extend_from_slice(&internal_wide[start][..width]);
-        }
         // (i, m): the layer whose surface is projected (its inside cells), and the layer over
         // (under) it.
         let pairs: Vec<_> = (1..slicing.top_layers)
@@ -341,11 +337,12 @@ impl Classifier<'_> {
         // void's patch covers part of a row; the other layers' rows are read in pieces.
         let mut here_buffer = Vec::new();
         let mut widened = vec![false; valid.len()];
-        for (y, marks) in rows.clone().zip(widened.chunks_mut(width)) {
+        let rows_in_wide = rows.clone().zip(in_valid.clone());
+        for ((y, start), marks) in rows_in_wide.zip(widened.chunks_mut(width)) {
             let j = area.j.start + y;
             // The layer's own row once for every pair.
             let here_row = depth.row(k, j, valid.i.clone(), layout.columns, &mut here_buffer);
-            let fill = &internal[(y - rows.start) * width..][..width];
+            let fill = &internal_wide[start][..width];
             for (inside_i, m) in &pairs {
                 let inside_i = inside_i.part(y, columns.clone());
                 for (at, there) in depth.pieces(*m, j, valid.i.clone(), layout.columns) {
@@ -500,7 +497,7 @@ fn surface(
     depth: Depths,
 ) -> Option<Vec<bool>> {
     let f = layout.slicing.fill_boundary as f32;
-    let reach = (layout.cell * std::f64::consts::FRAC_1_SQRT_2) as f32;
+    let half_diagonal = (layout.cell * std::f64::consts::FRAC_1_SQRT_2) as f32;
     let mut fill = Vec::with_capacity(area.len());
     let mut exposed = Vec::with_capacity(area.len());
     let (mut here_buffer, mut next_buffer) = (Vec::new(), Vec::new());
@@ -519,7 +516,7 @@ fn surface(
                     .zip(rows.row(y))
                     .zip(depth_here.iter().zip(depth_next));
                 exposed.extend(cells.map(|((&h, &n), (&d, &e))| {
-                    h & (d >= f) & (!n | ((e <= reach) & (d - e > f)))
+                    h & (d >= f) & (!n | ((e <= half_diagonal) & (d - e > f)))
                 }));
             }
             None => exposed.extend_from_slice(&fill[start..]),

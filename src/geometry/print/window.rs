@@ -475,18 +475,16 @@ impl Flood {
 /// How far from a void's cross-section in a layer the classes of the layers that read it can
 /// change: the surfaces around the hole (their uncovered fill, found within the perimeters or
 /// the fill boundary and half a cell's diagonal, and their margin), and the raster's narrow
-/// strips within three widenings and half-cells of those; or an exact widened strip, which
-/// reads depths up to the fill boundary and three widenings ([`Classifier`]).
+/// strips within three widenings and half-cells of those. That holds the reach of an exact
+/// widened strip too, which reads depths up to the fill boundary and three widenings
+/// ([`Classifier`]).
 fn changed_reach(layout: &Layout) -> f64 {
     let slicing = &layout.slicing;
-    let widening = slicing.shell_widening.max(0.0);
     let uncovered = slicing
         .perimeter_thickness
         .max(slicing.fill_boundary + layout.cell * std::f64::consts::FRAC_1_SQRT_2);
     let surfaces = uncovered + slicing.surface_margin.max(0.0);
-    let raster_strips = surfaces + 3.0 * (widening + layout.cell / 2.0);
-    let strips = slicing.fill_boundary.max(0.0) + 3.0 * widening;
-    raster_strips.max(strips)
+    surfaces + 3.0 * (slicing.shell_widening.max(0.0) + layout.cell / 2.0)
 }
 
 /// The layers whose class cutting the layers `first` to `last` can change: a layer's class
