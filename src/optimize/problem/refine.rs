@@ -119,8 +119,10 @@ impl<'a> Problem<'a> {
         // as close is kept: the judged designs are on the file's grid, where distances to a
         // flat face come in its steps and often tie, and the next move widens the capsule it
         // left too close on top of the first's (three capsules in the T printed on its foot
-        // meet every goal only after a third move).
-        let mut moves_mend = true;
+        // meet every goal only after a third move). A design whose solve ended outside the
+        // constraints is not the interpolant's to mend either: it is only shrunk (moving the
+        // fish's five capsules cost two full solves, 1 s of its 4, and mended nothing).
+        let mut moves_mend = solved.violation <= FEASIBLE;
         for attempt in 0..4 {
             let move_first = listed && attempt < 3 && moves_mend;
             let mut shrunk = outcome.design.clone();
