@@ -261,6 +261,16 @@ impl<'a> Problem<'a> {
         }
     }
 
+    /// The stops of a solve from a design already solved (the refinement's): as
+    /// [`Problem::budget`], with the hybrid's COBYLA pass only when SLSQP ends outside the
+    /// constraints.
+    fn near_budget(&self, layout: &DesignLayout) -> Budget {
+        Budget {
+            fallback_on_goals: false,
+            ..self.budget(layout)
+        }
+    }
+
     /// `capsule` with `to` its upper end along its component's print direction, unless pinned.
     fn upright(&self, capsule: &StartCapsule) -> StartCapsule {
         let up = self.up(capsule.component);

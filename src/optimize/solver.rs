@@ -70,6 +70,12 @@ pub struct Budget {
     /// that gain nothing worth having over the best point before them (`worth_having`);
     /// `None`: run to the budget or the solver's own tolerances.
     pub stall: Option<usize>,
+    /// Whether [`Method::Hybrid`]'s COBYLA pass also follows an SLSQP pass that ends within the
+    /// constraints but misses a goal (the objective above 0), or only one that ends outside
+    /// them. A solve from a design already solved with nearly the same objective (the
+    /// refinement's) turns it off: there COBYLA rarely gains, and its linear models of every
+    /// constraint cost more than the SLSQP pass.
+    pub fallback_on_goals: bool,
 }
 
 impl Default for Budget {
@@ -79,6 +85,7 @@ impl Default for Budget {
             relative_tolerance: 1e-6,
             cancel: Cancel::new(),
             stall: None,
+            fallback_on_goals: true,
         }
     }
 }
@@ -138,7 +145,7 @@ impl Tracker {
 
 /// The least fall of the objective (radians: 0.006°) that counts as a gain for
 /// [`Budget::stall`].
-const WORTH_HAVING: f64 = 1e-4;
+pub(crate) const WORTH_HAVING: f64 = 1e-4;
 
 /// Whether a point with `(value, violation)` improves on `(other_value, other_violation)` by
 /// enough to go on looking: feasible where the other is not, an objective lower by
@@ -208,7 +215,7 @@ pub fn solve(
     };
     let first = solve_by(objective, x0, bounds, Method::Slsqp, &pass);
     let fixed = free == 0;
-    let met = first.violation <= FEASIBLE && first.value <= 0.0;
+    let met = first.violation <= FEASIBLE && (first.value <= 0.0 || !pass.fallback_on_goals);
     if fixed || met || pass.cancel.is_cancelled() {
         return first;
     }

@@ -8,7 +8,7 @@ use crate::design::Design;
 use crate::fabrication::CapsuleIssue;
 use crate::geometry::PrintCorrection;
 use crate::objective::{DesignLayout, Objective, CAPSULE_STRIDE, R};
-use crate::optimize::solver::{solve, Bounds, Budget, Solve, FEASIBLE};
+use crate::optimize::solver::{solve, Bounds, Budget, Solve, FEASIBLE, WORTH_HAVING};
 use crate::optimize::stock::{capsule_radius, on_file_grid, snap};
 
 /// At most this many solves, after the first, with the closed-form capsule term corrected
@@ -27,6 +27,19 @@ fn same_material(a: &[ComponentBody], b: &[ComponentBody]) -> bool {
         (a.print.solid.volume - b.print.solid.volume).abs() <= 1e-4 * volume
             && (moment(a) - moment(b)).norm() <= 1e-4 * volume * size
     })
+}
+
+/// Whether solving `after` again from `x`, a solve's result over `before`, could gain nothing
+/// worth having: the objective at `x` moves by less than [`WORTH_HAVING`] (to first order a
+/// re-solved minimum moves by what its objective moves at the minimum), and no constraint that
+/// holds at `x` fails, nor one that fails fails by more.
+fn same_verdict(before: &Objective, after: &Objective, x: &[f64]) -> bool {
+    (before.value(x) - after.value(x)).abs() < WORTH_HAVING
+        && before
+            .constraint_values(x)
+            .iter()
+            .zip(after.constraint_values(x))
+            .all(|(&was, now)| now >= was.min(0.0))
 }
 
 /// How far, in all, the capsules of `outcome` come closer to a surface than the wall allows.
@@ -59,11 +72,14 @@ impl<'a> Problem<'a> {
         } = explored;
         let start = start.as_slice();
         let objective_over = |bodies: &[ComponentBody]| self.objective_over(bodies, layout, start);
-        let budget = self.budget(layout);
+        let budget = self.near_budget(layout);
         // The closed-form capsule term is the smooth stand-in for the material the judge weighs
         // (the design's voids cut from the print): correct it by their difference at the solved
         // design and solve again from there, until the correction at the new design is the one
-        // it was solved with, so that the objective is that material's near the design.
+        // it was solved with, or moves nothing a solve would count as a gain (`same_verdict`),
+        // so that the objective is that material's near the design. The raster's cells make
+        // the material step as a void moves: the correction itself rarely settles (it moves
+        // by 1e-4 to 1e-3 of the volume from one solve to the next), the objective often does.
         let to_design =
             |x: &[f64]| layout.to_design(x, &self.project.ball, self.project.infill.value);
         let mut corrected = self.corrected_bodies(&to_design(&solved.x));
@@ -85,7 +101,12 @@ impl<'a> Problem<'a> {
                 break;
             }
             let next = self.corrected_bodies(&to_design(&solved.x));
-            let settled = same_material(&corrected, &next);
+            let settled = same_material(&corrected, &next)
+                || same_verdict(
+                    &objective_over(&corrected),
+                    &objective_over(&next),
+                    &solved.x,
+                );
             corrected = next;
             if settled {
                 break;
@@ -246,7 +267,7 @@ impl<'a> Problem<'a> {
             x[i] += extra;
             fixed.range[i] = (x[i], x[i]);
         }
-        let again = solve(objective, &x, &fixed, self.method, self.budget(layout));
+        let again = solve(objective, &x, &fixed, self.method, self.near_budget(layout));
         let mut moved = layout.to_design(&again.x, &self.project.ball, self.project.infill.value);
         for (capsule, kept) in moved.capsules.iter_mut().zip(&design.capsules) {
             capsule.radius = kept.radius;
