@@ -96,8 +96,10 @@ impl<'a> Problem<'a> {
                 evaluations: solved.evaluations + again.evaluations,
                 ..again
             };
-            // After the last solve, the rest is solved with the correction it was solved with.
-            if correction == CORRECTIONS {
+            // After the last solve, or one that ended outside the constraints (a design the
+            // judge shrinks: correcting its material again does not bring it inside them), the
+            // rest is solved with the correction it was solved with.
+            if correction == CORRECTIONS || solved.violation > FEASIBLE {
                 break;
             }
             let next = self.corrected_bodies(&to_design(&solved.x));
