@@ -100,36 +100,21 @@ pub fn run(
                 .take()
                 .filter(|survivors| *survivors != current);
             let solves = 1 + usize::from(warm.is_some()) + if one_left { alone_seeds } else { 0 };
-            let at = |solve: usize| Round {
-                round,
-                most_rounds,
-                capsules,
-                solve,
-                solves,
-            };
-            // The round's solves are independent of each other: from the seeds, from where the
-            // last round left the survivors, and with one movable capsule left from each seed
-            // alone. They run side by side on every core, and are compared in that order.
-            let mut starts = vec![current.clone()];
-            starting(at(1));
-            if let Some(warm) = &warm {
-                starting(at(2));
-                starts.push(warm.clone());
+            // The round's solves are independent of each other: they run side by side on every
+            // core, and are compared in the order of `starts`.
+            let numbered = round_starts(&current, warm.as_ref(), seeds, one_left);
+            let alone_from = 1 + usize::from(warm.is_some());
+            for &(solve, _) in &numbered {
+                starting(Round {
+                    round,
+                    most_rounds,
+                    capsules,
+                    solve,
+                    solves,
+                });
             }
-            let alone_from = starts.len();
-            if one_left {
-                let first = solves - alone_seeds;
-                for (index, alone) in seeds.iter().filter(|s| !s.pinned).enumerate() {
-                    let mut start: Vec<StartCapsule> =
-                        current.iter().filter(|c| c.pinned).cloned().collect();
-                    start.push(alone.clone());
-                    if start == current {
-                        continue;
-                    }
-                    starting(at(first + index + 1));
-                    starts.push(start);
-                }
-            }
+            let starts: Vec<Vec<StartCapsule>> =
+                numbered.into_iter().map(|(_, start)| start).collect();
             let clock = Instant::now();
             let mut explored = map_each(starts.len(), |i| problem.explore(&starts[i]));
             if problem.is_cancelled() {
@@ -217,13 +202,7 @@ pub fn run(
             if growth.is_empty() || current.len() <= floor {
                 break;
             }
-            let mut order = growth.clone();
-            order.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
-            let marked = order.iter().filter(|(_, g)| *g <= GROWTH).count();
-            let most = (growth.len() / 2).max(1);
-            let remove = marked.clamp(1, most).min(current.len() - floor);
-            let mut gone: Vec<usize> = order[..remove].iter().map(|(j, _)| *j).collect();
-            gone.sort_unstable();
+            let gone = removed(&growth, current.len() - floor);
             let mut survivors = reached;
             for j in gone.into_iter().rev() {
                 current.remove(j);
@@ -239,6 +218,49 @@ pub fn run(
             .map_while(|(_, candidate)| candidate)
             .collect()
     })
+}
+
+/// The starts of one round's solves, each with its solve's number in the round (from 1), in the
+/// order they are compared: from `current` (the round's capsules at their seeds), from where the
+/// last round left the survivors (`warm`), and with one movable capsule left (`one_left`), from
+/// each unpinned seed alone beside the pinned capsules. An alone start the same as `current` is
+/// left out, its number unused.
+fn round_starts(
+    current: &[StartCapsule],
+    warm: Option<&Vec<StartCapsule>>,
+    seeds: &[StartCapsule],
+    one_left: bool,
+) -> Vec<(usize, Vec<StartCapsule>)> {
+    let mut starts = vec![(1, current.to_vec())];
+    if let Some(warm) = warm {
+        starts.push((2, warm.clone()));
+    }
+    if one_left {
+        let first = starts.len();
+        let pinned: Vec<StartCapsule> = current.iter().filter(|c| c.pinned).cloned().collect();
+        for (index, alone) in seeds.iter().filter(|s| !s.pinned).enumerate() {
+            let mut start = pinned.clone();
+            start.push(alone.clone());
+            if start != current {
+                starts.push((first + index + 1, start));
+            }
+        }
+    }
+    starts
+}
+
+/// Which capsules a round removes, in design order, from each unpinned capsule's index and
+/// radius growth: the least grown of those that did not grow by [`GROWTH`], at most half of
+/// them, at least one, and at most `most` (the capsules above the count to stop at).
+fn removed(growth: &[(usize, f64)], most: usize) -> Vec<usize> {
+    let mut order = growth.to_vec();
+    order.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+    let marked = order.iter().filter(|(_, g)| *g <= GROWTH).count();
+    let half = (growth.len() / 2).max(1);
+    let remove = marked.clamp(1, half).min(most);
+    let mut gone: Vec<usize> = order[..remove].iter().map(|(j, _)| *j).collect();
+    gone.sort_unstable();
+    gone
 }
 
 /// Sends its round when dropped: a refinement's thread holds it, so the loop hears when the
@@ -413,6 +435,47 @@ mod tests {
         assert_eq!(choose(&some, None, 1.0), 1);
         let none = [candidate(3, 4.0, false), candidate(1, 2.0, false)];
         assert_eq!(choose(&none, None, 1.0), 1);
+    }
+
+    #[test]
+    fn a_round_removes_the_least_grown_of_the_marked_at_most_half() {
+        // Two did not grow by 10 %: both go (half of four).
+        let growth = [(0, 1.0), (1, 2.0), (2, 1.05), (3, 3.0)];
+        assert_eq!(removed(&growth, 4), vec![0, 2]);
+        // Three marked of four: still only half.
+        let growth = [(0, 1.0), (1, 0.5), (2, 1.05), (3, 3.0)];
+        assert_eq!(removed(&growth, 4), vec![0, 1]);
+        // None marked: the least grown goes all the same.
+        assert_eq!(removed(&[(0, 2.0), (1, 1.5)], 2), vec![1]);
+        // No more than the capsules above the count to stop at.
+        assert_eq!(
+            removed(&[(0, 1.0), (1, 1.0), (2, 1.0), (3, 1.0)], 1),
+            vec![0]
+        );
+    }
+
+    #[test]
+    fn a_round_with_one_capsule_left_starts_from_every_other_seed_alone() {
+        let capsule = |x: f64, pinned| StartCapsule {
+            component: 0,
+            from: nalgebra::Point3::new(x, 0.0, 0.0),
+            to: nalgebra::Point3::new(x, 0.0, 8.0),
+            radius: 1.0,
+            pinned,
+            name: None,
+            origin: crate::optimize::Origin::Written,
+        };
+        let seeds = [capsule(0.0, true), capsule(1.0, false), capsule(2.0, false)];
+        let current = vec![capsule(0.0, true), capsule(1.0, false)];
+        let warm = vec![capsule(0.0, true), capsule(1.5, false)];
+        let starts = round_starts(&current, Some(&warm), &seeds, true);
+        let numbers: Vec<usize> = starts.iter().map(|(n, _)| *n).collect();
+        // The first seed alone is the current start: left out, its number 3 unused.
+        assert_eq!(numbers, vec![1, 2, 4]);
+        assert_eq!(starts[2].1, vec![capsule(0.0, true), capsule(2.0, false)]);
+        // With more than one movable capsule, only the two starts.
+        assert_eq!(round_starts(&current, Some(&warm), &seeds, false).len(), 2);
+        assert_eq!(round_starts(&current, None, &seeds, false).len(), 1);
     }
 
     #[test]
