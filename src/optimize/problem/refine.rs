@@ -83,15 +83,10 @@ impl<'a> Problem<'a> {
         let to_design =
             |x: &[f64]| layout.to_design(x, &self.project.ball, self.project.infill.value);
         let mut corrected = self.corrected_bodies(&to_design(&solved.x));
+        let mut objective = objective_over(&corrected);
         let mut solved = solved.clone();
         for correction in 1..=CORRECTIONS {
-            let again = solve(
-                &objective_over(&corrected),
-                &solved.x,
-                bounds,
-                self.method,
-                budget.clone(),
-            );
+            let again = solve(&objective, &solved.x, bounds, self.method, budget.clone());
             solved = Solve {
                 evaluations: solved.evaluations + again.evaluations,
                 ..again
@@ -103,18 +98,14 @@ impl<'a> Problem<'a> {
                 break;
             }
             let next = self.corrected_bodies(&to_design(&solved.x));
+            let next_objective = objective_over(&next);
             let settled = same_material(&corrected, &next)
-                || same_verdict(
-                    &objective_over(&corrected),
-                    &objective_over(&next),
-                    &solved.x,
-                );
-            corrected = next;
+                || same_verdict(&objective, &next_objective, &solved.x);
+            (corrected, objective) = (next, next_objective);
             if settled {
                 break;
             }
         }
-        let objective = objective_over(&corrected);
         let solved = self.snapped(&objective, bounds, start, solved, budget);
         let mut design = layout.to_design(&solved.x, &self.project.ball, self.project.infill.value);
         for (capsule, started) in design.capsules.iter_mut().zip(start) {
