@@ -158,6 +158,14 @@ impl Objective {
         smooth_max(&terms, self.parameters.goal_sharpness)
     }
 
+    /// The largest of the [`goal_terms`](Self::goal_terms) at `x` (radians; at most 0 when the
+    /// smooth model meets every goal, where `f`, a smooth maximum, may still be above 0);
+    /// −∞ when the project has no goals.
+    pub fn worst_goal_term(&self, x: &[f64]) -> f64 {
+        let x = self.padded(x);
+        self.terms(&x).into_iter().fold(f64::NEG_INFINITY, f64::max)
+    }
+
     /// `f(x)` and its exact gradient `∂f/∂x` (length [`DesignLayout::len`]).
     pub fn value_and_gradient(&self, x: &[f64]) -> (f64, Vec<f64>) {
         let x = self.padded(x);

@@ -71,7 +71,7 @@ pub struct Budget {
     /// `None`: run to the budget or the solver's own tolerances.
     pub stall: Option<usize>,
     /// Whether [`Method::Hybrid`]'s COBYLA pass also follows an SLSQP pass that ends within the
-    /// constraints but misses a goal (the objective above 0), or only one that ends outside
+    /// constraints but misses a goal (a goal term above 0), or only one that ends outside
     /// them. A solve from a design already solved with nearly the same objective (the
     /// refinement's) turns it off: there COBYLA rarely gains, and its linear models of every
     /// constraint cost more than the SLSQP pass.
@@ -215,7 +215,10 @@ pub fn solve(
     };
     let first = solve_by(objective, x0, bounds, Method::Slsqp, &pass);
     let fixed = free == 0;
-    let met = first.violation <= FEASIBLE && (first.value <= 0.0 || !pass.fallback_on_goals);
+    // A goal is missed where its own term is above 0: `f`, their smooth maximum, lies above the
+    // largest by up to ln(n)/α, and a design meeting every goal by a little can have `f > 0`.
+    let met = first.violation <= FEASIBLE
+        && (!pass.fallback_on_goals || objective.worst_goal_term(&first.x) <= 0.0);
     if fixed || met || pass.cancel.is_cancelled() {
         return first;
     }
