@@ -56,6 +56,62 @@ fn the_smooth_max_bounds_the_max_and_tends_to_it() {
 }
 
 #[test]
+fn the_worst_goal_term_is_the_largest_term_and_can_be_met_where_f_is_not() {
+    // Four poses alike, each standing with a goal met by 0.2°: every term is -0.2°, and their
+    // smooth maximum lies above 0 by nearly ln(4)/α.
+    let with_margin = |margin: f64| {
+        let poses = (0..4)
+            .map(|i| {
+                let goals = vec![stand(margin)];
+                named_pose(
+                    &format!("p{i}"),
+                    Isometry3::identity(),
+                    vec![Isometry3::identity()],
+                    goals,
+                )
+            })
+            .collect();
+        project_with(&["box"], poses)
+    };
+    let design = one_capsule(Point3::new(10.0, 20.0, 20.0), Point3::new(30.0, 40.0, 60.0));
+    let objective_for = |project: &Project| {
+        objective(
+            project,
+            &[tall_box()],
+            &design,
+            Parameters::for_project(project),
+        )
+    };
+    let bare = objective_for(&with_margin(0.0));
+    let x = bare.layout().to_vector(&design);
+    let survives = -bare.goal_terms(&x)[0].0;
+    assert!(survives > 0.1, "the box stands: {survives}");
+    // Goal margins are in degrees.
+    let project = with_margin(survives.to_degrees() - 0.2);
+    let objective = objective_for(&project);
+    let terms: Vec<f64> = objective.goal_terms(&x).iter().map(|t| t.0).collect();
+    let worst = objective.worst_goal_term(&x);
+    assert_eq!(
+        worst,
+        terms.iter().copied().fold(f64::NEG_INFINITY, f64::max)
+    );
+    assert!(
+        (worst.to_degrees() + 0.2).abs() < 1e-9,
+        "{}",
+        worst.to_degrees()
+    );
+    let f = objective.value(&x);
+    let sharpness = objective.parameters().goal_sharpness;
+    assert!(
+        f > 0.0 && f <= worst + 4f64.ln() / sharpness + 1e-12,
+        "f {f}, worst {worst}"
+    );
+    // Without goals, no term: nothing is missed.
+    let none = objective_for(&project_with(&["box"], vec![]));
+    assert_eq!(none.worst_goal_term(&x), f64::NEG_INFINITY);
+}
+
+#[test]
 fn the_smooth_max_does_not_overflow() {
     let values: [f64; 4] = [1e3, 999.0, -1e3, 0.0];
     let smooth = smooth_max(&values, 100.0);
