@@ -52,8 +52,9 @@ pub struct Round {
 /// at least one even when none is marked) and starts the next round from the survivors' seeds.
 /// Only the round's kept solve is refined into the design the judge weighs
 /// ([`Problem::refine`]), beside the rounds that follow; when that design misses a goal, the
-/// round's next best solve is refined too and kept if it meets every goal (or has the lower
-/// objective). It stops after the round with no
+/// round's next best solve that reached another minimum ([`Problem::same_minimum`]) is refined
+/// too and kept if it meets every goal (or has the lower objective). It stops after the round
+/// with no
 /// unpinned capsule left. With
 /// `stop_at = Some(n)` it stops after the round with `n` capsules instead (seeds are split first
 /// if there are fewer than `n`).
@@ -132,9 +133,10 @@ pub fn run(
                 }
             }
             // The next best solve of the round, refined too when the kept one's refinement
-            // misses a goal: the smooth program's order need not be the judge's.
+            // misses a goal: the smooth program's order need not be the judge's. A solve that
+            // reached the kept one's minimum is not another chance.
             let runner_up = (0..explored.len())
-                .filter(|&i| i != best)
+                .filter(|&i| i != best && !problem.same_minimum(&explored[i], &explored[best]))
                 .reduce(|a, b| {
                     if explored[b].is_better_than(&explored[a]) {
                         b

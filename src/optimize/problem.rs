@@ -6,7 +6,7 @@ use std::sync::Arc;
 use nalgebra::{Point3, Vector3};
 
 use super::bounds::design_bounds;
-use super::solver::{preferred, solve, Bounds, Budget, Method, Solve};
+use super::solver::{preferred, solve, Bounds, Budget, Method, Solve, FEASIBLE, WORTH_HAVING};
 use super::stock::{grid_scale, length_decimals};
 use crate::balance::{evaluate_pose, ComponentBody, GoalOutcome, PartPrints, PoseEvaluation};
 use crate::cancel::Cancel;
@@ -202,6 +202,28 @@ impl<'a> Problem<'a> {
     /// [`Problem::refine`].
     pub fn optimize(&self, start: &[StartCapsule]) -> Outcome {
         self.refine(&self.explore(start))
+    }
+
+    /// Whether two solves of one round reached the same minimum of the smooth program: both
+    /// within the constraints, their objectives within [`WORTH_HAVING`] of each other, and every
+    /// capsule's ends and radius within its component's distance-grid spacing of the other's
+    /// (closer than the wall constraint's grid resolves), the infill within 10⁻³. Refining one
+    /// after the other would only repeat it.
+    pub fn same_minimum(&self, a: &Explored, b: &Explored) -> bool {
+        let (sa, sb) = (&a.solved, &b.solved);
+        let (da, db) = (&a.design, &b.design);
+        sa.violation <= FEASIBLE
+            && sb.violation <= FEASIBLE
+            && (sa.value - sb.value).abs() < WORTH_HAVING
+            && (da.infill - db.infill).abs() <= 1e-3
+            && da.capsules.len() == db.capsules.len()
+            && da.capsules.iter().zip(&db.capsules).all(|(ca, cb)| {
+                let cell = self.grid_cell(ca.component);
+                ca.component == cb.component
+                    && (ca.from - cb.from).norm() <= cell
+                    && (ca.to - cb.to).norm() <= cell
+                    && (ca.radius - cb.radius).abs() <= cell
+            })
     }
 
     /// Solves the smooth program from `start`, the closed-form capsule term standing in for the

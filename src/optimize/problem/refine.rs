@@ -235,7 +235,7 @@ impl<'a> Problem<'a> {
     }
 
     /// The spacing of component `component`'s distance grid (0 without one).
-    fn grid_cell(&self, component: usize) -> f64 {
+    pub(super) fn grid_cell(&self, component: usize) -> f64 {
         self.interior
             .grids
             .get(component)
