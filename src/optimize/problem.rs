@@ -337,6 +337,24 @@ impl<'a> Problem<'a> {
     /// The exact verdict on `design`: every pose evaluated with the design's voids cut from the
     /// print ([`PartPrints::bodies`]), every capsule checked.
     pub fn judge(&self, design: Design) -> Outcome {
+        let fabrication = self.fabrication(&design);
+        self.judged(design, fabrication)
+    }
+
+    /// What keeps the capsules of `design` from being printed where they are
+    /// ([`check_design`]).
+    fn fabrication(&self, design: &Design) -> Vec<CapsuleIssue> {
+        check_design(
+            self.meshes,
+            design,
+            self.project.wall,
+            self.project.ball.clearance,
+            &self.print,
+        )
+    }
+
+    /// [`Problem::judge`] of `design`, whose fabrication checks found `fabrication`.
+    fn judged(&self, design: Design, fabrication: Vec<CapsuleIssue>) -> Outcome {
         let bodies = self.parts.bodies(self.meshes, &design);
         let poses: Vec<PoseEvaluation> = self
             .project
@@ -344,13 +362,6 @@ impl<'a> Problem<'a> {
             .iter()
             .map(|pose| evaluate_pose(self.project, &bodies, &design, pose))
             .collect();
-        let fabrication = check_design(
-            self.meshes,
-            &design,
-            self.project.wall,
-            self.project.ball.clearance,
-            &self.print,
-        );
         let printable = fabrication.is_empty();
         let goals_met = poses.iter().all(|p| p.goals.iter().all(|g| g.met));
         let worst_tilt_margin = poses

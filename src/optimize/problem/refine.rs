@@ -42,10 +42,9 @@ fn same_verdict(before: &Objective, after: &Objective, x: &[f64]) -> bool {
             .all(|(&was, now)| now >= was.min(0.0))
 }
 
-/// How far, in all, the capsules of `outcome` come closer to a surface than the wall allows.
-fn surface_deficit(outcome: &Outcome) -> f64 {
-    outcome
-        .fabrication
+/// How far, in all, the capsules with `issues` come closer to a surface than the wall allows.
+fn surface_deficit(issues: &[CapsuleIssue]) -> f64 {
+    issues
         .iter()
         .map(|issue| match *issue {
             CapsuleIssue::TooCloseToSurface {
@@ -60,7 +59,7 @@ impl<'a> Problem<'a> {
     /// Carries an explored design to the one the judge weighs, and judges it: the smooth
     /// program solved again with its capsule term corrected towards the re-sliced material,
     /// every radius snapped to a stock ball, and any capsule the exact check finds too close to
-    /// the surface moved or shrunk. Every design it judges is the one the solution file would
+    /// the surface moved or shrunk. Every design it checks is the one the solution file would
     /// hold (`on_file_grid`), so the outcome is that design's.
     pub fn refine(&self, explored: &Explored) -> Outcome {
         let Explored {
@@ -118,19 +117,21 @@ impl<'a> Problem<'a> {
                 capsule.radius = started.radius;
             }
         }
-        let mut outcome = self.judge(self.written(design, start));
         // The grid's interpolant can overestimate the distance to a sharp feature by a fraction
-        // of a cell: shrink any capsule that came too close, by the exact deficit, and re-judge.
-        // A stock radius cannot shrink by a fraction of a cell, only to the next smaller ball:
+        // of a cell: shrink any capsule that came too close, by the exact deficit, and check
+        // again. A stock radius cannot shrink by a fraction of a cell, only to the next smaller ball:
         // first the capsules are moved instead (up to three times), solved again as if wider by
         // their deficit. A deficit past a cell is not the interpolant's but a solve that ended
         // outside the constraints; solving again from there rarely mends it and costs as much as
-        // the solve, so such a capsule is only shrunk.
+        // the solve, so such a capsule is only shrunk. Moving and shrinking are decided by the
+        // fabrication checks alone: only the design they end at is judged.
+        let mut design = self.written(design, start);
+        let mut fabrication = self.fabrication(&design);
         let listed = self.project.ball.is_listed();
         let mut widening = vec![0.0; start.len()];
         // Whether moving capsules still mends them: a move that leaves more of them too close,
         // or closer in all, is undone, and they are shrunk from then on. A move that leaves them
-        // as close is kept: the judged designs are on the file's grid, where distances to a
+        // as close is kept: the checked designs are on the file's grid, where distances to a
         // flat face come in its steps and often tie, and the next move widens the capsule it
         // left too close on top of the first's (three capsules in the T printed on its foot
         // meet every goal only after a third move). A design whose solve ended outside the
@@ -139,9 +140,9 @@ impl<'a> Problem<'a> {
         let mut moves_mend = solved.violation <= FEASIBLE;
         for attempt in 0..4 {
             let move_first = listed && attempt < 3 && moves_mend;
-            let mut shrunk = outcome.design.clone();
+            let mut shrunk = design.clone();
             let (mut changed, mut moving) = (false, false);
-            for issue in &outcome.fabrication {
+            for issue in &fabrication {
                 if let CapsuleIssue::TooCloseToSurface {
                     capsule,
                     distance,
@@ -182,19 +183,22 @@ impl<'a> Problem<'a> {
             // A capsule shrunk beside one moved is shrunk at a later attempt, if still too close
             // where the move left it.
             if moving {
-                let moved = self.moved(&objective, bounds, layout, &outcome.design, &widening);
-                let judged = self.judge(self.written(moved, start));
-                if judged.fabrication.len() <= outcome.fabrication.len()
-                    && surface_deficit(&judged) <= surface_deficit(&outcome)
+                let moved = self.moved(&objective, bounds, layout, &design, &widening);
+                let moved = self.written(moved, start);
+                let issues = self.fabrication(&moved);
+                if issues.len() <= fabrication.len()
+                    && surface_deficit(&issues) <= surface_deficit(&fabrication)
                 {
-                    outcome = judged;
+                    (design, fabrication) = (moved, issues);
                 } else {
                     moves_mend = false;
                 }
                 continue;
             }
-            outcome = self.judge(self.written(shrunk, start));
+            design = self.written(shrunk, start);
+            fabrication = self.fabrication(&design);
         }
+        let mut outcome = self.judged(design, fabrication);
         outcome.value = objective.value(&layout.to_vector(&outcome.design));
         outcome.feasible = solved.violation <= FEASIBLE;
         outcome.evaluations = solved.evaluations;
