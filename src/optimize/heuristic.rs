@@ -103,33 +103,30 @@ pub fn run(
             let solves = 1 + usize::from(warm.is_some()) + if one_left { alone_seeds } else { 0 };
             // The round's solves are independent of each other: they run side by side on every
             // core, and are compared in the order of `starts`.
-            let numbered = round_starts(&current, warm.as_ref(), seeds, one_left);
-            let alone_from = 1 + usize::from(warm.is_some());
-            for &(solve, _) in &numbered {
+            let starts = round_starts(&current, warm.as_ref(), seeds, one_left);
+            for start in &starts {
                 starting(Round {
                     round,
                     most_rounds,
                     capsules,
-                    solve,
+                    solve: start.solve,
                     solves,
                 });
             }
-            let starts: Vec<Vec<StartCapsule>> =
-                numbered.into_iter().map(|(_, start)| start).collect();
             let clock = Instant::now();
-            let mut explored = map_each(starts.len(), |i| problem.explore(&starts[i]));
+            let mut explored = map_each(starts.len(), |i| problem.explore(&starts[i].capsules));
             if problem.is_cancelled() {
                 break;
             }
+            // Down to one movable capsule, every seed is tried on its own at little cost; the
+            // round goes on with the capsules of the start kept.
             let mut best = 0;
-            if warm.is_some() && explored[1].is_better_than(&explored[0]) {
-                best = 1;
-            }
-            // Down to one movable capsule, every seed is tried on its own at little cost.
-            for index in alone_from..starts.len() {
+            for (index, start) in starts.iter().enumerate().skip(1) {
                 if explored[index].is_better_than(&explored[best]) {
                     best = index;
-                    current = starts[index].clone();
+                    if start.alone {
+                        current = start.capsules.clone();
+                    }
                 }
             }
             // The next best solve of the round, refined too when the kept one's refinement
@@ -144,7 +141,7 @@ pub fn run(
                         a
                     }
                 })
-                .map(|i| (starts[i].clone(), explored[i].clone()));
+                .map(|i| (starts[i].capsules.clone(), explored[i].clone()));
             let chosen = explored.swap_remove(best);
             let growth: Vec<(usize, f64)> = current
                 .iter()
@@ -222,29 +219,45 @@ pub fn run(
     })
 }
 
-/// The starts of one round's solves, each with its solve's number in the round (from 1), in the
-/// order they are compared: from `current` (the round's capsules at their seeds), from where the
-/// last round left the survivors (`warm`), and with one movable capsule left (`one_left`), from
-/// each unpinned seed alone beside the pinned capsules. An alone start the same as `current` is
-/// left out, its number unused.
+/// One start of a round's solves.
+#[derive(Debug, Clone, PartialEq)]
+struct RoundStart {
+    /// The solve's number in the round, from 1.
+    solve: usize,
+    /// The capsules it starts from.
+    capsules: Vec<StartCapsule>,
+    /// Whether it is one unpinned seed alone beside the pinned capsules (not the round's own
+    /// capsules): kept, it replaces them.
+    alone: bool,
+}
+
+/// The starts of one round's solves, in the order they are compared: from `current` (the
+/// round's capsules at their seeds), from where the last round left the survivors (`warm`), and
+/// with one movable capsule left (`one_left`), from each unpinned seed alone beside the pinned
+/// capsules. An alone start the same as `current` is left out, its number unused.
 fn round_starts(
     current: &[StartCapsule],
     warm: Option<&Vec<StartCapsule>>,
     seeds: &[StartCapsule],
     one_left: bool,
-) -> Vec<(usize, Vec<StartCapsule>)> {
-    let mut starts = vec![(1, current.to_vec())];
+) -> Vec<RoundStart> {
+    let start = |solve, capsules: Vec<StartCapsule>, alone| RoundStart {
+        solve,
+        capsules,
+        alone,
+    };
+    let mut starts = vec![start(1, current.to_vec(), false)];
     if let Some(warm) = warm {
-        starts.push((2, warm.clone()));
+        starts.push(start(2, warm.clone(), false));
     }
     if one_left {
         let first = starts.len();
         let pinned: Vec<StartCapsule> = current.iter().filter(|c| c.pinned).cloned().collect();
         for (index, alone) in seeds.iter().filter(|s| !s.pinned).enumerate() {
-            let mut start = pinned.clone();
-            start.push(alone.clone());
-            if start != current {
-                starts.push((first + index + 1, start));
+            let mut capsules = pinned.clone();
+            capsules.push(alone.clone());
+            if capsules != current {
+                starts.push(start(first + index + 1, capsules, true));
             }
         }
     }
@@ -471,10 +484,15 @@ mod tests {
         let current = vec![capsule(0.0, true), capsule(1.0, false)];
         let warm = vec![capsule(0.0, true), capsule(1.5, false)];
         let starts = round_starts(&current, Some(&warm), &seeds, true);
-        let numbers: Vec<usize> = starts.iter().map(|(n, _)| *n).collect();
+        let numbers: Vec<usize> = starts.iter().map(|s| s.solve).collect();
         // The first seed alone is the current start: left out, its number 3 unused.
         assert_eq!(numbers, vec![1, 2, 4]);
-        assert_eq!(starts[2].1, vec![capsule(0.0, true), capsule(2.0, false)]);
+        assert_eq!(
+            starts[2].capsules,
+            vec![capsule(0.0, true), capsule(2.0, false)]
+        );
+        let alone: Vec<bool> = starts.iter().map(|s| s.alone).collect();
+        assert_eq!(alone, vec![false, false, true]);
         // With more than one movable capsule, only the two starts.
         assert_eq!(round_starts(&current, Some(&warm), &seeds, false).len(), 2);
         assert_eq!(round_starts(&current, None, &seeds, false).len(), 1);
