@@ -205,10 +205,10 @@ impl<'a> Problem<'a> {
     }
 
     /// Whether two solves of one round reached the same minimum of the smooth program: both
-    /// within the constraints, their objectives within [`WORTH_HAVING`] of each other, and every
-    /// capsule's ends and radius within its component's distance-grid spacing of the other's
-    /// (closer than the wall constraint's grid resolves), the infill within 10⁻³. Refining one
-    /// after the other would only repeat it.
+    /// within the constraints, their objectives within 10⁻⁴ rad (a gain worth having) of each
+    /// other, and every capsule's ends and radius within its component's distance-grid spacing
+    /// of the other's (closer than the wall constraint's grid resolves), the infill within
+    /// 10⁻³. Refining one after the other would only repeat it.
     pub fn same_minimum(&self, a: &Explored, b: &Explored) -> bool {
         let (sa, sb) = (&a.solved, &b.solved);
         let (da, db) = (&a.design, &b.design);
