@@ -35,6 +35,7 @@ fn plan(compilation: &ballast::compile::Compilation) -> PrintPlan {
                 component: i,
                 to_bed,
                 down: -up,
+                up,
                 orientation: OrientationChoice::Declared,
                 capsules: capsules
                     .iter()

@@ -6,8 +6,8 @@ mod geometry_support;
 use std::path::{Path, PathBuf};
 
 use ballast::balance::slicing;
-use ballast::compile::{compile, Compilation, Report};
-use ballast::fabrication::OrientationChoice;
+use ballast::compile::{compile, print_setup, Compilation, Report};
+use ballast::fabrication::{OrientationChoice, PrintSetup};
 use ballast::geometry::{convex_hull, print_volumes, TriMesh};
 use geometry_support::{box_mesh, obj_text, prism};
 use nalgebra::{Isometry3, Point3, Rotation3, Vector3};
@@ -327,4 +327,20 @@ fn undeclared_t_shape(path: &Path) -> String {
     let block = "component \"T\" mesh=\"meshes/t_shape.obj\" {\n    print { down 1 0 0 }\n}";
     assert!(source.contains(block), "{source}");
     source.replace(block, "component \"T\" mesh=\"meshes/t_shape.obj\"")
+}
+
+#[test]
+fn the_plan_prints_each_part_along_the_very_direction_the_optimizer_checks() {
+    // The insertion windows and pauses of the report come from the plan's setup, the
+    // optimizer's insertability checks from the orientations': one direction, to the bit, so
+    // a design the optimizer finds insertable has its pause in the plan.
+    let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    for name in ["t_shape", "articulated", "hammer", "spot", "fish"] {
+        let path = examples.join(format!("{name}.kdl"));
+        let source = std::fs::read_to_string(&path).unwrap();
+        let compiled = compile(&source, &path).unwrap_or_else(|_| panic!("{name} compiles"));
+        let planned = PrintSetup::from_plan(&compiled.print_plan);
+        let optimized = print_setup(&compiled.project, &compiled.orientations);
+        assert_eq!(planned, optimized, "{name}");
+    }
 }

@@ -74,6 +74,7 @@ fn plan(layers_done: usize, message: &str) -> PrintPlan {
             component: 0,
             to_bed: Isometry3::translation(CORNER[0], CORNER[1], 0.0),
             down: -Vector3::z(),
+            up: Vector3::z(),
             orientation: OrientationChoice::Declared,
             capsules: Vec::new(),
             pauses: vec![Pause {

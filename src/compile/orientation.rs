@@ -176,6 +176,7 @@ pub fn print_plan(
                 component,
                 to_bed,
                 down: orientation.down,
+                up: orientation.to_print.inverse() * Vector3::z(),
                 orientation: orientation.choice.clone(),
                 capsules: Vec::new(),
                 pauses: Vec::new(),

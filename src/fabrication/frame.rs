@@ -103,14 +103,15 @@ impl PrintSetup {
         }
     }
 
-    /// How the components of `plan` are printed: each along the rest-frame direction its
-    /// `to_bed` turns to +z, on the plan's layers.
+    /// How the components of `plan` are printed: each along its `up`, on the plan's layers
+    /// (the same bits as [`PrintSetup::from_rotations`] of the plan's orientations, which the
+    /// optimizer's checks use).
     pub fn from_plan(plan: &PrintPlan) -> PrintSetup {
         PrintSetup {
             up: plan
                 .components
                 .iter()
-                .map(|component| component.to_bed.rotation.inverse() * Vector3::z())
+                .map(|component| component.up)
                 .collect(),
             grid: LayerGrid {
                 first_layer_height: plan.first_layer_height,

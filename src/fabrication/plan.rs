@@ -73,6 +73,10 @@ pub struct ComponentPlan {
     pub to_bed: Isometry3<f64>,
     /// The rest-frame direction that points down onto the bed.
     pub down: Vector3<f64>,
+    /// The rest-frame direction the layers stack along: the print frame's +z, from the
+    /// orientation's rotation (`to_bed`'s went through a quaternion), so the plan's insertion
+    /// windows are measured along the very direction the optimizer's checks use.
+    pub up: Vector3<f64>,
     /// Why this orientation.
     pub orientation: OrientationChoice,
     /// One per capsule of this component, in design order.
@@ -154,6 +158,7 @@ mod tests {
             component: index,
             to_bed: Isometry3::identity(),
             down: -Vector3::z(),
+            up: Vector3::z(),
             orientation: OrientationChoice::Declared,
             capsules: Vec::new(),
             pauses: pauses
