@@ -119,12 +119,12 @@ impl<'a> Problem<'a> {
         }
         // The grid's interpolant can overestimate the distance to a sharp feature by a fraction
         // of a cell: shrink any capsule that came too close, by the exact deficit, and check
-        // again. A stock radius cannot shrink by a fraction of a cell, only to the next smaller ball:
-        // first the capsules are moved instead (up to three times), solved again as if wider by
-        // their deficit. A deficit past a cell is not the interpolant's but a solve that ended
-        // outside the constraints; solving again from there rarely mends it and costs as much as
-        // the solve, so such a capsule is only shrunk. Moving and shrinking are decided by the
-        // fabrication checks alone: only the design they end at is judged.
+        // again. A stock radius cannot shrink by a fraction of a cell, only to the next smaller
+        // ball: first the capsules are moved instead (up to three times), solved again as if
+        // wider by their deficit. A deficit past a cell is not the interpolant's but a solve
+        // that ended outside the constraints; solving again from there rarely mends it and costs
+        // as much as the solve, so such a capsule is only shrunk. Moving and shrinking are
+        // decided by the fabrication checks alone: only the design they end at is judged.
         let mut design = self.written(design, start);
         let mut fabrication = self.fabrication(&design);
         let listed = self.project.ball.is_listed();
