@@ -334,11 +334,12 @@ impl<'a> Problem<'a> {
         }
     }
 
-    /// The exact verdict on `design`: every pose evaluated with the design's voids cut from the
-    /// print ([`PartPrints::bodies`]), every capsule checked.
-    pub fn judge(&self, design: Design) -> Outcome {
-        let fabrication = self.fabrication(&design);
-        self.judged(design, fabrication)
+    /// The spacing of component `component`'s distance grid (0 without one).
+    fn grid_cell(&self, component: usize) -> f64 {
+        self.interior
+            .grids
+            .get(component)
+            .map_or(0.0, |grid| grid.cell())
     }
 
     /// What keeps the capsules of `design` from being printed where they are
@@ -353,8 +354,10 @@ impl<'a> Problem<'a> {
         )
     }
 
-    /// [`Problem::judge`] of `design`, whose fabrication checks found `fabrication`.
-    fn judged(&self, design: Design, fabrication: Vec<CapsuleIssue>) -> Outcome {
+    /// The exact verdict on `design`, whose fabrication checks ([`Problem::fabrication`]) found
+    /// `fabrication`: every pose evaluated with the design's voids cut from the print
+    /// ([`PartPrints::bodies`]).
+    fn judge(&self, design: Design, fabrication: Vec<CapsuleIssue>) -> Outcome {
         let bodies = self.parts.bodies(self.meshes, &design);
         let poses: Vec<PoseEvaluation> = self
             .project

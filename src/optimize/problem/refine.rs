@@ -198,7 +198,7 @@ impl<'a> Problem<'a> {
             design = self.written(shrunk, start);
             fabrication = self.fabrication(&design);
         }
-        let mut outcome = self.judged(design, fabrication);
+        let mut outcome = self.judge(design, fabrication);
         outcome.value = objective.value(&layout.to_vector(&outcome.design));
         outcome.feasible = solved.violation <= FEASIBLE;
         outcome.evaluations = solved.evaluations;
@@ -236,14 +236,6 @@ impl<'a> Problem<'a> {
         let pinned: Vec<bool> = start.iter().map(|c| c.pinned).collect();
         let ranged = self.project.infill.range.is_some();
         on_file_grid(design, &pinned, &self.project.ball, self.scale, ranged)
-    }
-
-    /// The spacing of component `component`'s distance grid (0 without one).
-    pub(super) fn grid_cell(&self, component: usize) -> f64 {
-        self.interior
-            .grids
-            .get(component)
-            .map_or(0.0, |grid| grid.cell())
     }
 
     /// `design` with its capsules' ends and the infill solved again from where they are, every
