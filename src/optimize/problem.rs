@@ -354,16 +354,26 @@ impl<'a> Problem<'a> {
         )
     }
 
+    /// The bodies of the components with `design`'s voids cut from the print
+    /// ([`PartPrints::bodies`]): the material the judge weighs.
+    fn cut(&self, design: &Design) -> Vec<ComponentBody<'_>> {
+        self.parts.bodies(self.meshes, design)
+    }
+
     /// The exact verdict on `design`, whose fabrication checks ([`Problem::fabrication`]) found
-    /// `fabrication`: every pose evaluated with the design's voids cut from the print
-    /// ([`PartPrints::bodies`]).
-    fn judge(&self, design: Design, fabrication: Vec<CapsuleIssue>) -> Outcome {
-        let bodies = self.parts.bodies(self.meshes, &design);
+    /// `fabrication` and whose voids cut from the print leave `bodies` ([`Problem::cut`]):
+    /// every pose evaluated with them.
+    fn judge(
+        &self,
+        design: Design,
+        fabrication: Vec<CapsuleIssue>,
+        bodies: &[ComponentBody],
+    ) -> Outcome {
         let poses: Vec<PoseEvaluation> = self
             .project
             .poses
             .iter()
-            .map(|pose| evaluate_pose(self.project, &bodies, &design, pose))
+            .map(|pose| evaluate_pose(self.project, bodies, &design, pose))
             .collect();
         let printable = fabrication.is_empty();
         let goals_met = poses.iter().all(|p| p.goals.iter().all(|g| g.met));

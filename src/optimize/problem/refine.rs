@@ -70,53 +70,11 @@ impl<'a> Problem<'a> {
             ..
         } = explored;
         let start = start.as_slice();
-        let objective_over = |bodies: &[ComponentBody]| self.objective_over(bodies, layout, start);
         let budget = self.near_budget(layout);
-        // The closed-form capsule term is the smooth stand-in for the material the judge weighs
-        // (the design's voids cut from the print): correct it by their difference at the solved
-        // design and solve again from there, until the correction at the new design is the one
-        // it was solved with, or moves nothing a solve would count as a gain (`same_verdict`),
-        // so that the objective is that material's near the design. The raster's cells make
-        // the material step as a void moves: the correction itself rarely settles (it moves
-        // by 1e-4 to 1e-3 of the volume from one solve to the next), the objective often does.
-        let to_design =
-            |x: &[f64]| layout.to_design(x, &self.project.ball, self.project.infill.value);
-        let mut corrected = self.corrected_bodies(&to_design(&solved.x));
-        let mut objective = objective_over(&corrected);
-        let mut solved = solved.clone();
-        for correction in 1..=CORRECTIONS {
-            let again = solve(&objective, &solved.x, bounds, self.method, budget.clone());
-            solved = Solve {
-                evaluations: solved.evaluations + again.evaluations,
-                ..again
-            };
-            // After the last solve, or one that ended outside the constraints (a design the
-            // judge shrinks: correcting its material again does not bring it inside them), the
-            // rest is solved with the correction it was solved with.
-            if correction == CORRECTIONS || solved.violation > FEASIBLE {
-                break;
-            }
-            let next = self.corrected_bodies(&to_design(&solved.x));
-            let next_objective = objective_over(&next);
-            let settled = same_material(&corrected, &next)
-                || same_verdict(&objective, &next_objective, &solved.x);
-            (corrected, objective) = (next, next_objective);
-            if settled {
-                break;
-            }
-        }
+        // The closed-form capsule term is the smooth stand-in for the material the judge weighs:
+        // solve again with it corrected, then snap the radii to stock balls.
+        let (solved, objective) = self.corrected(layout, start, bounds, solved.clone());
         let solved = self.snapped(&objective, bounds, start, solved, budget);
-        let mut design = layout.to_design(&solved.x, &self.project.ball, self.project.infill.value);
-        for (capsule, started) in design.capsules.iter_mut().zip(start) {
-            if let Some(ball) = self.project.ball.radius_for(capsule.radius) {
-                capsule.ball_radius = ball;
-            }
-            if started.pinned {
-                capsule.from = started.from;
-                capsule.to = started.to;
-                capsule.radius = started.radius;
-            }
-        }
         // The grid's interpolant can overestimate the distance to a sharp feature by a fraction
         // of a cell: shrink any capsule that came too close, by the exact deficit, and check
         // again. A stock radius cannot shrink by a fraction of a cell, only to the next smaller
@@ -125,7 +83,7 @@ impl<'a> Problem<'a> {
         // that ended outside the constraints; solving again from there rarely mends it and costs
         // as much as the solve, so such a capsule is only shrunk. Moving and shrinking are
         // decided by the fabrication checks alone: only the design they end at is judged.
-        let mut design = self.written(design, start);
+        let mut design = self.design_at(layout, start, &solved.x);
         let mut fabrication = self.fabrication(&design);
         let listed = self.project.ball.is_listed();
         let mut widening = vec![0.0; start.len()];
@@ -198,22 +156,94 @@ impl<'a> Problem<'a> {
             design = self.written(shrunk, start);
             fabrication = self.fabrication(&design);
         }
-        let mut outcome = self.judge(design, fabrication);
-        outcome.value = objective.value(&layout.to_vector(&outcome.design));
+        // The value is the objective corrected at the design judged, by the material the judge
+        // weighs: the correction the design was solved with was taken at another design (the
+        // last solve's start, before the radii were snapped and capsules moved), and a void
+        // that grows or nears the wall changes the difference by up to degrees.
+        let cut = self.cut(&design);
+        let own = self.objective_over(&self.corrected_bodies(&design, &cut), layout, start);
+        let mut outcome = self.judge(design, fabrication, &cut);
+        outcome.value = own.value(&layout.to_vector(&outcome.design));
         outcome.feasible = solved.violation <= FEASIBLE;
         outcome.evaluations = solved.evaluations;
         outcome
     }
 
+    /// Solves the smooth program again from `solved` within `bounds`, its capsule term
+    /// corrected towards the material the judge weighs (the design's voids cut from the print)
+    /// by their difference at the solved design, and again from there, until the correction at
+    /// the new design is the one it was solved with, or moves nothing a solve would count as a
+    /// gain (`same_verdict`), at most [`CORRECTIONS`] times. The raster's cells make the
+    /// material step as a void moves: the correction itself rarely settles (it moves by 1e-4 to
+    /// 1e-3 of the volume from one solve to the next), the objective often does. Returns the
+    /// last solve and the objective it was solved with.
+    fn corrected(
+        &self,
+        layout: &DesignLayout,
+        start: &[StartCapsule],
+        bounds: &Bounds,
+        solved: Solve,
+    ) -> (Solve, Objective) {
+        let budget = self.near_budget(layout);
+        let to_design =
+            |x: &[f64]| layout.to_design(x, &self.project.ball, self.project.infill.value);
+        let corrected_at = |x: &[f64]| {
+            let design = to_design(x);
+            self.corrected_bodies(&design, &self.cut(&design))
+        };
+        let mut corrected = corrected_at(&solved.x);
+        let mut objective = self.objective_over(&corrected, layout, start);
+        let mut solved = solved;
+        for correction in 1..=CORRECTIONS {
+            let again = solve(&objective, &solved.x, bounds, self.method, budget.clone());
+            solved = Solve {
+                evaluations: solved.evaluations + again.evaluations,
+                ..again
+            };
+            // After the last solve, or one that ended outside the constraints (a design the
+            // judge shrinks: correcting its material again does not bring it inside them), the
+            // rest is solved with the correction it was solved with.
+            if correction == CORRECTIONS || solved.violation > FEASIBLE {
+                break;
+            }
+            let next = corrected_at(&solved.x);
+            let next_objective = self.objective_over(&next, layout, start);
+            let settled = same_material(&corrected, &next)
+                || same_verdict(&objective, &next_objective, &solved.x);
+            (corrected, objective) = (next, next_objective);
+            if settled {
+                break;
+            }
+        }
+        (solved, objective)
+    }
+
+    /// The design the solution file would hold for the design vector `x` laid out as `layout`:
+    /// each capsule with the stock ball that fits it, the capsules pinned in `start` as they
+    /// are, on the file's grid ([`Problem::written`]).
+    fn design_at(&self, layout: &DesignLayout, start: &[StartCapsule], x: &[f64]) -> Design {
+        let mut design = layout.to_design(x, &self.project.ball, self.project.infill.value);
+        for (capsule, started) in design.capsules.iter_mut().zip(start) {
+            if let Some(ball) = self.project.ball.radius_for(capsule.radius) {
+                capsule.ball_radius = ball;
+            }
+            if started.pinned {
+                capsule.from = started.from;
+                capsule.to = started.to;
+                capsule.radius = started.radius;
+            }
+        }
+        self.written(design, start)
+    }
+
     /// The bodies of the smooth objective near `design`: each component's bare material, plus
     /// for one with capsules the difference between its material with `design`'s voids cut
-    /// ([`PartPrints::bodies`], what [`Problem::judge`] weighs) and the closed-form capsule term
-    /// at `design`, as a correction of its solid part.
-    fn corrected_bodies(&self, design: &Design) -> Vec<ComponentBody<'a>> {
-        let cut = self.parts.bodies(self.meshes, design);
+    /// (`cut`, [`Problem::cut`]) and the closed-form capsule term at `design`, as a correction
+    /// of its solid part.
+    fn corrected_bodies(&self, design: &Design, cut: &[ComponentBody]) -> Vec<ComponentBody<'a>> {
         self.bodies
             .iter()
-            .zip(&cut)
+            .zip(cut)
             .enumerate()
             .map(|(index, (bare, cut))| {
                 if !design.capsules.iter().any(|c| c.component == index) {
