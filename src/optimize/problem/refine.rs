@@ -22,6 +22,12 @@ const CORRECTIONS: usize = 3;
 /// re-sliced cut (60 ms on the T).
 const SETTLED_DEGREES: f64 = 0.1;
 
+/// A design whose objective corrected at itself is above this many degrees (a goal missed by
+/// that much) is not solved again: no correction of the material brings it within its goals,
+/// and it is never chosen over one that meets them (the fish's five, two and one capsules miss
+/// by 54-93°; settling them cost a fifth of its build).
+const HOPELESS_DEGREES: f64 = 10.0;
+
 /// Whether two sets of bodies have the same material within what moves no goal: volumes within
 /// 1e-4 of each component's outer volume, first moments within that volume times 1e-4 of its
 /// size (its cube root).
@@ -171,8 +177,8 @@ impl<'a> Problem<'a> {
     /// Weighs the design `solved` reached with `objective` (its radii on stock balls) as the
     /// judge does, and, while the objective corrected at that design itself differs from the
     /// one it was solved with by at least [`SETTLED_DEGREES`] there and by a gain worth having
-    /// (`same_verdict`), solves again with that correction within `bounds`, at most
-    /// [`CORRECTIONS`] times. A solve with one correction can carry the design to where another
+    /// (`same_verdict`), and is below [`HOPELESS_DEGREES`], solves again with that correction
+    /// within `bounds`, at most [`CORRECTIONS`] times. A solve with one correction can carry the design to where another
     /// holds (a capsule nearing the wall changes the difference), so of the designs reached,
     /// `solved`'s and those of later solves that end within the constraints, the one kept is
     /// one the judge finds meeting every goal if any does, and of those the one whose
@@ -216,7 +222,8 @@ impl<'a> Problem<'a> {
         for _ in 0..CORRECTIONS {
             let own = self.objective_over(&reached.bodies, layout, start);
             let x = &reached.solved.x;
-            if (used.value(x) - reached.value).abs() < SETTLED_DEGREES.to_radians()
+            if reached.value > HOPELESS_DEGREES.to_radians()
+                || (used.value(x) - reached.value).abs() < SETTLED_DEGREES.to_radians()
                 || same_verdict(&used, &own, x)
             {
                 break;
