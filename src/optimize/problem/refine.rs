@@ -57,23 +57,13 @@ fn same_verdict(before: &Objective, after: &Objective, x: &[f64]) -> bool {
 
 /// A design the refinement settled on, weighed as the judge weighs it.
 #[derive(Clone)]
-struct Settled<'p> {
+struct Settled {
     /// The solve that reached it.
     solved: Solve,
-    /// The design, as the solution file would hold it, its capsules too close to the surface
-    /// moved or shrunk ([`Problem::repaired`]).
-    design: Design,
-    /// What the fabrication checks still find.
-    fabrication: Vec<CapsuleIssue>,
-    /// Its components with its voids cut from the print ([`Problem::cut`]).
-    cut: Vec<ComponentBody<'p>>,
-    /// The bodies of the smooth objective corrected at this design
-    /// ([`Problem::corrected_bodies`]).
-    bodies: Vec<ComponentBody<'p>>,
-    /// That objective's value at the design.
-    value: f64,
-    /// Whether the judge finds it meeting every goal and printable.
-    meets_goals: bool,
+    /// The judge's verdict on the design as the solution file would hold it, its capsules too
+    /// close to the surface moved or shrunk ([`Problem::repaired`]), with its `value` the
+    /// objective corrected at the design itself.
+    outcome: Outcome,
 }
 
 /// How far, in all, the capsules with `issues` come closer to a surface than the wall allows.
@@ -93,8 +83,9 @@ impl<'a> Problem<'a> {
     /// Carries an explored design to the one the judge weighs, and judges it: the smooth
     /// program solved again with its capsule term corrected towards the re-sliced material,
     /// every radius snapped to a stock ball, the correction settled with the radii fixed, and
-    /// any capsule the exact check finds too close to the surface moved or shrunk. Every design it checks is the one the solution file would
-    /// hold (`on_file_grid`), so the outcome is that design's.
+    /// any capsule the exact check finds too close to the surface moved or shrunk. Every design
+    /// it checks is the one the solution file would hold (`on_file_grid`), so the outcome is
+    /// that design's.
     pub fn refine(&self, explored: &Explored) -> Outcome {
         let Explored {
             start,
@@ -118,8 +109,7 @@ impl<'a> Problem<'a> {
             objective,
         );
         let solved = &settled.solved;
-        let mut outcome = self.judge(settled.design, settled.fabrication, &settled.cut);
-        outcome.value = settled.value;
+        let mut outcome = settled.outcome;
         outcome.feasible = solved.violation <= FEASIBLE;
         outcome.evaluations = solved.evaluations;
         outcome
@@ -178,11 +168,11 @@ impl<'a> Problem<'a> {
     /// judge does, and, while the objective corrected at that design itself differs from the
     /// one it was solved with by at least [`SETTLED_DEGREES`] there and by a gain worth having
     /// (`same_verdict`), and is below [`HOPELESS_DEGREES`], solves again with that correction
-    /// within `bounds`, at most [`CORRECTIONS`] times. A solve with one correction can carry the design to where another
-    /// holds (a capsule nearing the wall changes the difference), so of the designs reached,
-    /// `solved`'s and those of later solves that end within the constraints, the one kept is
-    /// one the judge finds meeting every goal if any does, and of those the one whose
-    /// objective corrected at the design itself is the lowest.
+    /// within `bounds`, at most [`CORRECTIONS`] times. A solve with one correction can carry the
+    /// design to where another holds (a capsule nearing the wall changes the difference), so of
+    /// the designs reached, `solved`'s and those of later solves that end within the
+    /// constraints, the one kept is one the judge finds meeting every goal if any does, and of
+    /// those the one whose objective corrected at the design itself is the lowest.
     fn settled(
         &self,
         layout: &DesignLayout,
@@ -190,40 +180,30 @@ impl<'a> Problem<'a> {
         bounds: &Bounds,
         solved: Solve,
         objective: Objective,
-    ) -> Settled<'_> {
+    ) -> Settled {
         let budget = self.near_budget(layout);
+        // The design `solved` reached, weighed, and the objective corrected at it.
         let weigh = |solved: Solve, objective: &Objective| {
             let design = self.design_at(layout, start, &solved.x);
             let feasible = solved.violation <= FEASIBLE;
             let (design, fabrication) =
                 self.repaired(layout, start, bounds, objective, design, feasible);
             let cut = self.cut(&design);
-            let bodies = self.corrected_bodies(&design, &cut);
-            let value = self
-                .objective_over(&bodies, layout, start)
-                .value(&layout.to_vector(&design));
-            let meets_goals = self
-                .judge(design.clone(), fabrication.clone(), &cut)
-                .meets_goals;
-            Settled {
-                solved,
-                design,
-                fabrication,
-                cut,
-                bodies,
-                value,
-                meets_goals,
-            }
+            let own = self.objective_over(&self.corrected_bodies(&design, &cut), layout, start);
+            let x = layout.to_vector(&design);
+            let mut outcome = self.judge(design, fabrication, &cut);
+            outcome.value = own.value(&x);
+            (Settled { solved, outcome }, own)
         };
         let mut evaluations = solved.evaluations;
-        let mut reached = weigh(solved, &objective);
+        let (mut reached, mut own) = weigh(solved, &objective);
         let mut kept = reached.clone();
         let mut used = objective;
         for _ in 0..CORRECTIONS {
-            let own = self.objective_over(&reached.bodies, layout, start);
             let x = &reached.solved.x;
-            if reached.value > HOPELESS_DEGREES.to_radians()
-                || (used.value(x) - reached.value).abs() < SETTLED_DEGREES.to_radians()
+            let value = reached.outcome.value;
+            if value > HOPELESS_DEGREES.to_radians()
+                || (used.value(x) - value).abs() < SETTLED_DEGREES.to_radians()
                 || same_verdict(&used, &own, x)
             {
                 break;
@@ -233,11 +213,16 @@ impl<'a> Problem<'a> {
                 break;
             }
             evaluations += again.evaluations;
-            reached = weigh(again, &own);
-            if (reached.meets_goals, -reached.value) > (kept.meets_goals, -kept.value) {
+            let next;
+            (reached, next) = weigh(again, &own);
+            let better = |a: &Settled, b: &Settled| {
+                (a.outcome.meets_goals, -a.outcome.value)
+                    > (b.outcome.meets_goals, -b.outcome.value)
+            };
+            if better(&reached, &kept) {
                 kept = reached.clone();
             }
-            used = own;
+            used = std::mem::replace(&mut own, next);
         }
         kept.solved.evaluations = evaluations;
         kept
