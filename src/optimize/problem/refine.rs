@@ -233,7 +233,7 @@ impl<'a> Problem<'a> {
     }
 
     /// `outcome`, a design [`Problem::refine`] reached from `starts`, or the design reached from
-    /// it with a smaller stock ball where the judge prefers that ([`Problem::other_balls`]),
+    /// it with a smaller stock ball where the judge prefers that (`other_balls`),
     /// when the design has one movable capsule: its ball carries the whole design. For the one
     /// design a search settles on: every ball tried costs a judged design. Of 23 trials in
     /// designs with more capsules (the T, the fish, Spot and four real meshes) one won, by
