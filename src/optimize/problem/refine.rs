@@ -8,7 +8,7 @@ use crate::design::Design;
 use crate::fabrication::CapsuleIssue;
 use crate::geometry::PrintCorrection;
 use crate::objective::{DesignLayout, Objective, CAPSULE_STRIDE, R};
-use crate::optimize::solver::{solve, Bounds, Budget, Solve, FEASIBLE, WORTH_HAVING};
+use crate::optimize::solver::{solve, Bounds, Solve, FEASIBLE, WORTH_HAVING};
 use crate::optimize::stock::{capsule_radius, on_file_grid, snap};
 use crate::parallel::map_each;
 
@@ -102,12 +102,11 @@ impl<'a> Problem<'a> {
             ..
         } = explored;
         let start = start.as_slice();
-        let budget = self.near_budget(layout);
         // The closed-form capsule term is the smooth stand-in for the material the judge weighs:
         // solve again with it corrected, snap the radii to stock balls, and settle the
         // correction with the radii fixed (a stock radius changes the material it was taken at).
         let (solved, objective) = self.corrected(layout, start, bounds, solved.clone());
-        let (snapped, fixed) = self.snapped(&objective, bounds, start, solved, budget);
+        let (snapped, fixed) = self.snapped(&objective, layout, bounds, start, solved);
         let settled = self.settled(
             layout,
             start,
@@ -548,10 +547,10 @@ impl<'a> Problem<'a> {
     fn snapped(
         &self,
         objective: &Objective,
+        layout: &DesignLayout,
         bounds: &Bounds,
         start: &[StartCapsule],
         solved: Solve,
-        budget: Budget,
     ) -> (Solve, Option<Bounds>) {
         let ball = &self.project.ball;
         if !ball.is_listed() || start.iter().all(|c| c.pinned) {
@@ -592,6 +591,7 @@ impl<'a> Problem<'a> {
             range: x.iter().map(|&v| (v, v)).collect(),
             ..bounds.clone()
         };
+        let budget = self.near_budget(layout);
         let at_snap = solve(objective, &x, &pinned, self.method, budget.clone());
         let again = solve(objective, &x, &fixed, self.method, budget);
         let evaluations = solved.evaluations + at_snap.evaluations + again.evaluations;
