@@ -299,8 +299,8 @@ fn optimize_from(
         return None;
     }
     let chosen = choose(&candidates, requested, settings.tolerance_degrees);
-    // The chosen design with smaller stock balls tried (at most one judged design per
-    // capsule and ball tried), unless the search was interrupted.
+    // The chosen design with a smaller stock ball tried when it has one movable capsule (one
+    // more judged design), unless the search was interrupted.
     let mut candidates = candidates;
     if !problem.is_cancelled() {
         let candidate = &mut candidates[chosen];
