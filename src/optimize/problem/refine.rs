@@ -66,6 +66,12 @@ struct Settled {
     outcome: Outcome,
 }
 
+/// Whether the judge prefers design `a` to `b`: one that meets every goal and can be printed to
+/// one that does not, then the lower objective corrected at the design itself.
+fn better(a: &Settled, b: &Settled) -> bool {
+    (a.outcome.meets_goals, -a.outcome.value) > (b.outcome.meets_goals, -b.outcome.value)
+}
+
 /// How far, in all, the capsules with `issues` come closer to a surface than the wall allows.
 fn surface_deficit(issues: &[CapsuleIssue]) -> f64 {
     issues
@@ -208,16 +214,12 @@ impl<'a> Problem<'a> {
                 break;
             }
             let again = solve(&own, x, bounds, self.method, budget.clone());
+            evaluations += again.evaluations;
             if again.violation > FEASIBLE {
                 break;
             }
-            evaluations += again.evaluations;
             let next;
             (reached, next) = weigh(again, &own);
-            let better = |a: &Settled, b: &Settled| {
-                (a.outcome.meets_goals, -a.outcome.value)
-                    > (b.outcome.meets_goals, -b.outcome.value)
-            };
             if better(&reached, &kept) {
                 kept = reached.clone();
             }
