@@ -8,10 +8,11 @@ use std::f64::consts::{FRAC_PI_2, PI};
 
 use nalgebra::{Point3, UnitQuaternion, Vector3};
 
-/// Segments around the axis of a sphere or capsule.
+/// Segments around the axis of a sphere or capsule drawn for display.
 const SEGMENTS: u32 = 32;
-/// Latitude bands from pole to equator of a sphere or capsule end.
-const HALF_RINGS: u32 = 8;
+/// Latitude bands from pole to equator of a sphere or capsule end drawn for display (a quarter
+/// of the segments: the faces are as long as they are wide).
+const HALF_RINGS: u32 = SEGMENTS / 4;
 /// Below this axis length (relative to the radius) a capsule is drawn as a sphere.
 const MIN_AXIS_FRACTION: f64 = 1e-9;
 
@@ -29,32 +30,73 @@ pub(crate) fn unit_sphere() -> ShapeMesh {
     let latitudes: Vec<(f64, f64)> = (1..rings)
         .map(|i| (PI * f64::from(i) / f64::from(rings), 0.0))
         .collect();
-    revolve(&latitudes, 1.0)
+    revolve(&latitudes, 1.0, SEGMENTS)
 }
 
-/// A capsule around the segment `from`-`to` with the given radius: a cylinder capped by two
-/// hemispheres, positions baked in the frame of `from` and `to`, smooth normals.
+/// A capsule around the segment `from`-`to` with the given radius, drawn for display: a
+/// cylinder capped by two hemispheres, positions baked in the frame of `from` and `to`, smooth
+/// normals.
 pub(crate) fn capsule(from: &Point3<f64>, to: &Point3<f64>, radius: f64) -> ShapeMesh {
+    capsule_of(from, to, radius, SEGMENTS)
+}
+
+/// [`capsule`] tessellated finely enough that its surface lies within `tolerance` of the true
+/// one everywhere (its vertices on it, its faces at most `tolerance` inside): the void a slicer
+/// prints, which the mass model weighs as the true capsule. Never coarser than [`capsule`].
+pub(crate) fn capsule_within(
+    from: &Point3<f64>,
+    to: &Point3<f64>,
+    radius: f64,
+    tolerance: f64,
+) -> ShapeMesh {
+    capsule_of(from, to, radius, segments_within(radius, tolerance))
+}
+
+/// The fewest segments (a multiple of 4, at least [`SEGMENTS`]) for which a capsule of `radius`
+/// tessellated by [`capsule_of`] lies within `tolerance` of the true surface. A face of the ends
+/// spans the angle 2π/n along both its edges, so its centre lies `r(1 − cos²(π/n))` inside;
+/// the cylinder's faces lie `r(1 − cos(π/n))` inside, less.
+fn segments_within(radius: f64, tolerance: f64) -> u32 {
+    let radius = radius.abs();
+    // A tolerance of nothing (or not a number) asks for the finest mesh; one past the radius
+    // for none finer than the display's.
+    if radius <= tolerance || radius.is_nan() {
+        return SEGMENTS;
+    }
+    let tolerance = if tolerance > 0.0 { tolerance } else { 0.0 };
+    // cos²(π/n) ≥ 1 − tolerance/r.
+    let half_angle = (1.0 - tolerance / radius).sqrt().acos();
+    let needed = (PI / half_angle).ceil();
+    // Beyond a thousand the tolerance is below what a slicer resolves; the cap keeps the
+    // mesh bounded for a tolerance of nothing.
+    let needed = needed.min(1024.0) as u32;
+    needed.div_ceil(4).max(SEGMENTS / 4) * 4
+}
+
+/// A capsule of `segments` around its axis (a multiple of 4), `segments / 4` latitude bands from
+/// each pole to the equator.
+fn capsule_of(from: &Point3<f64>, to: &Point3<f64>, radius: f64, segments: u32) -> ShapeMesh {
+    let half_rings = segments / 4;
     let axis = to - from;
     let length = axis.norm();
     let canonical = if length <= radius.abs() * MIN_AXIS_FRACTION {
-        let mut sphere = unit_sphere();
-        for p in &mut sphere.positions {
-            *p = Point3::from(p.coords * radius);
-        }
-        sphere
+        let rings = 2 * half_rings;
+        let latitudes: Vec<(f64, f64)> = (1..rings)
+            .map(|i| (PI * f64::from(i) / f64::from(rings), 0.0))
+            .collect();
+        revolve(&latitudes, radius, segments)
     } else {
         // Along +Z: the `to` hemisphere on top at z = length, the `from` hemisphere below at z = 0.
         let top =
-            (1..=HALF_RINGS).map(|i| (FRAC_PI_2 * f64::from(i) / f64::from(HALF_RINGS), length));
-        let bottom = (0..HALF_RINGS).map(|i| {
+            (1..=half_rings).map(|i| (FRAC_PI_2 * f64::from(i) / f64::from(half_rings), length));
+        let bottom = (0..half_rings).map(|i| {
             (
-                FRAC_PI_2 + FRAC_PI_2 * f64::from(i) / f64::from(HALF_RINGS),
+                FRAC_PI_2 + FRAC_PI_2 * f64::from(i) / f64::from(half_rings),
                 0.0,
             )
         });
         let latitudes: Vec<(f64, f64)> = top.chain(bottom).collect();
-        revolve(&latitudes, radius)
+        revolve(&latitudes, radius, segments)
     };
     let rotation = rotation_from_z(&axis);
     ShapeMesh {
@@ -225,10 +267,10 @@ fn rotation_from_z(axis: &Vector3<f64>) -> UnitQuaternion<f64> {
     })
 }
 
-/// A surface of revolution about +Z: a pole on top, one ring of `SEGMENTS` vertices per
+/// A surface of revolution about +Z: a pole on top, one ring of `segments` vertices per
 /// latitude `(polar angle, z offset)` in order from top to bottom, and a pole at the bottom.
 /// Each vertex sits at `radius * direction + offset`, its normal is `direction`.
-fn revolve(latitudes: &[(f64, f64)], radius: f64) -> ShapeMesh {
+fn revolve(latitudes: &[(f64, f64)], radius: f64, segments: u32) -> ShapeMesh {
     let first_offset = latitudes.first().map_or(0.0, |l| l.1);
     let last_offset = latitudes.last().map_or(0.0, |l| l.1);
     let mut positions = Vec::new();
@@ -240,30 +282,30 @@ fn revolve(latitudes: &[(f64, f64)], radius: f64) -> ShapeMesh {
 
     push(Vector3::z(), first_offset);
     for &(theta, offset) in latitudes {
-        for j in 0..SEGMENTS {
-            let phi = 2.0 * PI * f64::from(j) / f64::from(SEGMENTS);
+        for j in 0..segments {
+            let phi = 2.0 * PI * f64::from(j) / f64::from(segments);
             let (s, c) = theta.sin_cos();
             push(Vector3::new(s * phi.cos(), s * phi.sin(), c), offset);
         }
     }
     push(-Vector3::z(), last_offset);
 
-    let ring = |k: u32, j: u32| 1 + k * SEGMENTS + j % SEGMENTS;
+    let ring = |k: u32, j: u32| 1 + k * segments + j % segments;
     let rings = u32::try_from(latitudes.len()).expect("few latitudes");
-    let bottom_pole = 1 + rings * SEGMENTS;
+    let bottom_pole = 1 + rings * segments;
     let mut triangles = Vec::new();
-    for j in 0..SEGMENTS {
+    for j in 0..segments {
         triangles.push([0, ring(0, j), ring(0, j + 1)]);
     }
     for k in 0..rings.saturating_sub(1) {
-        for j in 0..SEGMENTS {
+        for j in 0..segments {
             let (a, b) = (ring(k, j), ring(k, j + 1));
             let (c, d) = (ring(k + 1, j), ring(k + 1, j + 1));
             triangles.push([a, c, d]);
             triangles.push([a, d, b]);
         }
     }
-    for j in 0..SEGMENTS {
+    for j in 0..segments {
         triangles.push([bottom_pole, ring(rings - 1, j + 1), ring(rings - 1, j)]);
     }
     ShapeMesh {
@@ -348,6 +390,55 @@ mod tests {
         let max_y = mesh.positions.iter().map(|p| p.y).fold(f64::MIN, f64::max);
         let min_y = mesh.positions.iter().map(|p| p.y).fold(f64::MAX, f64::min);
         assert!((max_y - 14.0).abs() < 1e-9 && (min_y - 0.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn capsule_within_a_tolerance_lies_within_it_of_the_true_surface() {
+        let from = Point3::new(1.0, 2.0, 3.0);
+        for (r, to) in [
+            (3.0, Point3::new(1.0, 12.0, 3.0)),
+            (11.42, Point3::new(30.3, 2.04, 57.5)),
+            (40.0, Point3::new(41.0, -10.0, 3.0)),
+            (5.0, from),
+        ] {
+            let tolerance = 0.01;
+            let mesh = capsule_within(&from, &to, r, tolerance);
+            assert_closed(&mesh);
+            assert!(mesh.triangles.len() >= capsule(&from, &to, r).triangles.len());
+            let axis = to - from;
+            let distance = |p: &Point3<f64>| {
+                let t = if axis.norm() > 0.0 {
+                    ((p - from).dot(&axis) / axis.norm_squared()).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                (p - (from + axis * t)).norm()
+            };
+            // A face's nearest point to the axis is its circumcentre or on an edge; each face is
+            // half of a planar quad whose centre is the midpoint of the shared diagonal.
+            let mut deepest = f64::INFINITY;
+            for t in &mesh.triangles {
+                let [a, b, c] = t.map(|i| mesh.positions[i as usize]);
+                for p in [
+                    Point3::from((a.coords + b.coords + c.coords) / 3.0),
+                    Point3::from((a.coords + b.coords) / 2.0),
+                    Point3::from((b.coords + c.coords) / 2.0),
+                    Point3::from((c.coords + a.coords) / 2.0),
+                ] {
+                    deepest = deepest.min(distance(&p));
+                }
+            }
+            assert!(
+                deepest >= r - tolerance && deepest < r - tolerance / 10.0,
+                "r {r}: deepest {deepest}"
+            );
+            let exact = PI * r * r * axis.norm() + 4.0 / 3.0 * PI * r.powi(3);
+            let v = volume(&mesh);
+            assert!(
+                v < exact && v > exact * (1.0 - 2.0 * tolerance / r),
+                "r {r}: {v} vs {exact}"
+            );
+        }
     }
 
     #[test]
