@@ -298,6 +298,14 @@ fn optimize_from(
     if candidates.is_empty() || (problem.is_cancelled() && interrupted().is_none()) {
         return None;
     }
+    let chosen = choose(&candidates, requested, settings.tolerance_degrees);
+    // The chosen design with a smaller stock ball tried when it has one movable capsule (one
+    // more judged design), unless the search was interrupted.
+    let mut candidates = candidates;
+    if !problem.is_cancelled() {
+        let candidate = &mut candidates[chosen];
+        candidate.outcome = problem.with_other_balls(&candidate.starts, candidate.outcome.clone());
+    }
     let heuristic = clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
@@ -322,7 +330,6 @@ fn optimize_from(
     }
     let exhaustive_seconds = clock.elapsed().as_secs_f64();
 
-    let chosen = choose(&candidates, requested, settings.tolerance_degrees);
     let outcome = candidates[chosen].outcome.clone();
     let (design, origins) = named(project, outcome.design.clone(), &candidates[chosen].starts);
 

@@ -265,6 +265,18 @@ impl Ball {
         !self.diameters.is_empty()
     }
 
+    /// The listed ball radii smaller than `ball_radius`, largest first.
+    pub fn smaller(&self, ball_radius: f64) -> impl Iterator<Item = f64> + '_ {
+        let mut radii: Vec<f64> = self
+            .diameters
+            .iter()
+            .map(|diameter| diameter / 2.0)
+            .filter(|radius| *radius < ball_radius * (1.0 - 1e-9))
+            .collect();
+        radii.sort_by(|a, b| b.total_cmp(a));
+        radii.into_iter()
+    }
+
     /// The smallest listed ball radius larger than `ball_radius`, if any.
     pub fn next_larger(&self, ball_radius: f64) -> Option<f64> {
         self.diameters
