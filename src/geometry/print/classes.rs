@@ -340,12 +340,21 @@ impl Classifier<'_> {
         let rows_in_wide = rows.clone().zip(in_valid.clone());
         for ((y, start), marks) in rows_in_wide.zip(widened.chunks_mut(width)) {
             let j = area.j.start + y;
-            // The layer's own row once for every pair.
-            let here_row = depth.row(k, j, valid.i.clone(), layout.columns, &mut here_buffer);
+            // Only the row's fill cells can be marked: the pairs are read from its first to its
+            // last.
             let fill = &internal_wide[start][..width];
+            let (Some(first), Some(last)) =
+                (fill.iter().position(|&f| f), fill.iter().rposition(|&f| f))
+            else {
+                continue;
+            };
+            let (fill, marks) = (&fill[first..=last], &mut marks[first..=last]);
+            let cells = valid.i.start + first..valid.i.start + last + 1;
+            // The layer's own row once for every pair.
+            let here_row = depth.row(k, j, cells.clone(), layout.columns, &mut here_buffer);
             for (inside_i, m) in &pairs {
-                let inside_i = inside_i.part(y, columns.clone());
-                for (at, there) in depth.pieces(*m, j, valid.i.clone(), layout.columns) {
+                let inside_i = inside_i.part(y, columns.start + first..columns.start + last + 1);
+                for (at, there) in depth.pieces(*m, j, cells.clone(), layout.columns) {
                     let span = at..at + there.len();
                     mark_strips(
                         Strip {
