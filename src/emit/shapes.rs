@@ -26,11 +26,16 @@ pub(crate) struct ShapeMesh {
 
 /// A sphere of radius 1 about the origin, smooth normals.
 pub(crate) fn unit_sphere() -> ShapeMesh {
-    let rings = 2 * HALF_RINGS;
-    let latitudes: Vec<(f64, f64)> = (1..rings)
+    revolve(&sphere_latitudes(HALF_RINGS), 1.0, SEGMENTS)
+}
+
+/// The latitudes of a sphere with `half_rings` bands from each pole to the equator, for
+/// [`revolve`].
+fn sphere_latitudes(half_rings: u32) -> Vec<(f64, f64)> {
+    let rings = 2 * half_rings;
+    (1..rings)
         .map(|i| (PI * f64::from(i) / f64::from(rings), 0.0))
-        .collect();
-    revolve(&latitudes, 1.0, SEGMENTS)
+        .collect()
 }
 
 /// A capsule around the segment `from`-`to` with the given radius, drawn for display: a
@@ -80,11 +85,7 @@ fn capsule_of(from: &Point3<f64>, to: &Point3<f64>, radius: f64, segments: u32) 
     let axis = to - from;
     let length = axis.norm();
     let canonical = if length <= radius.abs() * MIN_AXIS_FRACTION {
-        let rings = 2 * half_rings;
-        let latitudes: Vec<(f64, f64)> = (1..rings)
-            .map(|i| (PI * f64::from(i) / f64::from(rings), 0.0))
-            .collect();
-        revolve(&latitudes, radius, segments)
+        revolve(&sphere_latitudes(half_rings), radius, segments)
     } else {
         // Along +Z: the `to` hemisphere on top at z = length, the `from` hemisphere below at z = 0.
         let top =

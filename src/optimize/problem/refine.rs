@@ -320,6 +320,7 @@ impl<'a> Problem<'a> {
         let budget = self.near_budget(layout);
         let reached = map_each(trials.len(), |t| {
             let (i, radius) = trials[t];
+            // Each trial's own objective: an objective is not shared between threads.
             let own = self.objective_over(corrected, layout, start);
             let mut trial = x.clone();
             trial[i] = radius;
