@@ -230,6 +230,17 @@ pub(crate) fn posed_hull(
     convex_hull_among(vertices, &candidates)
 }
 
+/// Every vertex of the model as `pose` places `bodies` ([`posed_vertices`]) and their convex
+/// hull ([`posed_hull`]); `None` when the model spans no volume.
+pub(crate) fn posed_vertices_and_hull(
+    bodies: &[ComponentBody],
+    pose: &Pose,
+) -> Option<(Vec<Point3<f64>>, ConvexHull)> {
+    let vertices = posed_vertices(bodies, pose);
+    let hull = posed_hull(bodies, pose, &vertices)?;
+    Some((vertices, hull))
+}
+
 /// Diagonal of the bounding box of `points`; 0 when there are none.
 pub(crate) fn extent(points: &[Point3<f64>]) -> f64 {
     let Some(first) = points.first() else {

@@ -113,8 +113,7 @@ pub fn resting_facets(
     design: Option<(&Design, &[ComponentBody])>,
 ) -> Option<Vec<RestingFacet>> {
     let frame = model_frame(pose);
-    let points = super::evaluate::posed_vertices(bodies, &frame);
-    let hull = super::evaluate::posed_hull(bodies, &frame, &points)?;
+    let (points, hull) = super::evaluate::posed_vertices_and_hull(bodies, &frame)?;
     let centre = solid_centre(bodies, &frame);
     let mut facets: Vec<RestingFacet> = hull
         .facets

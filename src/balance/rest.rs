@@ -103,8 +103,7 @@ pub(crate) fn settle_pose(
     let Some(rule) = rule(pose) else {
         return unsettled();
     };
-    let vertices = super::evaluate::posed_vertices(bodies, pose);
-    let Some(hull) = super::evaluate::posed_hull(bodies, pose, &vertices) else {
+    let Some((vertices, hull)) = super::evaluate::posed_vertices_and_hull(bodies, pose) else {
         return unsettled();
     };
     let gravity = -project.up.unit_vector();

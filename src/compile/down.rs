@@ -28,9 +28,10 @@ pub fn place_down_poses(project: &mut Project, bodies: &[ComponentBody]) -> Vec<
             continue;
         };
         let frame = model_frame(pose);
-        let points = crate::balance::evaluate::posed_vertices(bodies, &frame);
         let centre = solid_centre(bodies, &frame);
-        let Some(hull) = crate::balance::evaluate::posed_hull(bodies, &frame, &points) else {
+        let Some((points, hull)) =
+            crate::balance::evaluate::posed_vertices_and_hull(bodies, &frame)
+        else {
             problems.push(
                 Problem::error(NO_HULL, "the model has no volume, so `down` names no facet")
                     .with_label(down.span, "this direction"),
