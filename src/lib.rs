@@ -41,7 +41,7 @@ pub mod objective;
 pub mod optimize;
 mod parallel;
 pub mod pauses;
-mod random;
+pub mod random;
 pub mod regular_file;
 pub mod sliced;
 pub mod spec;

@@ -11,30 +11,8 @@ use nalgebra::{Isometry3, Point3, Vector3};
 use crate::balance_support::{project, rotation_about};
 use crate::geometry_support::box_mesh;
 
-/// A tiny deterministic generator (SplitMix64), so the "random" designs are the same every run.
-pub struct Seeded(u64);
-
-impl Seeded {
-    /// A generator from `seed`.
-    pub fn new(seed: u64) -> Seeded {
-        Seeded(seed)
-    }
-
-    /// The next 64 random bits.
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [lo, hi).
-    pub fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        let unit = (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
-        lo + (hi - lo) * unit
-    }
-}
+/// The library's deterministic generator, so the "random" designs are the same every run.
+pub use ballast::random::SplitMix64 as Seeded;
 
 /// The 40 × 60 × 100 mm box [0,40]×[0,60]×[0,100].
 pub fn tall_box() -> TriMesh {
