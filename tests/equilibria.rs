@@ -13,10 +13,11 @@ use ballast::balance::{BallRest, Equilibria, GoalOutcome, PoseEvaluation};
 use ballast::compile::{compile, Compilation};
 use ballast::design::Design;
 use ballast::objective::Parameters;
+use ballast::random::SplitMix64;
 use ballast::spec::model::{Goal, Pose, Project};
 use geometry_support::box_mesh;
 use nalgebra::{Point3, Vector3};
-use objective_support::{objective, random_capsule, tall_box, unique, Seeded};
+use objective_support::{objective, random_capsule, tall_box, unique};
 
 /// The equilibria of goal `goal` of `evaluation`, and whether the goal was met.
 fn equilibria(evaluation: &PoseEvaluation, goal: usize) -> (&Equilibria, bool) {
@@ -280,7 +281,7 @@ fn the_committed_fish_rights_itself_from_every_orientation() {
 
 /// `count` random steep capsules in the tall box, and the box hung from its top centre.
 fn many_capsules(count: usize, goal: Goal) -> (Project, Design, Pose) {
-    let mut rng = Seeded::new(11);
+    let mut rng = SplitMix64::new(11);
     let capsules = (0..count)
         .map(|j| {
             let mut c = random_capsule(

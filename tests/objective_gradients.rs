@@ -8,6 +8,7 @@ mod objective_support;
 use balance_support::{imbalance, rotation, stand};
 use ballast::design::Design;
 use ballast::objective::{smooth_max, Insertion, InteriorDistance, Objective, Parameters};
+use ballast::random::SplitMix64;
 use ballast::spec::model::{Print, Project, Units};
 use nalgebra::{Isometry3, Point3, Vector3};
 use num_dual::{Derivative, DualDVec64};
@@ -52,7 +53,7 @@ fn box_case(seed: u64) -> (Project, Design, Objective) {
     );
     project.infill.range = Some((0.1, 1.0));
     with_fdm_for_odd(&mut project, seed);
-    let mut rng = Seeded::new(seed);
+    let mut rng = SplitMix64::new(seed);
     let capsules = (0..3)
         .map(|_| {
             random_capsule(
@@ -97,7 +98,7 @@ fn two_part_case(seed: u64) -> (Project, Design, Objective) {
         ],
     );
     with_fdm_for_odd(&mut project, seed);
-    let mut rng = Seeded::new(seed);
+    let mut rng = SplitMix64::new(seed);
     let design = Design {
         capsules: vec![
             random_capsule(
@@ -176,7 +177,7 @@ fn the_combined_objective_matches_finite_differences() {
 
 #[test]
 fn the_smooth_max_matches_finite_differences() {
-    let mut rng = Seeded::new(7);
+    let mut rng = SplitMix64::new(7);
     let mut worst = 0.0f64;
     for sharpness in [1.0, 10.0, 100.0, 1000.0] {
         let values: Vec<f64> = (0..6).map(|_| rng.uniform(-0.5, 0.5)).collect();

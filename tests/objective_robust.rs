@@ -8,6 +8,7 @@ mod objective_support;
 use balance_support::{rotation, stand};
 use ballast::design::{Design, PlacedCapsule};
 use ballast::objective::{smooth_max, smooth_min, DesignLayout, Objective, Parameters};
+use ballast::random::SplitMix64;
 use ballast::spec::model::Project;
 use nalgebra::{Isometry3, Point3, Vector3};
 use objective_support::*;
@@ -37,7 +38,7 @@ fn assert_finite(objective: &Objective, x: &[f64]) {
 
 #[test]
 fn the_smooth_max_bounds_the_max_and_tends_to_it() {
-    let mut rng = Seeded::new(3);
+    let mut rng = SplitMix64::new(3);
     for _ in 0..20 {
         let values: Vec<f64> = (0..5).map(|_| rng.uniform(-2.0, 2.0)).collect();
         let max = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
@@ -309,7 +310,7 @@ fn the_constraints_are_counted_by_the_layout_and_the_goals() {
         ],
     );
     project.infill.range = Some((0.1, 1.0));
-    let mut rng = Seeded::new(5);
+    let mut rng = SplitMix64::new(5);
     let design = Design {
         capsules: (0..3)
             .map(|_| {

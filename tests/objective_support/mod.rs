@@ -5,14 +5,12 @@ use ballast::balance::ComponentBody;
 use ballast::design::{Design, PlacedCapsule};
 use ballast::geometry::TriMesh;
 use ballast::objective::{DesignLayout, Objective, Parameters};
+use ballast::random::SplitMix64;
 use ballast::spec::model::{Goal, Pose, Project};
 use nalgebra::{Isometry3, Point3, Vector3};
 
 use crate::balance_support::{project, rotation_about};
 use crate::geometry_support::box_mesh;
-
-/// The library's deterministic generator, so the "random" designs are the same every run.
-pub use ballast::random::SplitMix64 as Seeded;
 
 /// The 40 × 60 × 100 mm box [0,40]×[0,60]×[0,100].
 pub fn tall_box() -> TriMesh {
@@ -84,13 +82,13 @@ pub fn unique(mut goal: Goal) -> Goal {
 /// A capsule of component `component` with random ends inside `[lo, hi]` (shrunk by 8 mm) and a
 /// random radius in [2, 5]; when `steep`, its axis is within about 30° of z.
 pub fn random_capsule(
-    rng: &mut Seeded,
+    rng: &mut SplitMix64,
     component: usize,
     lo: Point3<f64>,
     hi: Point3<f64>,
     steep: bool,
 ) -> PlacedCapsule {
-    let point = |rng: &mut Seeded| {
+    let point = |rng: &mut SplitMix64| {
         Point3::new(
             rng.uniform(lo.x + 8.0, hi.x - 8.0),
             rng.uniform(lo.y + 8.0, hi.y - 8.0),
