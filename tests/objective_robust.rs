@@ -370,3 +370,34 @@ fn the_smooth_max_of_an_infinite_value_is_that_value() {
     );
     assert_eq!(smooth_max(&[f64::NEG_INFINITY, 1.0], 100.0), 1.0);
 }
+
+#[test]
+fn the_smooth_mass_constraint_keeps_a_slack_inside_the_tolerance() {
+    // The 40 × 60 × 100 mm box displaces 240 g of water: the smooth program keeps the mass a
+    // thousandth of that (0.24 g) inside the goal's tolerance, at most half the tolerance. The
+    // two mass constraints, τ' − r and τ' + r, sum to 2τ' whatever the residual r.
+    for (tolerance, kept) in [(1.0, 1.0 - 0.24), (5.0, 5.0 - 0.24), (0.2, 0.1)] {
+        let project = box_project(
+            Isometry3::identity(),
+            vec![immerse(1.0, 1.0, Some(tolerance))],
+        );
+        let empty = Design {
+            capsules: vec![],
+            infill: project.infill.value,
+        };
+        let objective = objective(
+            &project,
+            &[tall_box()],
+            &empty,
+            Parameters::for_project(&project),
+        );
+        let values = objective.constraint_values(&[]);
+        let [.., below, above] = values[..] else {
+            panic!("no mass constraints: {values:?}");
+        };
+        assert!(
+            (below + above - 2.0 * kept).abs() < 1e-9,
+            "tolerance {tolerance}: {below} + {above}, expected 2 × {kept}"
+        );
+    }
+}
