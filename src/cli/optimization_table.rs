@@ -49,6 +49,14 @@ pub fn optimization(
     }
     let rule = chosen_rule(optimization);
     let _ = writeln!(out, "  * chosen: {rule}");
+    if optimization.rescue_starts > 0 {
+        let _ = writeln!(
+            out,
+            "  no count met every goal from the seeds: {} random start{} tried, each count keeping the best",
+            optimization.rescue_starts,
+            plural(optimization.rescue_starts),
+        );
+    }
     for ranking in &optimization.exhaustive {
         let _ = writeln!(
             out,
@@ -192,6 +200,7 @@ mod tests {
             exhaustive: Vec::new(),
             conflicts: Vec::new(),
             conflicts_cut_short: false,
+            rescue_starts: 0,
             timings: Timings::default(),
             interrupted: None,
             origins: Vec::new(),

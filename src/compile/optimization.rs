@@ -38,6 +38,9 @@ pub struct Optimization {
     pub starts: Starts,
     /// Where each capsule of the chosen design came from, in design order.
     pub origins: Vec<CapsuleOrigin>,
+    /// Random starts solved because no capsule count the heuristic tried met every goal (0 when
+    /// one did): [`rescue`](crate::optimize::rescue).
+    pub rescue_starts: usize,
     /// Where the heuristic ranks among random starts, per capsule count (empty unless asked).
     pub exhaustive: Vec<Ranking>,
     /// When the chosen design misses some goal: the goals that cannot be met even alone, and the

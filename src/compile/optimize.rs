@@ -17,8 +17,9 @@ use crate::objective::{GridInterior, Parameters};
 pub use crate::optimize::length_decimals;
 use crate::optimize::{
     choose, content_hash, default_cell, explain_conflicts, grid_scale, has_room, rank,
-    repair_seeds, run_heuristic, skeleton_seeds, smallest_capsule_radius, Candidate, ConflictSpace,
-    GoalRef, GridKey, Method, Origin, Outcome, Problem, Rules, SeedRepair, SeedSite, StartCapsule,
+    repair_seeds, rescue, run_heuristic, skeleton_seeds, smallest_capsule_radius, Candidate,
+    ConflictSpace, GoalRef, GridKey, Method, Origin, Outcome, Problem, Rules, SeedRepair, SeedSite,
+    StartCapsule,
 };
 use crate::spec::model::{Optimize, Project};
 
@@ -298,10 +299,25 @@ fn optimize_from(
     if candidates.is_empty() || (problem.is_cancelled() && interrupted().is_none()) {
         return None;
     }
+    // No count meeting every goal, random starts get a few rounds (not from a warm start: the
+    // full search follows it when it misses).
+    let mut candidates = candidates;
+    let rescue_starts = if warm.is_none() && !problem.is_cancelled() {
+        rescue(
+            &problem,
+            interior.as_ref(),
+            &seeds,
+            &mut candidates,
+            requested,
+            settings.seed,
+            &|round, starts| workspace.report(Stage::Rescue { round, starts }),
+        )
+    } else {
+        0
+    };
     let chosen = choose(&candidates, requested, settings.tolerance_degrees);
     // The chosen design with a smaller stock ball tried when it has one movable capsule (one
     // more judged design), unless the search was interrupted.
-    let mut candidates = candidates;
     if !problem.is_cancelled() {
         let candidate = &mut candidates[chosen];
         candidate.outcome = problem.with_other_balls(&candidate.starts, candidate.outcome.clone());
@@ -399,6 +415,7 @@ fn optimize_from(
             .collect(),
         starts: Starts::of(&seeds),
         origins,
+        rescue_starts,
         exhaustive,
         conflicts,
         conflicts_cut_short,

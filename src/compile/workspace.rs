@@ -9,7 +9,7 @@ use super::print_cache::PrintCache;
 use super::DesignSource;
 use crate::cancel::Cancel;
 use crate::diagnostic::Problem;
-use crate::optimize::{PrecomputeCache, Round, MAX_EXPLANATION_SOLVES};
+use crate::optimize::{PrecomputeCache, Round, MAX_EXPLANATION_SOLVES, RESCUE_ROUNDS};
 
 /// The state builds share in one process. `build` and `check` use a fresh one; watch mode keeps
 /// one for the whole session, so an unchanged mesh is never parsed, checked or sampled twice.
@@ -99,6 +99,13 @@ pub enum Stage {
     },
     /// A local solve of a round of the capsule-count heuristic.
     Round(Round),
+    /// A round of random starts after no capsule count met every goal.
+    Rescue {
+        /// The round, from 1.
+        round: usize,
+        /// Random starts in the round.
+        starts: usize,
+    },
     /// Random starts to rank the heuristic's result (`--exhaustive`).
     Exhaustive {
         /// Random starts per capsule count.
@@ -130,6 +137,10 @@ impl std::fmt::Display for Stage {
                 if at.capsules == 1 { "" } else { "s" },
                 at.solve,
                 at.solves
+            ),
+            Stage::Rescue { round, starts } => write!(
+                f,
+                "no capsule count met every goal: round {round} of at most {RESCUE_ROUNDS} of random starts ({starts} starts)"
             ),
             Stage::Exhaustive { starts } => {
                 write!(

@@ -1,11 +1,11 @@
 //! Exhaustive search as in the paper's Table 1: many random starts per capsule count, to rank
 //! the heuristic's result against.
 
-use nalgebra::{Point3, Vector3};
 use serde::Serialize;
 
 use super::heuristic::Candidate;
-use super::problem::{Origin, Problem, StartCapsule};
+use super::problem::{Problem, StartCapsule};
+use super::random_start::random_start;
 use crate::objective::InteriorDistance;
 use crate::parallel::map_each;
 use crate::random::SplitMix64;
@@ -56,11 +56,7 @@ pub fn rank(
         // Every start drawn first, in the generator's order; then solved side by side on every
         // core (each solve depends only on its start, so the ranking is the same on any count).
         let drawn: Vec<Vec<StartCapsule>> = (0..starts)
-            .map(|_| {
-                let mut start = pinned.clone();
-                start.extend((0..free).map(|_| random_capsule(problem, interior, &mut random)));
-                start
-            })
+            .map(|_| random_start(problem, interior, &pinned, free, &mut random))
             .collect();
         // Once cancelled (Ctrl-C, the time limit), the starts not yet begun are skipped: each
         // would still be set up and judged, seconds over thousands of starts.
@@ -90,39 +86,4 @@ pub fn rank(
         });
     }
     rankings
-}
-
-/// A capsule of the smallest radius at a random point inside a random component (up to 64 tries
-/// for a point with room for it), along a random direction, up to a sixth of the component's
-/// bounding-box diagonal long.
-fn random_capsule(
-    problem: &Problem,
-    interior: &dyn InteriorDistance,
-    random: &mut SplitMix64,
-) -> StartCapsule {
-    let meshes = problem.meshes();
-    let component = random.below(meshes.len().max(1));
-    let radius = problem.parameters().min_radius;
-    let room = radius + problem.project().wall;
-    let (lo, hi) = meshes
-        .get(component)
-        .and_then(|m| m.bounding_box())
-        .unwrap_or_default();
-    let mut centre = nalgebra::center(&lo, &hi);
-    for _ in 0..64 {
-        let point = Point3::from(lo.coords + (hi - lo).component_mul(&random.vector()));
-        if interior.distance(component, &point).0 > room {
-            centre = point;
-            break;
-        }
-    }
-    let direction = loop {
-        let v = random.vector() * 2.0 - Vector3::repeat(1.0);
-        let norm = v.norm();
-        if norm > 1e-3 && norm <= 1.0 {
-            break v / norm;
-        }
-    };
-    let half = radius.max((hi - lo).norm() / 12.0 * random.unit());
-    StartCapsule::centred(component, centre, direction * half, radius, Origin::Random)
 }

@@ -9,7 +9,9 @@ mod exhaustive;
 mod grids;
 mod heuristic;
 mod problem;
+mod random_start;
 mod repair;
+mod rescue;
 mod seeds;
 mod solver;
 mod stock;
@@ -28,6 +30,7 @@ pub use grids::{content_hash, default_cell};
 pub use heuristic::{choose, run as run_heuristic, Candidate, Round};
 pub use problem::{Origin, Outcome, Problem, StartCapsule};
 pub use repair::{repair_seeds, Rules, SeedRepair};
+pub use rescue::{rescue, RESCUE_ROUNDS, RESCUE_STARTS};
 pub use seeds::{has_room, skeleton_seeds, SeedSite};
 pub use solver::{solve, Bounds, Budget, Method, Solve};
 pub use stock::{

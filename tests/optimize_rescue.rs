@@ -1,0 +1,122 @@
+//! The search's second chance (`optimize::rescue`): random starts when no capsule count the
+//! heuristic tried meets every goal. On the sheared cylinder, whose one capsule meets its goals
+//! from almost any start, a heuristic that failed is simulated by marking its candidates as
+//! missing their goals.
+
+use std::path::Path;
+
+use ballast::compile::{self, compile_with, print_setup, CompileOptions, Workspace};
+use ballast::optimize::{
+    rescue, run_heuristic, Candidate, Method, Origin, Problem, RESCUE_ROUNDS, RESCUE_STARTS,
+};
+
+/// The cylinder's candidates from the heuristic, then `check` run with its problem, interior and
+/// seeds.
+fn with_cylinder(check: impl FnOnce(&mut Vec<Candidate>, &dyn Fn(&mut Vec<Candidate>) -> usize)) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/sheared_cylinder.kdl");
+    let source = std::fs::read_to_string(&path).expect("the cylinder's project file");
+    let compiled = compile_with(
+        &source,
+        &path,
+        &CompileOptions::default(),
+        &mut Workspace::new(),
+    )
+    .expect("the cylinder compiles");
+    let project = &compiled.project;
+    let settings = project.optimize.as_ref().expect("an optimize node");
+    let print = print_setup(project, &compiled.orientations);
+    let prepared = compile::prepare(
+        project,
+        settings,
+        &compiled.meshes,
+        &print,
+        &mut Workspace::new(),
+        None,
+    )
+    .expect("nothing cancels");
+    let prints = compiled.part_prints();
+    let problem = Problem::new(
+        project,
+        &compiled.meshes,
+        &prints,
+        print,
+        prepared.interior.clone(),
+        Method::Hybrid,
+    );
+    let mut candidates = run_heuristic(&problem, &prepared.seeds, None, &|_| {});
+    let rescued = |candidates: &mut Vec<Candidate>| {
+        rescue(
+            &problem,
+            prepared.interior.as_ref(),
+            &prepared.seeds,
+            candidates,
+            None,
+            settings.seed,
+            &|_, _| {},
+        )
+    };
+    check(&mut candidates, &rescued);
+}
+
+/// `candidates` as if the heuristic had found nothing meeting a goal: each marked as missing,
+/// with an objective of 90°.
+fn failed(candidates: &[Candidate]) -> Vec<Candidate> {
+    candidates
+        .iter()
+        .cloned()
+        .map(|mut c| {
+            c.outcome.meets_goals = false;
+            c.outcome.value = 90f64.to_radians();
+            c
+        })
+        .collect()
+}
+
+#[test]
+fn a_search_that_met_its_goals_is_left_alone() {
+    with_cylinder(|candidates, rescued| {
+        assert!(candidates.iter().any(|c| c.outcome.meets_goals));
+        let before: Vec<f64> = candidates.iter().map(|c| c.outcome.value).collect();
+        assert_eq!(rescued(candidates), 0);
+        let after: Vec<f64> = candidates.iter().map(|c| c.outcome.value).collect();
+        assert_eq!(before, after);
+    });
+}
+
+#[test]
+fn random_starts_replace_a_count_that_missed_and_stop_once_one_meets_every_goal() {
+    with_cylinder(|candidates, rescued| {
+        let counts: Vec<usize> = candidates.iter().map(|c| c.capsules).collect();
+        assert_eq!(counts, vec![1, 0], "the cylinder's counts");
+        let mut first = failed(candidates);
+        // One count with a capsule to move: one round of its random starts.
+        let solved = rescued(&mut first);
+        assert!(
+            solved == RESCUE_STARTS,
+            "{solved} random starts, one round is {RESCUE_STARTS} (at most {RESCUE_ROUNDS} rounds)"
+        );
+        let one = &first[0];
+        assert!(one.outcome.meets_goals, "{:?}", one.outcome.value);
+        assert!(one.outcome.value < 0.0, "objective {}", one.outcome.value);
+        assert!(one.starts.iter().all(|s| s.origin == Origin::Random));
+        // The count without a capsule to move is left as it was.
+        assert!(!first[1].outcome.meets_goals);
+        // The same seed, the same design, bit for bit.
+        let mut second = failed(candidates);
+        rescued(&mut second);
+        let ends = |c: &Candidate| -> Vec<[f64; 7]> {
+            c.outcome
+                .design
+                .capsules
+                .iter()
+                .map(|k| {
+                    [
+                        k.from.x, k.from.y, k.from.z, k.to.x, k.to.y, k.to.z, k.radius,
+                    ]
+                })
+                .collect()
+        };
+        assert_eq!(ends(&first[0]), ends(&second[0]));
+        assert_eq!(first[0].outcome.design.infill, second[0].outcome.design.infill);
+    });
+}
