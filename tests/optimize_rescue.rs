@@ -117,6 +117,9 @@ fn random_starts_replace_a_count_that_missed_and_stop_once_one_meets_every_goal(
                 .collect()
         };
         assert_eq!(ends(&first[0]), ends(&second[0]));
-        assert_eq!(first[0].outcome.design.infill, second[0].outcome.design.infill);
+        assert_eq!(
+            first[0].outcome.design.infill,
+            second[0].outcome.design.infill
+        );
     });
 }

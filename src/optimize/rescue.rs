@@ -25,17 +25,18 @@ pub const RESCUE_STARTS: usize = 2;
 /// Mixed into the project's seed so that the rescue's starts are not the exhaustive ranking's.
 const STREAM: u64 = 0x7265_7363_7565;
 
-/// Whether the judge prefers outcome `a` to `b`: one that meets every goal and can be printed,
-/// then the lower objective.
-fn preferred(a: &Outcome, b: &Outcome) -> bool {
-    (a.meets_goals, -a.value) > (b.meets_goals, -b.value)
+/// Whether `outcome` should replace a count's candidate `kept`: it meets every goal (and can be
+/// printed), where `kept` does not or has a higher objective. A random start that misses a goal
+/// replaces nothing: the heuristic's design, from the project's own seeds, stays the answer.
+fn replaces(outcome: &Outcome, kept: &Outcome) -> bool {
+    outcome.meets_goals && (!kept.meets_goals || outcome.value < kept.value)
 }
 
 /// When no candidate meets every goal, optimizes random starts ([`RESCUE_STARTS`] per capsule
 /// count with a movable capsule, only the count `wanted` when one is asked for, the pinned
 /// capsules of `seeds` kept) round by round, at most [`RESCUE_ROUNDS`] rounds, stopping after the
-/// first round in which some design meets every goal; each count's candidate is replaced by any
-/// of its random starts' outcomes the judge prefers. `starting` hears each round (from 1) and
+/// first round in which some design meets every goal; a count's candidate is replaced by the
+/// best of its random starts' outcomes that meet every goal, if any. `starting` hears each round (from 1) and
 /// its number of starts as it starts. Deterministic for a given `seed`: a round's starts are
 /// drawn before they are solved side by side. Returns the random starts solved.
 pub fn rescue(
@@ -93,7 +94,7 @@ pub fn rescue(
         solved += drawn.len();
         for ((index, start), outcome) in drawn.into_iter().zip(outcomes.into_iter().flatten()) {
             let candidate = &mut candidates[index];
-            if preferred(&outcome, &candidate.outcome) {
+            if replaces(&outcome, &candidate.outcome) {
                 *candidate = Candidate {
                     capsules: candidate.capsules,
                     outcome,
