@@ -86,6 +86,16 @@ fn a_goal_edit_reuses_the_precomputation_and_starts_from_the_last_design() {
             "{solves:?}"
         );
     }
+    // A round's solves are numbered 1 to the count it says it runs, none left out.
+    for round in solves.iter().map(|at| at.round) {
+        let numbers: Vec<usize> = solves
+            .iter()
+            .filter(|at| at.round == round)
+            .map(|at| at.solve)
+            .collect();
+        let said = solves.iter().find(|at| at.round == round).unwrap().solves;
+        assert_eq!(numbers, (1..=said).collect::<Vec<_>>(), "{solves:?}");
+    }
     let rounds: Vec<usize> = solves
         .iter()
         .filter(|at| at.solve == 1)

@@ -38,7 +38,7 @@ pub struct Round {
     /// The solve starting, from 1.
     pub solve: usize,
     /// The solves this round runs: from the seeds, from the previous round's result, and with one
-    /// movable capsule left from each seed alone.
+    /// movable capsule left from each other seed alone.
     pub solves: usize,
 }
 
@@ -75,7 +75,6 @@ pub fn run(
     }
     // The survivors of the previous round where that round's solve left them.
     let mut survivors_left: Option<Vec<StartCapsule>> = None;
-    let alone_seeds = seeds.iter().filter(|s| !s.pinned).count();
     // Each round's refinement (the judge's corrections, stock balls, the exact check) needs
     // only that round's solve, and the next round only the solve too: the refinements run
     // beside the rounds that follow, at most one per core at a time (the next round waits for
@@ -100,10 +99,10 @@ pub fn run(
             let warm = survivors_left
                 .take()
                 .filter(|survivors| *survivors != current);
-            let solves = 1 + usize::from(warm.is_some()) + if one_left { alone_seeds } else { 0 };
             // The round's solves are independent of each other: they run side by side on every
             // core, and are compared in the order of `starts`.
             let starts = round_starts(&current, warm.as_ref(), seeds, one_left);
+            let solves = starts.len();
             for start in &starts {
                 starting(Round {
                     round,
@@ -234,7 +233,8 @@ struct RoundStart {
 /// The starts of one round's solves, in the order they are compared: from `current` (the
 /// round's capsules at their seeds), from where the last round left the survivors (`warm`), and
 /// with one movable capsule left (`one_left`), from each unpinned seed alone beside the pinned
-/// capsules. An alone start the same as `current` is left out, its number unused.
+/// capsules. An alone start the same as `current` is left out; the starts are numbered from 1
+/// in that order.
 fn round_starts(
     current: &[StartCapsule],
     warm: Option<&Vec<StartCapsule>>,
@@ -251,13 +251,12 @@ fn round_starts(
         starts.push(start(2, warm.clone(), false));
     }
     if one_left {
-        let first = starts.len();
         let pinned: Vec<StartCapsule> = current.iter().filter(|c| c.pinned).cloned().collect();
-        for (index, alone) in seeds.iter().filter(|s| !s.pinned).enumerate() {
+        for alone in seeds.iter().filter(|s| !s.pinned) {
             let mut capsules = pinned.clone();
             capsules.push(alone.clone());
             if capsules != current {
-                starts.push(start(first + index + 1, capsules, true));
+                starts.push(start(starts.len() + 1, capsules, true));
             }
         }
     }
@@ -485,8 +484,8 @@ mod tests {
         let warm = vec![capsule(0.0, true), capsule(1.5, false)];
         let starts = round_starts(&current, Some(&warm), &seeds, true);
         let numbers: Vec<usize> = starts.iter().map(|s| s.solve).collect();
-        // The first seed alone is the current start: left out, its number 3 unused.
-        assert_eq!(numbers, vec![1, 2, 4]);
+        // The first seed alone is the current start: left out.
+        assert_eq!(numbers, vec![1, 2, 3]);
         assert_eq!(
             starts[2].capsules,
             vec![capsule(0.0, true), capsule(2.0, false)]
