@@ -52,7 +52,7 @@ pub fn optimization(
     if optimization.rescue_starts > 0 {
         let _ = writeln!(
             out,
-            "  no count met every goal from the seeds: {} random start{} tried, each count keeping the best",
+            "  no count met every goal from the seeds: {} random start{} tried, kept only where one met them all",
             optimization.rescue_starts,
             plural(optimization.rescue_starts),
         );
