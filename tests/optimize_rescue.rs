@@ -3,59 +3,35 @@
 //! from almost any start, a heuristic that failed is simulated by marking its candidates as
 //! missing their goals.
 
-use std::path::Path;
+mod optimize_support;
 
-use ballast::compile::{self, compile_with, print_setup, CompileOptions, Workspace};
-use ballast::optimize::{
-    rescue, run_heuristic, Candidate, Method, Origin, Problem, RESCUE_ROUNDS, RESCUE_STARTS,
-};
+use ballast::optimize::{rescue, run_heuristic, Candidate, Origin, RESCUE_ROUNDS, RESCUE_STARTS};
+use optimize_support::with_example_problem;
 
-/// The cylinder's candidates from the heuristic, then `check` run with its problem, interior and
-/// seeds.
+/// The cylinder's candidates from the heuristic, then `check` run with them and a rescue of
+/// candidates over its problem, interior and seeds.
 fn with_cylinder(check: impl FnOnce(&mut Vec<Candidate>, &dyn Fn(&mut Vec<Candidate>) -> usize)) {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/sheared_cylinder.kdl");
-    let source = std::fs::read_to_string(&path).expect("the cylinder's project file");
-    let compiled = compile_with(
-        &source,
-        &path,
-        &CompileOptions::default(),
-        &mut Workspace::new(),
-    )
-    .expect("the cylinder compiles");
-    let project = &compiled.project;
-    let settings = project.optimize.as_ref().expect("an optimize node");
-    let print = print_setup(project, &compiled.orientations);
-    let prepared = compile::prepare(
-        project,
-        settings,
-        &compiled.meshes,
-        &print,
-        &mut Workspace::new(),
-        None,
-    )
-    .expect("nothing cancels");
-    let prints = compiled.part_prints();
-    let problem = Problem::new(
-        project,
-        &compiled.meshes,
-        &prints,
-        print,
-        prepared.interior.clone(),
-        Method::Hybrid,
-    );
-    let mut candidates = run_heuristic(&problem, &prepared.seeds, None, &|_| {});
-    let rescued = |candidates: &mut Vec<Candidate>| {
-        rescue(
-            &problem,
-            prepared.interior.as_ref(),
-            &prepared.seeds,
-            candidates,
-            None,
-            settings.seed,
-            &|_, _| {},
-        )
-    };
-    check(&mut candidates, &rescued);
+    with_example_problem("sheared_cylinder", |problem, prepared| {
+        let seed = problem
+            .project()
+            .optimize
+            .as_ref()
+            .expect("an optimize node")
+            .seed;
+        let mut candidates = run_heuristic(problem, &prepared.seeds, None, &|_| {});
+        let rescued = |candidates: &mut Vec<Candidate>| {
+            rescue(
+                problem,
+                prepared.interior.as_ref(),
+                &prepared.seeds,
+                candidates,
+                None,
+                seed,
+                &|_, _| {},
+            )
+        };
+        check(&mut candidates, &rescued);
+    });
 }
 
 /// `candidates` as if the heuristic had found nothing meeting a goal: each marked as missing,

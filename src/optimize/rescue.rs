@@ -36,9 +36,10 @@ fn replaces(outcome: &Outcome, kept: &Outcome) -> bool {
 /// count with a movable capsule, only the count `wanted` when one is asked for, the pinned
 /// capsules of `seeds` kept) round by round, at most [`RESCUE_ROUNDS`] rounds, stopping after the
 /// first round in which some design meets every goal; a count's candidate is replaced by the
-/// best of its random starts' outcomes that meet every goal, if any. `starting` hears each round (from 1) and
-/// its number of starts as it starts. Deterministic for a given `seed`: a round's starts are
-/// drawn before they are solved side by side. Returns the random starts solved.
+/// best of its random starts' outcomes that meet every goal, if any. `starting` hears each
+/// round (from 1) and its number of starts as it starts. Deterministic for a given `seed`: a
+/// round's starts are drawn before they are solved side by side. Returns the random starts
+/// solved.
 pub fn rescue(
     problem: &Problem,
     interior: &dyn InteriorDistance,
