@@ -10,7 +10,9 @@ use optimize_support::with_example_problem;
 
 /// The cylinder's candidates from the heuristic, then `check` run with them and a rescue of
 /// candidates over its problem, interior and seeds.
-fn with_cylinder(check: impl FnOnce(&mut Vec<Candidate>, &dyn Fn(&mut Vec<Candidate>) -> usize)) {
+fn with_cylinder(
+    check: impl FnOnce(&mut Vec<Candidate>, &dyn Fn(&mut Vec<Candidate>, Option<usize>) -> usize),
+) {
     with_example_problem("sheared_cylinder", |problem, prepared| {
         let seed = problem
             .project()
@@ -19,13 +21,13 @@ fn with_cylinder(check: impl FnOnce(&mut Vec<Candidate>, &dyn Fn(&mut Vec<Candid
             .expect("an optimize node")
             .seed;
         let mut candidates = run_heuristic(problem, &prepared.seeds, None, &|_| {});
-        let rescued = |candidates: &mut Vec<Candidate>| {
+        let rescued = |candidates: &mut Vec<Candidate>, wanted: Option<usize>| {
             rescue(
                 problem,
                 prepared.interior.as_ref(),
                 &prepared.seeds,
                 candidates,
-                None,
+                wanted,
                 seed,
                 &|_, _| {},
             )
@@ -53,7 +55,7 @@ fn a_search_that_met_its_goals_is_left_alone() {
     with_cylinder(|candidates, rescued| {
         assert!(candidates.iter().any(|c| c.outcome.meets_goals));
         let before: Vec<f64> = candidates.iter().map(|c| c.outcome.value).collect();
-        assert_eq!(rescued(candidates), 0);
+        assert_eq!(rescued(candidates, None), 0);
         let after: Vec<f64> = candidates.iter().map(|c| c.outcome.value).collect();
         assert_eq!(before, after);
     });
@@ -66,7 +68,7 @@ fn random_starts_replace_a_count_that_missed_and_stop_once_one_meets_every_goal(
         assert_eq!(counts, vec![1, 0], "the cylinder's counts");
         let mut first = failed(candidates);
         // One count with a capsule to move: one round of its random starts.
-        let solved = rescued(&mut first);
+        let solved = rescued(&mut first, None);
         assert!(
             solved == RESCUE_STARTS,
             "{solved} random starts, one round is {RESCUE_STARTS} (at most {RESCUE_ROUNDS} rounds)"
@@ -79,7 +81,7 @@ fn random_starts_replace_a_count_that_missed_and_stop_once_one_meets_every_goal(
         assert!(!first[1].outcome.meets_goals);
         // The same seed, the same design, bit for bit.
         let mut second = failed(candidates);
-        rescued(&mut second);
+        rescued(&mut second, None);
         let ends = |c: &Candidate| -> Vec<[f64; 7]> {
             c.outcome
                 .design
@@ -97,5 +99,19 @@ fn random_starts_replace_a_count_that_missed_and_stop_once_one_meets_every_goal(
             first[0].outcome.design.infill,
             second[0].outcome.design.infill
         );
+    });
+}
+
+#[test]
+fn with_a_count_asked_for_only_that_count_decides_whether_to_rescue() {
+    with_cylinder(|candidates, rescued| {
+        // The one-capsule count missed; the count without capsules is marked as meeting every
+        // goal. Asked for no particular count, a design meeting every goal exists: nothing to do.
+        let mut some_met = failed(candidates);
+        some_met[1].outcome.meets_goals = true;
+        assert_eq!(rescued(&mut some_met.clone(), None), 0);
+        // Asked for one capsule, that count's miss is what counts: its random starts are solved.
+        assert_eq!(rescued(&mut some_met, Some(1)), RESCUE_STARTS);
+        assert!(some_met[0].outcome.meets_goals);
     });
 }

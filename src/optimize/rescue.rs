@@ -32,10 +32,11 @@ fn replaces(outcome: &Outcome, kept: &Outcome) -> bool {
     outcome.meets_goals && (!kept.meets_goals || outcome.value < kept.value)
 }
 
-/// When no candidate meets every goal, optimizes random starts ([`RESCUE_STARTS`] per capsule
+/// When no candidate the answer may be taken from (every count, or only `wanted` when a count
+/// is asked for) meets every goal, optimizes random starts ([`RESCUE_STARTS`] per capsule
 /// count with a movable capsule, only the count `wanted` when one is asked for, the pinned
 /// capsules of `seeds` kept) round by round, at most [`RESCUE_ROUNDS`] rounds, stopping after the
-/// first round in which some design meets every goal; a count's candidate is replaced by the
+/// first round in which one of those counts meets every goal; a count's candidate is replaced by the
 /// best of its random starts' outcomes that meet every goal, if any. `starting` hears each
 /// round (from 1) and its number of starts as it starts. Deterministic for a given `seed`: a
 /// round's starts are drawn before they are solved side by side. Returns the random starts
@@ -50,11 +51,13 @@ pub fn rescue(
     starting: &dyn Fn(usize, usize),
 ) -> usize {
     let pinned: Vec<StartCapsule> = seeds.iter().filter(|s| s.pinned).cloned().collect();
-    // Each count tried with a movable capsule, with its own generator.
+    // The counts the answer may be taken from: with a count asked for, only that one.
+    let eligible = |c: &Candidate| wanted.is_none_or(|n| n == c.capsules);
+    // Each such count with a movable capsule, with its own generator.
     let mut counts: Vec<(usize, usize, SplitMix64)> = candidates
         .iter()
         .enumerate()
-        .filter(|(_, c)| wanted.is_none_or(|n| n == c.capsules))
+        .filter(|(_, c)| eligible(c))
         .filter_map(|(index, c)| {
             let free = c.capsules.checked_sub(pinned.len()).filter(|&f| f > 0)?;
             let stream = seed ^ STREAM ^ (c.capsules as u64).wrapping_mul(0x9e37_79b9);
@@ -65,7 +68,9 @@ pub fn rescue(
     for round in 1..=RESCUE_ROUNDS {
         if counts.is_empty()
             || problem.is_cancelled()
-            || candidates.iter().any(|c| c.outcome.meets_goals)
+            || candidates
+                .iter()
+                .any(|c| eligible(c) && c.outcome.meets_goals)
         {
             break;
         }
