@@ -1676,6 +1676,64 @@ unsafe fn ldp_(
         }
     }
 }
+/// ballast: `lsi_`'s reduction of the inequality constraints, `G := G E⁻¹` (forward
+/// substitution along each row of `G`, `E` upper triangular with every pivot large enough) and
+/// `h := h − G f`, for the rows `1..=mg` (one-based, the arrays offset as in `lsi_`), where LSI
+/// took one row at a time with `ddot_sl__`. Four rows are reduced side by side, each by the same
+/// operations in the same order, so every entry is the same bits.
+#[allow(clippy::too_many_arguments)]
+unsafe fn lsi_rows_(
+    g: *mut ::core::ffi::c_double,
+    g_dim1: ::core::ffi::c_int,
+    lg: ::core::ffi::c_int,
+    e: *const ::core::ffi::c_double,
+    e_dim1: ::core::ffi::c_int,
+    f: *const ::core::ffi::c_double,
+    h: *mut ::core::ffi::c_double,
+    mg: ::core::ffi::c_int,
+    n: ::core::ffi::c_int,
+) { unsafe {
+    // Entry k (one-based) of row i of G, as `ddot_sl__` walked it.
+    let at = |i: ::core::ffi::c_int, k: ::core::ffi::c_int| {
+        g.offset((i + g_dim1) as isize + ((k - 1) * lg) as isize)
+    };
+    let mut i = 1;
+    while i <= mg {
+        let rows = if i + 3 <= mg { 4 } else { 1 };
+        for j in 1..=n {
+            let column = e.offset((j * e_dim1 + 1) as isize);
+            let pivot = *e.offset((j + j * e_dim1) as isize);
+            if rows == 4 {
+                let (mut s0, mut s1, mut s2, mut s3) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+                for k in 1..j {
+                    let ek = *column.offset((k - 1) as isize);
+                    s0 += *at(i, k) * ek;
+                    s1 += *at(i + 1, k) * ek;
+                    s2 += *at(i + 2, k) * ek;
+                    s3 += *at(i + 3, k) * ek;
+                }
+                *at(i, j) = (*at(i, j) - s0) / pivot;
+                *at(i + 1, j) = (*at(i + 1, j) - s1) / pivot;
+                *at(i + 2, j) = (*at(i + 2, j) - s2) / pivot;
+                *at(i + 3, j) = (*at(i + 3, j) - s3) / pivot;
+            } else {
+                let mut s = 0.0f64;
+                for k in 1..j {
+                    s += *at(i, k) * *column.offset((k - 1) as isize);
+                }
+                *at(i, j) = (*at(i, j) - s) / pivot;
+            }
+        }
+        for r in i..i + rows {
+            let mut s = 0.0f64;
+            for k in 1..=n {
+                s += *at(r, k) * *f.offset(k as isize);
+            }
+            *h.offset(r as isize) -= s;
+        }
+        i += rows;
+    }
+}}
 unsafe fn lsi_(
     mut e: *mut ::core::ffi::c_double,
     mut f: *mut ::core::ffi::c_double,
@@ -1756,6 +1814,12 @@ unsafe fn lsi_(
         i__ += 1;
     }
     *mode = 5 as ::core::ffi::c_int;
+    // ballast: with every pivot large enough, four rows at a time (see `lsi_rows_`); otherwise
+    // row by row, as before, to the pivot that stops it.
+    if *mg >= 1 && (1..=*n).all(|j| !((*e.offset((j + j * e_dim1) as isize)).abs() < epmach)) {
+        lsi_rows_(g, g_dim1, *lg, e, e_dim1, f, h__, *mg, *n);
+        current_block = 11057878835866523405;
+    } else {
     i__2 = *mg;
     i__ = 1 as ::core::ffi::c_int;
     's_92: loop {
@@ -1792,6 +1856,7 @@ unsafe fn lsi_(
             1 as ::core::ffi::c_int,
         );
         i__ += 1;
+    }
     }
     match current_block {
         11057878835866523405 => {
