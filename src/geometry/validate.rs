@@ -1,7 +1,5 @@
 //! Checks that a triangle mesh bounds a printable solid.
 
-use std::collections::HashMap;
-
 use nalgebra::Point3;
 
 use super::mass::{self, MassProperties};
@@ -100,8 +98,9 @@ const DEGENERATE_RATIO: f64 = 1e-12;
 pub fn check_mesh(mesh: &TriMesh) -> MeshCheck {
     let n = mesh.positions.len();
     let mut degenerate_triangles = Vec::new();
-    // Per undirected edge (min, max): uses in direction min→max and max→min.
-    let mut edges: HashMap<[u32; 2], [u32; 2]> = HashMap::with_capacity(mesh.triangles.len() * 2);
+    // Every use of an undirected edge (min, max), and whether it runs max→min; sorted below so
+    // that each edge's uses lie together.
+    let mut uses: Vec<(u64, bool)> = Vec::with_capacity(mesh.triangles.len() * 3);
     let mut valid = Vec::with_capacity(mesh.triangles.len());
     for (i, t @ &[a, b, c]) in mesh.triangles.iter().enumerate() {
         let in_range = t.iter().all(|&v| (v as usize) < n);
@@ -120,8 +119,7 @@ pub fn check_mesh(mesh: &TriMesh) -> MeshCheck {
             degenerate_triangles.push(i as u32);
         }
         for (u, v) in [(a, b), (b, c), (c, a)] {
-            let uses = edges.entry([u.min(v), u.max(v)]).or_default();
-            uses[usize::from(u > v)] += 1;
+            uses.push(((u64::from(u.min(v)) << 32) | u64::from(u.max(v)), u > v));
         }
     }
 
@@ -134,7 +132,11 @@ pub fn check_mesh(mesh: &TriMesh) -> MeshCheck {
         .volume,
         ..MeshCheck::default()
     };
-    for (edge, [forward, backward]) in edges {
+    uses.sort_unstable();
+    for run in uses.chunk_by(|a, b| a.0 == b.0) {
+        let edge = [(run[0].0 >> 32) as u32, run[0].0 as u32];
+        let backward = run.iter().filter(|&&(_, backward)| backward).count();
+        let forward = run.len() - backward;
         match forward + backward {
             1 => check.boundary_edges.push(edge),
             2 if forward != 1 => check.misoriented_edges.push(edge),
