@@ -294,9 +294,14 @@ impl Layers {
             .into_iter()
             .unzip()
         };
+        // Integer tallies: the layers are counted on every core and summed in any order.
         let mut totals = Totals::default();
-        for (k, class) in classes.iter().enumerate() {
-            totals.add_layer(&layout, k, class);
+        for layer in map_each(layout.layers, |k| {
+            let mut layer = Totals::default();
+            layer.add_layer(&layout, k, &classes[k]);
+            layer
+        }) {
+            totals += layer;
         }
         Layers {
             layout,
