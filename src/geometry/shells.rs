@@ -150,38 +150,36 @@ fn crossings(
         // Every pair within the budget: the cells are independent, looked at on every core.
         *budget -= pairs;
         let found = map_nodes(runs.len(), |r| {
-            let run = runs[r];
-            let mut found = Vec::new();
-            for (x, &(key, s)) in run.iter().enumerate() {
-                for &(_, t) in &run[x + 1..] {
-                    if cross_in(key, s, t) {
-                        found.push([s.min(t), s.max(t)]);
-                    }
-                }
-            }
-            found
+            pairs_in(runs[r])
+                .filter(|&(key, s, t)| cross_in(key, s, t))
+                .map(|(_, s, t)| [s.min(t), s.max(t)])
+                .collect::<Vec<_>>()
         });
         out.extend(found.into_iter().flatten());
         out.sort_unstable();
         return true;
     }
     let mut complete = true;
-    for run in runs {
-        for (x, &(key, s)) in run.iter().enumerate() {
-            for &(_, t) in &run[x + 1..] {
-                if *budget == 0 {
-                    complete = false;
-                    break;
-                }
-                *budget -= 1;
-                if cross_in(key, s, t) {
-                    out.push([s.min(t), s.max(t)]);
-                }
-            }
+    for (key, s, t) in runs.into_iter().flat_map(pairs_in) {
+        if *budget == 0 {
+            complete = false;
+            break;
+        }
+        *budget -= 1;
+        if cross_in(key, s, t) {
+            out.push([s.min(t), s.max(t)]);
         }
     }
     out.sort_unstable();
     complete
+}
+
+/// Every pair of triangles in one cell's run of grid entries, with the cell: `(cell, s, t)`, `s`
+/// before `t` in the run.
+fn pairs_in(run: &[([i32; 3], u32)]) -> impl Iterator<Item = ([i32; 3], u32, u32)> + '_ {
+    run.iter()
+        .enumerate()
+        .flat_map(move |(x, &(key, s))| run[x + 1..].iter().map(move |&(_, t)| (key, s, t)))
 }
 
 /// A cell edge for which the boxes cover about [`CELLS_PER_TRIANGLE`] cells each: from the largest
@@ -359,6 +357,7 @@ fn shell_volume(mesh: &TriMesh, triangles: &[usize]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::random::SplitMix64;
 
     fn tri(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> [Point3<f64>; 3] {
         [a.into(), b.into(), c.into()]
@@ -384,13 +383,8 @@ mod tests {
 
     /// 400 triangles of random sizes scattered in a 10 mm box (a fixed generator).
     fn scattered_triangles() -> TriMesh {
-        let mut state = 0x2545_f491_4f6c_dd1d_u64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut random = SplitMix64::new(0x2545_f491_4f6c_dd1d);
+        let mut next = || random.unit();
         let mut mesh = TriMesh {
             positions: Vec::new(),
             triangles: Vec::new(),
