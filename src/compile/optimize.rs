@@ -16,7 +16,7 @@ use crate::geometry::{DistanceGrid, Skeleton, TriMesh};
 use crate::objective::{GridInterior, Parameters};
 pub use crate::optimize::length_decimals;
 use crate::optimize::{
-    choose, content_hash, default_cell, explain_conflicts, grid_scale, has_room, rank,
+    backfill, choose, content_hash, default_cell, explain_conflicts, grid_scale, has_room, rank,
     repair_seeds, rescue, run_heuristic, skeleton_seeds, smallest_capsule_radius, Candidate,
     ConflictSpace, GoalRef, GridKey, Method, Origin, Outcome, Problem, Rules, SeedRepair, SeedSite,
     StartCapsule,
@@ -315,6 +315,13 @@ fn optimize_from(
     } else {
         0
     };
+    // A count that misses a goal where fewer capsules meet every goal starts again from those
+    // (not from a warm start, as the rescue; not when one count is asked for).
+    if requested.is_none() && warm.is_none() && !problem.is_cancelled() {
+        backfill(&problem, &mut candidates, &|solves| {
+            workspace.report(Stage::Backfill { solves })
+        });
+    }
     let chosen = choose(&candidates, requested, settings.tolerance_degrees);
     // The chosen design with a smaller stock ball tried when it has one movable capsule (one
     // more judged design), unless the search was interrupted.

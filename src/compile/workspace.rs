@@ -106,6 +106,12 @@ pub enum Stage {
         /// Random starts in the round.
         starts: usize,
     },
+    /// Capsule counts that missed a goal, solved again from a smaller count's design that meets
+    /// every goal.
+    Backfill {
+        /// Counts solved again.
+        solves: usize,
+    },
     /// Random starts to rank the heuristic's result (`--exhaustive`).
     Exhaustive {
         /// Random starts per capsule count.
@@ -141,6 +147,11 @@ impl std::fmt::Display for Stage {
             Stage::Rescue { round, starts } => write!(
                 f,
                 "no capsule count met every goal: round {round} of at most {RESCUE_ROUNDS} of random starts ({starts} starts)"
+            ),
+            Stage::Backfill { solves } => write!(
+                f,
+                "solving {solves} capsule count{} again from fewer capsules that meet every goal",
+                if *solves == 1 { "" } else { "s" }
             ),
             Stage::Exhaustive { starts } => {
                 write!(

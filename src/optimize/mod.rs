@@ -1,6 +1,7 @@
 //! The optimizer: chooses the capsules (count, ends, radii) and the infill that meet a project's
 //! goals with the largest margin (paper section 4).
 
+mod backfill;
 mod bounds;
 mod cache;
 mod conflicts;
@@ -18,6 +19,7 @@ mod stock;
 #[cfg(test)]
 mod test_meshes;
 
+pub use backfill::backfill;
 pub use bounds::design_bounds;
 pub use cache::{Built, GridKey, PrecomputeCache};
 pub use conflicts::{

@@ -231,6 +231,22 @@ impl<'a> Problem<'a> {
     /// `from` is the higher end along its component's print direction: the insertion constraint
     /// wants `to` on top.
     pub fn explore(&self, start: &[StartCapsule]) -> Explored {
+        self.explore_within(start, |layout| self.budget(layout))
+    }
+
+    /// Optimizes from `start`, a design already solved with capsules added to it, and judges the
+    /// result: as [`Problem::optimize`], with the hybrid's COBYLA pass only where SLSQP ends
+    /// outside the constraints ([`Problem::near_budget`]).
+    pub fn optimize_near(&self, start: &[StartCapsule]) -> Outcome {
+        self.refine(&self.explore_within(start, |layout| self.near_budget(layout)))
+    }
+
+    /// [`Problem::explore`] with the stops `budget` gives a layout.
+    fn explore_within(
+        &self,
+        start: &[StartCapsule],
+        budget: impl Fn(&DesignLayout) -> Budget,
+    ) -> Explored {
         let start: Vec<StartCapsule> = start.iter().map(|c| self.upright(c)).collect();
         let design = self.start_design(&start);
         let layout = DesignLayout::for_design(self.project, &design);
@@ -245,7 +261,7 @@ impl<'a> Problem<'a> {
                 }
             }
         }
-        let solved = solve(&objective, &x0, &bounds, self.method, self.budget(&layout));
+        let solved = solve(&objective, &x0, &bounds, self.method, budget(&layout));
         let design = layout.to_design(&solved.x, &self.project.ball, self.project.infill.value);
         Explored {
             start,

@@ -1,0 +1,200 @@
+//! More capsules start from fewer: a capsule count whose design misses a goal, where a smaller
+//! count's design meets every goal, is solved again from that design with the capsules it lacks
+//! added small.
+//!
+//! The heuristic's rounds go from many capsules to few, and a round's solves start from the
+//! seeds: where those starts lead nowhere (the fish's five and three capsules ended 94° and 86°
+//! off its goal while its two met it), the larger count's candidate says nothing of what that
+//! many capsules can do. A design with more capsules can do at least what one with fewer does,
+//! its extra capsules at the smallest radius carrying almost no mass; solved from there, the
+//! larger count starts where the smaller one meets every goal.
+
+use std::time::Instant;
+
+use super::heuristic::Candidate;
+use super::problem::{Outcome, Problem, StartCapsule};
+use crate::parallel::map_each;
+
+/// Whether `outcome` is a better design for its count than `kept`: it meets every goal where
+/// `kept` does not, or as many goals met, it has the lower objective.
+fn replaces(outcome: &Outcome, kept: &Outcome) -> bool {
+    (outcome.meets_goals, -outcome.value) > (kept.meets_goals, -kept.value)
+}
+
+/// The start of count `larger` from the design of count `smaller`: `smaller`'s capsules where
+/// its design has them (pinned, named and of the origin its starts say), then each capsule of
+/// `larger`'s starts that `smaller`'s starts do not hold (by component, origin and name) at
+/// its start's axis with the radius `radius`. `None` when that is not `larger`'s count of
+/// capsules (the two counts' starts are not one set and a part of it).
+fn start_from(larger: &Candidate, smaller: &Candidate, radius: f64) -> Option<Vec<StartCapsule>> {
+    let design = &smaller.outcome.design;
+    if design.capsules.len() != smaller.starts.len() {
+        return None;
+    }
+    let same = |a: &StartCapsule, b: &StartCapsule| {
+        a.component == b.component && a.origin == b.origin && a.name == b.name
+    };
+    let mut start: Vec<StartCapsule> = smaller
+        .starts
+        .iter()
+        .zip(&design.capsules)
+        .map(|(started, placed)| StartCapsule {
+            from: placed.from,
+            to: placed.to,
+            radius: placed.radius,
+            ..started.clone()
+        })
+        .collect();
+    let mut held = vec![false; smaller.starts.len()];
+    for capsule in &larger.starts {
+        let matched = smaller
+            .starts
+            .iter()
+            .enumerate()
+            .find(|&(i, s)| !held[i] && same(s, capsule));
+        match matched {
+            Some((i, _)) => held[i] = true,
+            None => start.push(StartCapsule {
+                radius: if capsule.pinned {
+                    capsule.radius
+                } else {
+                    radius
+                },
+                ..capsule.clone()
+            }),
+        }
+    }
+    (start.len() == larger.capsules).then_some(start)
+}
+
+/// Solves again each candidate that misses a goal where a candidate with fewer capsules meets
+/// every goal, from the nearest such smaller count's design ([`start_from`], the added capsules
+/// at the smallest radius the smooth program allows), and replaces the candidate with the outcome when that is better
+/// ([`replaces`]). The solves run side by side; deterministic. `starting` hears how many there
+/// are before they start. Returns the solves run.
+pub fn backfill(
+    problem: &Problem,
+    candidates: &mut [Candidate],
+    starting: &dyn Fn(usize),
+) -> usize {
+    let radius = problem.parameters().min_radius;
+    let starts: Vec<(usize, Vec<StartCapsule>)> = (0..candidates.len())
+        .filter(|&k| !candidates[k].outcome.meets_goals)
+        .filter_map(|k| {
+            let larger = &candidates[k];
+            let smaller = candidates
+                .iter()
+                .filter(|c| c.capsules < larger.capsules && c.outcome.meets_goals)
+                .max_by_key(|c| c.capsules)?;
+            Some((k, start_from(larger, smaller, radius)?))
+        })
+        .collect();
+    if starts.is_empty() || problem.is_cancelled() {
+        return 0;
+    }
+    starting(starts.len());
+    let clock = Instant::now();
+    let outcomes = map_each(starts.len(), |i| {
+        (!problem.is_cancelled()).then(|| problem.optimize_near(&starts[i].1))
+    });
+    // Solves the cancellation reached mean nothing.
+    if problem.is_cancelled() {
+        return 0;
+    }
+    let seconds = clock.elapsed().as_secs_f64();
+    for ((k, start), outcome) in starts.iter().zip(outcomes.into_iter().flatten()) {
+        let candidate = &mut candidates[*k];
+        if replaces(&outcome, &candidate.outcome) {
+            *candidate = Candidate {
+                capsules: candidate.capsules,
+                outcome,
+                starts: start.clone(),
+                seconds,
+            };
+        }
+    }
+    starts.len()
+}
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::Point3;
+
+    use super::*;
+    use crate::design::{Design, PlacedCapsule};
+    use crate::optimize::Origin;
+
+    fn seed(site: usize, x: f64) -> StartCapsule {
+        StartCapsule {
+            component: 0,
+            from: Point3::new(x, 0.0, 0.0),
+            to: Point3::new(x, 0.0, 8.0),
+            radius: 2.0,
+            pinned: false,
+            name: None,
+            origin: Origin::Skeleton(site),
+        }
+    }
+
+    fn candidate(starts: Vec<StartCapsule>, value: f64, meets_goals: bool) -> Candidate {
+        let capsules = starts
+            .iter()
+            .map(|s| PlacedCapsule {
+                name: String::new(),
+                component: s.component,
+                from: s.from + nalgebra::Vector3::new(0.5, 0.0, 0.0),
+                to: s.to,
+                radius: 3.0,
+                ball_radius: 2.5,
+            })
+            .collect();
+        Candidate {
+            capsules: starts.len(),
+            outcome: Outcome {
+                design: Design {
+                    capsules,
+                    infill: 1.0,
+                },
+                value,
+                feasible: true,
+                meets_goals,
+                worst_tilt_margin: None,
+                poses: Vec::new(),
+                fabrication: Vec::new(),
+                evaluations: 0,
+            },
+            starts,
+            seconds: 0.0,
+        }
+    }
+
+    #[test]
+    fn a_larger_count_starts_from_the_smaller_design_and_its_missing_seeds_made_small() {
+        let larger = candidate(vec![seed(0, 0.0), seed(1, 10.0), seed(2, 20.0)], 1.5, false);
+        let smaller = candidate(vec![seed(2, 20.0)], -0.1, true);
+        let start = start_from(&larger, &smaller, 0.25).expect("one set and a part of it");
+        assert_eq!(start.len(), 3);
+        // The smaller design's capsule where its design has it, origin kept.
+        assert_eq!(start[0].origin, Origin::Skeleton(2));
+        assert_eq!(start[0].from, Point3::new(20.5, 0.0, 0.0));
+        assert_eq!(start[0].radius, 3.0);
+        // The seeds it lacks, on their own axes, at the small radius.
+        assert_eq!(start[1].origin, Origin::Skeleton(0));
+        assert_eq!(start[2].origin, Origin::Skeleton(1));
+        assert_eq!(start[2].from, Point3::new(10.0, 0.0, 0.0));
+        assert!(start[1..].iter().all(|c| c.radius == 0.25));
+        // Counts whose starts are not one set and a part of it give no start.
+        let other = candidate(vec![seed(5, 0.0), seed(6, 5.0)], -0.2, true);
+        assert!(start_from(&larger, &other, 0.25).is_none());
+    }
+
+    #[test]
+    fn a_design_meeting_every_goal_or_lower_replaces_one_that_misses() {
+        let outcome = |value, meets| candidate(vec![seed(0, 0.0)], value, meets).outcome;
+        assert!(replaces(&outcome(2.0, true), &outcome(-1.0, false)));
+        assert!(!replaces(&outcome(-1.0, false), &outcome(2.0, true)));
+        assert!(replaces(&outcome(-1.0, true), &outcome(-0.5, true)));
+        assert!(replaces(&outcome(30.0, false), &outcome(60.0, false)));
+        assert!(!replaces(&outcome(60.0, false), &outcome(60.0, false)));
+    }
+}
