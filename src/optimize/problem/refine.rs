@@ -105,8 +105,8 @@ impl<'a> Problem<'a> {
         // The closed-form capsule term is the smooth stand-in for the material the judge weighs:
         // solve again with it corrected, snap the radii to stock balls, and settle the
         // correction with the radii fixed (a stock radius changes the material it was taken at).
-        let (solved, objective, hopeless) = self.corrected(layout, start, bounds, solved.clone());
-        let (snapped, fixed) = self.snapped(&objective, layout, bounds, start, solved, !hopeless);
+        let (solved, objective) = self.corrected(layout, start, bounds, solved.clone());
+        let (snapped, fixed) = self.snapped(&objective, layout, bounds, start, solved);
         let settled = self.settled(
             layout,
             start,
@@ -128,16 +128,14 @@ impl<'a> Problem<'a> {
     /// gain (`same_verdict`), at most [`CORRECTIONS`] times. The raster's cells make the
     /// material step as a void moves: the correction itself rarely settles (it moves by 1e-4 to
     /// 1e-3 of the volume from one solve to the next), the objective often does. Returns the
-    /// last solve, the objective it was solved with, and whether the design is hopeless: `solved`
-    /// itself, not solved again, when both its objective and the one corrected at it are above
-    /// [`HOPELESS_DEGREES`] (no correction brings such a solve within its goals).
+    /// last solve and the objective it was solved with.
     fn corrected(
         &self,
         layout: &DesignLayout,
         start: &[StartCapsule],
         bounds: &Bounds,
         solved: Solve,
-    ) -> (Solve, Objective, bool) {
+    ) -> (Solve, Objective) {
         let budget = self.near_budget(layout);
         let to_design =
             |x: &[f64]| layout.to_design(x, &self.project.ball, self.project.infill.value);
@@ -147,12 +145,6 @@ impl<'a> Problem<'a> {
         };
         let mut corrected = corrected_at(&solved.x);
         let mut objective = self.objective_over(&corrected, layout, start);
-        // The corrected objective alone does not say: the hammer's one capsule, explored at
-        // -0.35°, is 14.5° off corrected at its design and meets every goal after one correction.
-        let hopeless = HOPELESS_DEGREES.to_radians();
-        if solved.value > hopeless && objective.value(&solved.x) > hopeless {
-            return (solved, objective, true);
-        }
         let mut solved = solved;
         for correction in 1..=CORRECTIONS {
             let again = solve(&objective, &solved.x, bounds, self.method, budget.clone());
@@ -175,7 +167,7 @@ impl<'a> Problem<'a> {
                 break;
             }
         }
-        (solved, objective, false)
+        (solved, objective)
     }
 
     /// Weighs the design `solved` reached with `objective` (its radii on stock balls) as the
@@ -551,9 +543,8 @@ impl<'a> Problem<'a> {
     /// `solved` with the radius of every unpinned capsule snapped to a stock ball plus the
     /// clearance ([`snap`]; the larger ball only when it breaks no constraint the smaller keeps),
     /// then those radii fixed and everything else solved again from there; the snapped point
-    /// itself when the second solve ends at a higher objective, or without `solve_again`; with
-    /// `bounds` with those radii fixed. `solved` itself, and no bounds, when balls come in any
-    /// size.
+    /// itself when the second solve ends at a higher objective; with `bounds` with those radii
+    /// fixed. `solved` itself, and no bounds, when balls come in any size.
     fn snapped(
         &self,
         objective: &Objective,
@@ -561,7 +552,6 @@ impl<'a> Problem<'a> {
         bounds: &Bounds,
         start: &[StartCapsule],
         solved: Solve,
-        solve_again: bool,
     ) -> (Solve, Option<Bounds>) {
         let ball = &self.project.ball;
         if !ball.is_listed() || start.iter().all(|c| c.pinned) {
@@ -604,14 +594,12 @@ impl<'a> Problem<'a> {
         };
         let budget = self.near_budget(layout);
         let at_snap = solve(objective, &x, &pinned, self.method, budget.clone());
-        let again = solve_again.then(|| solve(objective, &x, &fixed, self.method, budget));
-        let evaluations = solved.evaluations
-            + at_snap.evaluations
-            + again.as_ref().map_or(0, |again| again.evaluations);
-        let best = match again {
-            Some(again) if at_snap.value < again.value => at_snap,
-            Some(again) => again,
-            None => at_snap,
+        let again = solve(objective, &x, &fixed, self.method, budget);
+        let evaluations = solved.evaluations + at_snap.evaluations + again.evaluations;
+        let best = if at_snap.value < again.value {
+            at_snap
+        } else {
+            again
         };
         (
             Solve {
