@@ -1,13 +1,13 @@
-//! More capsules start from fewer: a capsule count whose design misses a goal, where a smaller
-//! count's design meets every goal, is solved again from that design with the capsules it lacks
-//! added small.
+//! More capsules start from fewer: a capsule count whose design misses a goal, where the next
+//! smaller count's design meets every goal, is solved again from that design with the capsules
+//! it lacks added small.
 //!
 //! The heuristic's rounds go from many capsules to few, and a round's solves start from the
-//! seeds: where those starts lead nowhere (the fish's five and three capsules ended 94° and 86°
-//! off its goal while its two met it), the larger count's candidate says nothing of what that
-//! many capsules can do. A design with more capsules can do at least what one with fewer does,
-//! its extra capsules at the smallest radius carrying almost no mass; solved from there, the
-//! larger count starts where the smaller one meets every goal.
+//! seeds: where those starts lead nowhere (the fish's three capsules ended 86° off its goal
+//! while its two met it), the larger count's candidate says nothing of what that many capsules
+//! can do. A design with more capsules can do at least what one with fewer does, its extra
+//! capsules at the smallest radius carrying almost no mass; solved from there, the larger count
+//! starts where the smaller one meets every goal.
 
 use std::time::Instant;
 
@@ -67,27 +67,37 @@ fn start_from(larger: &Candidate, smaller: &Candidate, radius: f64) -> Option<Ve
     (start.len() == larger.capsules).then_some(start)
 }
 
-/// Solves again each candidate that misses a goal where a candidate with fewer capsules meets
-/// every goal, from the nearest such smaller count's design ([`start_from`], the added capsules
-/// at the smallest radius the smooth program allows), and replaces the candidate with the outcome when that is better
-/// ([`replaces`]). The solves run side by side; deterministic. `starting` hears how many there
-/// are before they start. Returns the solves run.
+/// Each candidate to solve again and the one to start it from, as indices: one that misses a goal
+/// where the candidate with the next fewer capsules meets every goal.
+fn sources(candidates: &[Candidate]) -> Vec<(usize, usize)> {
+    (0..candidates.len())
+        .filter(|&k| !candidates[k].outcome.meets_goals)
+        .filter_map(|k| {
+            let count = candidates[k].capsules;
+            let j = (0..candidates.len())
+                .filter(|&j| candidates[j].capsules < count)
+                .max_by_key(|&j| candidates[j].capsules)?;
+            candidates[j].outcome.meets_goals.then_some((k, j))
+        })
+        .collect()
+}
+
+/// Solves again each candidate that misses a goal where the candidate with the next fewer
+/// capsules meets every goal, from that design ([`start_from`], the added capsules at the
+/// smallest radius the smooth program allows), and replaces the candidate with the outcome when
+/// that is better ([`replaces`]). Only from the next count: the fish's five capsules from its
+/// two (three seeds added) missed by 58° after a judged design costing a third of its build.
+/// The solves run side by side; deterministic. `starting` hears how many there are before they
+/// start. Returns the solves run.
 pub fn backfill(
     problem: &Problem,
     candidates: &mut [Candidate],
     starting: &dyn Fn(usize),
 ) -> usize {
     let radius = problem.parameters().min_radius;
-    let starts: Vec<(usize, Vec<StartCapsule>)> = (0..candidates.len())
-        .filter(|&k| !candidates[k].outcome.meets_goals)
-        .filter_map(|k| {
-            let larger = &candidates[k];
-            let smaller = candidates
-                .iter()
-                .filter(|c| c.capsules < larger.capsules && c.outcome.meets_goals)
-                .max_by_key(|c| c.capsules)?;
-            Some((k, start_from(larger, smaller, radius)?))
-        })
+    let starts: Vec<(usize, Vec<StartCapsule>)> = sources(candidates)
+        .into_iter()
+        .filter_map(|(k, j)| Some((k, start_from(&candidates[k], &candidates[j], radius)?)))
         .collect();
     if starts.is_empty() || problem.is_cancelled() {
         return 0;
@@ -186,6 +196,25 @@ mod tests {
         // Counts whose starts are not one set and a part of it give no start.
         let other = candidate(vec![seed(5, 0.0), seed(6, 5.0)], -0.2, true);
         assert!(start_from(&larger, &other, 0.25).is_none());
+    }
+
+    #[test]
+    fn only_a_count_missing_where_the_next_fewer_meets_every_goal_is_solved_again() {
+        let count =
+            |n: usize, meets| candidate((0..n).map(|i| seed(i, i as f64)).collect(), 0.0, meets);
+        // Most capsules first, as the heuristic lists them.
+        let candidates = [
+            count(5, false),
+            count(3, false),
+            count(2, true),
+            count(1, false),
+            count(0, false),
+        ];
+        assert_eq!(sources(&candidates), vec![(1, 2)]);
+        let all_met = [count(4, true), count(2, true), count(1, true)];
+        assert!(sources(&all_met).is_empty());
+        let none_met = [count(2, false), count(1, false), count(0, false)];
+        assert!(sources(&none_met).is_empty());
     }
 
     #[test]
