@@ -315,8 +315,8 @@ fn optimize_from(
     } else {
         0
     };
-    // A count that misses a goal where fewer capsules meet every goal starts again from those
-    // (not from a warm start, as the rescue; not when one count is asked for).
+    // A count that misses a goal where the next fewer capsules meet every goal starts again from
+    // their design (not from a warm start, as the rescue; not when one count is asked for).
     if requested.is_none() && warm.is_none() && !problem.is_cancelled() {
         backfill(&problem, &mut candidates, &|solves| {
             workspace.report(Stage::Backfill { solves })

@@ -16,7 +16,7 @@ use super::problem::{Outcome, Problem, StartCapsule};
 use crate::parallel::map_each;
 
 /// Whether `outcome` is a better design for its count than `kept`: it meets every goal where
-/// `kept` does not, or as many goals met, it has the lower objective.
+/// `kept` does not, or, both meeting them or both missing, it has the lower objective.
 fn replaces(outcome: &Outcome, kept: &Outcome) -> bool {
     (outcome.meets_goals, -outcome.value) > (kept.meets_goals, -kept.value)
 }
