@@ -226,13 +226,8 @@ mod tests {
 
     #[test]
     fn the_cells_near_marked_ones_are_those_the_distance_transform_finds() {
-        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut random = crate::random::SplitMix64::new(0x9e37_79b9_7f4a_7c15);
+        let mut next = move || random.unit();
         // Reaches whose square is an integer (where `<` and `≤` part), between, tiny, huge,
         // negative (the box alone bounds the cells) and not a number.
         let reaches = [

@@ -534,13 +534,8 @@ mod tests {
         // A stepped part printed upright and tilted, with the small-region rule and the surface
         // margin on, and voids at pseudo-random places and sizes: near the floor and the
         // ceiling, across the step, close to the walls (small regions between hole and wall).
-        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut random = crate::random::SplitMix64::new(0x2545_f491_4f6c_dd1d);
+        let mut next = move || random.unit();
         let mesh = stepped();
         for to_print in [
             Rotation3::identity(),
