@@ -297,6 +297,15 @@ fn every_constraint_matches_finite_differences() {
         };
         let x = objective.layout().to_vector(&design);
         let constraints = objective.constraints(&x);
+        // The values with gradients (those of one or two capsules from dual numbers of their
+        // own unknowns, the rest from dual numbers of every unknown) are the values alone, in
+        // the same order (up to the last bits dual arithmetic rounds otherwise).
+        let alone = objective.constraint_values(&x);
+        assert_eq!(constraints.len(), alone.len(), "case {i}");
+        for (c, ((with, _), alone)) in constraints.iter().zip(&alone).enumerate() {
+            let close = (with - alone).abs() <= 1e-12 * alone.abs().max(1.0);
+            assert!(close, "case {i}, constraint {c}: {with} against {alone}");
+        }
         let values: Vec<Vec<f64>> = (0..x.len())
             .flat_map(|k| {
                 let h = 1e-6 * x[k].abs().max(1.0);

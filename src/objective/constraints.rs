@@ -88,15 +88,23 @@ pub(crate) fn insertion_constraints<D: Scalar>(
     out: &mut Vec<D>,
 ) {
     for (capsule, up) in capsules.iter().zip(&insertion.up) {
-        let Some(up) = up else {
-            continue;
-        };
-        let rise = capsule.q.sub(&capsule.p).dot_constant(up);
-        let needed = capsule.r.clone()
-            + (2.0 * insertion.layer_height + insertion.pause_clearance + insertion.slack
-                - 3.0 * insertion.clearance);
-        out.push(rise - needed);
+        if let Some(up) = up {
+            out.push(insertion_constraint(capsule, up, insertion));
+        }
     }
+}
+
+/// The insertion constraint of one capsule printed along `up` ([`insertion_constraints`]).
+pub(crate) fn insertion_constraint<D: Scalar>(
+    capsule: &CapsuleVars<D>,
+    up: &Vector3<f64>,
+    insertion: &Insertion,
+) -> D {
+    let rise = capsule.q.sub(&capsule.p).dot_constant(up);
+    let needed = capsule.r.clone()
+        + (2.0 * insertion.layer_height + insertion.pause_clearance + insertion.slack
+            - 3.0 * insertion.clearance);
+    rise - needed
 }
 
 /// Eq. 14 for every pair of capsules `i < j` of one component, once, at the closest points of

@@ -26,6 +26,7 @@ mod parameters;
 mod scalar;
 mod setup;
 mod smooth;
+mod sparse;
 mod uniqueness;
 
 pub use constraints::Insertion;
@@ -40,7 +41,7 @@ pub use smooth::{smooth_max, smooth_min};
 use nalgebra::{Point3, Vector3};
 
 use self::constraints::Limits;
-use self::mass::{capsules, Densities, SmoothTotals};
+use self::mass::{capsules, CapsuleVars, Densities, SmoothTotals};
 use self::scalar::Evaluate;
 use crate::balance::ComponentBody;
 use crate::geometry::TriMesh;
@@ -221,7 +222,12 @@ impl Objective {
     /// directions, never on `x`.
     pub fn constraints(&self, x: &[f64]) -> Vec<(f64, Vec<f64>)> {
         let x = self.padded(x);
-        let mut result = scalar::with_gradients(&x, &SmoothConstraints(self));
+        // Those of one capsule or two in dual numbers of their unknowns alone; the rest in
+        // dual numbers of every unknown.
+        let mut result = sparse::capsule_gradients(self, &x);
+        result.extend(sparse::pair_gradients(self, &x));
+        result.extend(scalar::with_gradients(&x, &SharedConstraints(self)));
+        result.extend(sparse::insertion_gradients(self, &x));
         if let Some(interior) = &self.interior {
             result.extend(self.interior_constraints(interior.as_ref(), &x));
         }
@@ -248,8 +254,18 @@ impl Objective {
         let vars = capsules(&self.layout, x);
         constraints::capsule_constraints(&vars, &self.poses, &self.limits, &mut out);
         constraints::pair_constraints(&vars, &self.limits, &mut out);
+        self.shared_constraints(x, &vars, &mut out);
+        if let Some(insertion) = &self.insertion {
+            constraints::insertion_constraints(&vars, insertion, &mut out);
+        }
+        out
+    }
+
+    /// Constraints 3 to 5 of [`constraints`](Self::constraints), which read more than two
+    /// capsules' unknowns (the infill's, the mass, the centre of mass), added to `out`.
+    fn shared_constraints<D: Scalar>(&self, x: &[D], vars: &[CapsuleVars<D>], out: &mut Vec<D>) {
         if let (Some(i), Some(range)) = (self.layout.infill_index(), self.layout.infill_range) {
-            constraints::infill_constraints(&x[i], range, &mut out);
+            constraints::infill_constraints(&x[i], range, out);
         }
         let mut seen = Vec::new();
         for setup in &self.poses {
@@ -259,24 +275,20 @@ impl Objective {
                 .any(|g| matches!(g, setup::GoalSetup::Immerse { .. }))
             {
                 let totals = self.totals(setup, x);
-                constraints::immersion_constraints(setup, &totals, &mut seen, &mut out);
+                constraints::immersion_constraints(setup, &totals, &mut seen, out);
             }
         }
         let infill = self.infill(x);
         for setup in &self.poses {
             uniqueness::uniqueness_constraints(
                 setup,
-                &vars,
+                vars,
                 &infill,
                 self.densities,
                 self.min_angle,
-                &mut out,
+                out,
             );
         }
-        if let Some(insertion) = &self.insertion {
-            constraints::insertion_constraints(&vars, insertion, &mut out);
-        }
-        out
     }
 
     /// Eq. 15 at every axis sample of every capsule, by the chain rule through `interior`.
@@ -377,12 +389,15 @@ impl Evaluate for Terms<'_> {
     }
 }
 
-/// Every constraint but eq. 15 as the outputs of an [`Evaluate`]: for their gradients.
-struct SmoothConstraints<'a>(&'a Objective);
+/// Constraints 3 to 5 as the outputs of an [`Evaluate`]: for their gradients.
+struct SharedConstraints<'a>(&'a Objective);
 
-impl Evaluate for SmoothConstraints<'_> {
+impl Evaluate for SharedConstraints<'_> {
     fn evaluate<D: Scalar>(&self, x: &[D]) -> Vec<D> {
-        self.0.smooth_constraints(x)
+        let mut out = Vec::new();
+        let vars = capsules(&self.0.layout, x);
+        self.0.shared_constraints(x, &vars, &mut out);
+        out
     }
 }
 
