@@ -83,9 +83,9 @@ fn sources(candidates: &[Candidate]) -> Vec<(usize, usize)> {
 }
 
 /// Solves again each candidate that misses a goal where the candidate with the next fewer
-/// capsules meets every goal, from that design ([`start_from`], the added capsules at the
+/// capsules meets every goal, from that design (`start_from`, the added capsules at the
 /// smallest radius the smooth program allows), and replaces the candidate with the outcome when
-/// that is better ([`replaces`]). Only from the next count: the fish's five capsules from its
+/// that is better (`replaces`). Only from the next count: the fish's five capsules from its
 /// two (three seeds added) missed by 58° after a judged design costing a third of its build.
 /// The solves run side by side; deterministic. `starting` hears how many there are before they
 /// start. Returns the solves run.

@@ -236,7 +236,7 @@ impl<'a> Problem<'a> {
 
     /// Optimizes from `start`, a design already solved with capsules added to it, and judges the
     /// result: as [`Problem::optimize`], with the hybrid's COBYLA pass only where SLSQP ends
-    /// outside the constraints ([`Problem::near_budget`]).
+    /// outside the constraints (the budget of the refinement's solves).
     pub fn optimize_near(&self, start: &[StartCapsule]) -> Outcome {
         self.refine(&self.explore_within(start, |layout| self.near_budget(layout)))
     }
