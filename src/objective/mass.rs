@@ -20,21 +20,25 @@ pub(crate) struct CapsuleVars<D> {
     pub component: usize,
 }
 
+impl<D: Scalar> CapsuleVars<D> {
+    /// The capsule of `component` whose unknowns are `x[0..CAPSULE_STRIDE]`.
+    pub fn at(x: &[D], component: usize) -> CapsuleVars<D> {
+        CapsuleVars {
+            p: V3::from_slice(&x[P..]),
+            q: V3::from_slice(&x[Q..]),
+            r: x[R].clone(),
+            component,
+        }
+    }
+}
+
 /// The capsules of `x` laid out by `layout`; `x` must have `layout.len()` entries.
 pub(crate) fn capsules<D: Scalar>(layout: &DesignLayout, x: &[D]) -> Vec<CapsuleVars<D>> {
     layout
         .components
         .iter()
         .enumerate()
-        .map(|(j, &component)| {
-            let base = j * CAPSULE_STRIDE;
-            CapsuleVars {
-                p: V3::from_slice(&x[base + P..]),
-                q: V3::from_slice(&x[base + Q..]),
-                r: x[base + R].clone(),
-                component,
-            }
-        })
+        .map(|(j, &component)| CapsuleVars::at(&x[j * CAPSULE_STRIDE..], component))
         .collect()
 }
 

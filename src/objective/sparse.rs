@@ -6,24 +6,14 @@
 //! the same bits; the derivatives it does not have are zeros.
 
 use super::constraints::{capsule_constraints, insertion_constraint, pair_constraints};
-use super::layout::{CAPSULE_STRIDE, P, Q, R};
+use super::layout::CAPSULE_STRIDE;
 use super::mass::CapsuleVars;
-use super::scalar::{with_gradients, Evaluate, Scalar, V3};
+use super::scalar::{with_gradients, Evaluate, Scalar};
 use super::Objective;
 
 /// The unknowns of design capsule `j`, in the design vector.
 fn unknowns(j: usize) -> std::ops::Range<usize> {
     j * CAPSULE_STRIDE..(j + 1) * CAPSULE_STRIDE
-}
-
-/// The capsule whose unknowns are `x[0..CAPSULE_STRIDE]`, of `component`.
-fn capsule_at<D: Scalar>(x: &[D], component: usize) -> CapsuleVars<D> {
-    CapsuleVars {
-        p: V3::from_slice(&x[P..]),
-        q: V3::from_slice(&x[Q..]),
-        r: x[R].clone(),
-        component,
-    }
 }
 
 /// Each output of `f` evaluated at the entries `indices` of `x`, with its gradient over all of
@@ -49,15 +39,14 @@ pub(super) fn capsule_gradients(objective: &Objective, x: &[f64]) -> Vec<(f64, V
     impl Evaluate for One<'_> {
         fn evaluate<D: Scalar>(&self, x: &[D]) -> Vec<D> {
             let mut out = Vec::new();
-            let capsule = capsule_at(x, self.1);
+            let capsule = CapsuleVars::at(x, self.1);
             capsule_constraints(&[capsule], &self.0.poses, &self.0.limits, &mut out);
             out
         }
     }
-    let indices: Vec<usize> = (0..CAPSULE_STRIDE).collect();
     let mut out = Vec::new();
     for (j, &component) in objective.layout.components.iter().enumerate() {
-        let at: Vec<usize> = indices.iter().map(|k| unknowns(j).start + k).collect();
+        let at: Vec<usize> = unknowns(j).collect();
         out.extend(scattered(x, &at, &One(objective, component)));
     }
     out
@@ -71,8 +60,8 @@ pub(super) fn pair_gradients(objective: &Objective, x: &[f64]) -> Vec<(f64, Vec<
         fn evaluate<D: Scalar>(&self, x: &[D]) -> Vec<D> {
             let mut out = Vec::new();
             let pair = [
-                capsule_at(x, self.1),
-                capsule_at(&x[CAPSULE_STRIDE..], self.1),
+                CapsuleVars::at(x, self.1),
+                CapsuleVars::at(&x[CAPSULE_STRIDE..], self.1),
             ];
             pair_constraints(&pair, &self.0.limits, &mut out);
             out
@@ -99,7 +88,7 @@ pub(super) fn insertion_gradients(objective: &Objective, x: &[f64]) -> Vec<(f64,
     impl Evaluate for One<'_> {
         fn evaluate<D: Scalar>(&self, x: &[D]) -> Vec<D> {
             vec![insertion_constraint(
-                &capsule_at(x, self.1),
+                &CapsuleVars::at(x, self.1),
                 &self.2,
                 self.0,
             )]

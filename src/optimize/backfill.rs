@@ -131,7 +131,8 @@ mod tests {
     use nalgebra::Point3;
 
     use super::*;
-    use crate::design::{Design, PlacedCapsule};
+    use crate::design::PlacedCapsule;
+    use crate::optimize::test_meshes::outcome;
     use crate::optimize::Origin;
 
     fn seed(site: usize, x: f64) -> StartCapsule {
@@ -160,19 +161,7 @@ mod tests {
             .collect();
         Candidate {
             capsules: starts.len(),
-            outcome: Outcome {
-                design: Design {
-                    capsules,
-                    infill: 1.0,
-                },
-                value,
-                feasible: true,
-                meets_goals,
-                worst_tilt_margin: None,
-                poses: Vec::new(),
-                fabrication: Vec::new(),
-                evaluations: 0,
-            },
+            outcome: outcome(capsules, value, meets_goals),
             starts,
             seconds: 0.0,
         }
@@ -219,11 +208,11 @@ mod tests {
 
     #[test]
     fn a_design_meeting_every_goal_or_lower_replaces_one_that_misses() {
-        let outcome = |value, meets| candidate(vec![seed(0, 0.0)], value, meets).outcome;
-        assert!(replaces(&outcome(2.0, true), &outcome(-1.0, false)));
-        assert!(!replaces(&outcome(-1.0, false), &outcome(2.0, true)));
-        assert!(replaces(&outcome(-1.0, true), &outcome(-0.5, true)));
-        assert!(replaces(&outcome(30.0, false), &outcome(60.0, false)));
-        assert!(!replaces(&outcome(60.0, false), &outcome(60.0, false)));
+        let at = |value, meets| outcome(Vec::new(), value, meets);
+        assert!(replaces(&at(2.0, true), &at(-1.0, false)));
+        assert!(!replaces(&at(-1.0, false), &at(2.0, true)));
+        assert!(replaces(&at(-1.0, true), &at(-0.5, true)));
+        assert!(replaces(&at(30.0, false), &at(60.0, false)));
+        assert!(!replaces(&at(60.0, false), &at(60.0, false)));
     }
 }

@@ -397,24 +397,12 @@ fn split_until(seeds: &mut Vec<StartCapsule>, n: usize) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::design::Design;
+    use crate::optimize::test_meshes::outcome;
 
     fn candidate(capsules: usize, degrees: f64, meets_goals: bool) -> Candidate {
         Candidate {
             capsules,
-            outcome: Outcome {
-                design: Design {
-                    capsules: Vec::new(),
-                    infill: 1.0,
-                },
-                value: degrees.to_radians(),
-                feasible: true,
-                meets_goals,
-                worst_tilt_margin: None,
-                poses: Vec::new(),
-                fabrication: Vec::new(),
-                evaluations: 0,
-            },
+            outcome: outcome(Vec::new(), degrees.to_radians(), meets_goals),
             starts: Vec::new(),
             seconds: 0.0,
         }

@@ -1,7 +1,9 @@
-//! Meshes the optimizer's unit tests build from.
+//! Meshes and outcomes the optimizer's unit tests build from.
 
 use nalgebra::Point3;
 
+use super::Outcome;
+use crate::design::{Design, PlacedCapsule};
 use crate::geometry::TriMesh;
 
 /// A closed cube of edge `side`, moved by `shift` along x, its triangles facing out.
@@ -32,5 +34,23 @@ pub(super) fn cube(side: f64, shift: f64) -> TriMesh {
             [3, 0, 4],
             [3, 4, 7],
         ],
+    }
+}
+
+/// A feasible outcome of `capsules` (full infill) at objective `value`, meeting every goal or
+/// not, with no poses evaluated.
+pub(super) fn outcome(capsules: Vec<PlacedCapsule>, value: f64, meets_goals: bool) -> Outcome {
+    Outcome {
+        design: Design {
+            capsules,
+            infill: 1.0,
+        },
+        value,
+        feasible: true,
+        meets_goals,
+        worst_tilt_margin: None,
+        poses: Vec::new(),
+        fabrication: Vec::new(),
+        evaluations: 0,
     }
 }
