@@ -44,6 +44,14 @@ impl Aabb {
             .norm()
     }
 
+    /// Squared distance from `p` to the box (0 inside).
+    fn squared_distance_to_point(&self, p: &Point3<f64>) -> f64 {
+        (self.lo - p)
+            .sup(&(p - self.hi))
+            .sup(&Vector3::zeros())
+            .norm_squared()
+    }
+
     /// A lower bound on the distance from any point of `other` to the box: the gap between the
     /// two boxes.
     fn distance_to_box(&self, other: &Aabb) -> f64 {
@@ -137,25 +145,74 @@ impl TriangleTree {
         )
     }
 
-    /// [`nearest_to_point`](Self::nearest_to_point) when the distance is known to be below
-    /// `bound`, and `hint` is a triangle likely near `p` (a neighbouring point's nearest): both
-    /// only prune the search sooner. The same distance, bit for bit, as long as the bound
-    /// holds; `(bound, None)` when no triangle is nearer than it.
-    pub(crate) fn nearest_to_point_below(
-        &self,
-        p: &Point3<f64>,
-        bound: f64,
-        hint: Option<usize>,
-    ) -> (f64, Option<usize>) {
-        let start = match hint.map(|t| (point_triangle_distance(p, &self.triangles[t]), t)) {
-            Some((distance, t)) if distance < bound => (distance, Some(t)),
-            _ => (bound, None),
-        };
-        self.nearest_from(
-            start,
-            |bounds| bounds.distance_to_point(p),
-            |tri| point_triangle_distance(p, tri),
-        )
+    /// Lowers each `best[i]` to the distance from `points[i]` to the surface wherever that is
+    /// below it: one walk of the tree for up to 64 points near one another (a block of a
+    /// distance grid), each box opened only for the points it may hold a nearer triangle for.
+    /// Each lowered value is, bit for bit, [`distance_to_point`](Self::distance_to_point)'s:
+    /// the least [`point_triangle_distance`] of any triangle.
+    ///
+    /// # Panics
+    /// If there are more than 64 points or not one `best` per point.
+    pub(crate) fn nearest_to_points_below(&self, points: &[Point3<f64>], best: &mut [f64]) {
+        assert!(points.len() <= 64 && points.len() == best.len());
+        if self.nodes.is_empty() || points.is_empty() {
+            return;
+        }
+        // A box is opened for a point while its squared gap is below the squared best, made a
+        // little larger so that rounding never closes a box holding a nearer triangle.
+        const GENEROUS: f64 = 1.0 + 1e-9;
+        let mut open_below = [0.0; 64];
+        for (open, best) in open_below.iter_mut().zip(best.iter()) {
+            *open = best * best * GENEROUS;
+        }
+        let centre = Point3::from(
+            points
+                .iter()
+                .fold(Vector3::zeros(), |sum, p| sum + p.coords)
+                / points.len() as f64,
+        );
+        let everyone = u64::MAX >> (64 - points.len());
+        // Each entry a node and the points it may matter to, one bit each; the child nearer the
+        // points' centre is visited first, so the bounds fall early.
+        let mut stack: Vec<(usize, u64)> = vec![(0, everyone)];
+        while let Some((index, asking)) = stack.pop() {
+            let node = &self.nodes[index];
+            let open = those_below(asking, |i| {
+                node.bounds.squared_distance_to_point(&points[i]) < open_below[i]
+            });
+            if open == 0 {
+                continue;
+            }
+            match node.children {
+                Some([left, right]) => {
+                    let to =
+                        |child: usize| self.nodes[child].bounds.squared_distance_to_point(&centre);
+                    let (near, far) = if to(left) <= to(right) {
+                        (left, right)
+                    } else {
+                        (right, left)
+                    };
+                    stack.push((far, open));
+                    stack.push((near, open));
+                }
+                None => {
+                    for t in node.first..node.first + node.count {
+                        let triangle = &self.triangles[t];
+                        let bounds = Aabb::of_triangle(triangle);
+                        let near = those_below(open, |i| {
+                            bounds.squared_distance_to_point(&points[i]) < open_below[i]
+                        });
+                        for i in bits(near) {
+                            let distance = point_triangle_distance(&points[i], triangle);
+                            if distance < best[i] {
+                                best[i] = distance;
+                                open_below[i] = distance * distance * GENEROUS;
+                            }
+                        }
+                    }
+                }
+            }
+        }
     }
 
     /// Appends to `out` the index (into [`triangles`](Self::triangles)) of every triangle whose
@@ -264,6 +321,24 @@ impl TriangleTree {
     }
 }
 
+/// The set bits of `set` (point indices) for which `keep` holds.
+fn those_below(set: u64, keep: impl Fn(usize) -> bool) -> u64 {
+    bits(set)
+        .filter(|&i| keep(i))
+        .fold(0, |kept, i| kept | 1 << i)
+}
+
+/// The indices of the set bits of `set`, lowest first.
+fn bits(mut set: u64) -> impl Iterator<Item = usize> {
+    std::iter::from_fn(move || {
+        (set != 0).then(|| {
+            let i = set.trailing_zeros() as usize;
+            set &= set - 1;
+            i
+        })
+    })
+}
+
 /// Builds the subtree over `order[first..first + count]`, returns its node index.
 fn build(
     triangles: &[[Point3<f64>; 3]],
@@ -316,4 +391,64 @@ fn build(
     );
     nodes[index].children = Some([left, right]);
     index
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::random::SplitMix64;
+
+    /// A vector with coordinates in [−1, 1).
+    fn spread(random: &mut SplitMix64) -> Vector3<f64> {
+        random.vector() * 2.0 - Vector3::repeat(1.0)
+    }
+
+    /// 300 scattered triangles of assorted sizes, some long and thin.
+    fn scattered() -> TriMesh {
+        let mut random = SplitMix64::new(7);
+        let mut mesh = TriMesh {
+            positions: Vec::new(),
+            triangles: Vec::new(),
+        };
+        for t in 0..300u32 {
+            let corner = Point3::from(spread(&mut random) * 10.0);
+            let size = random.uniform(0.05, 3.0);
+            for _ in 0..3 {
+                mesh.positions.push(corner + spread(&mut random) * size);
+            }
+            mesh.triangles.push([3 * t, 3 * t + 1, 3 * t + 2]);
+        }
+        mesh
+    }
+
+    #[test]
+    fn points_walking_together_get_each_one_s_distance_bit_for_bit() {
+        let tree = TriangleTree::new(&scattered());
+        let mut random = SplitMix64::new(11);
+        for round in 0..40 {
+            // A clump of points (a grid block), near the triangles or far out.
+            let centre =
+                Point3::from(spread(&mut random) * if round % 2 == 0 { 8.0 } else { 40.0 });
+            let count = 1 + random.below(64);
+            let points: Vec<Point3<f64>> = (0..count)
+                .map(|_| centre + spread(&mut random) * random.uniform(0.0, 2.0))
+                .collect();
+            let exact: Vec<f64> = points.iter().map(|p| tree.distance_to_point(p)).collect();
+            // From no bound, from bounds just above the distances, and from a bound below some
+            // of them, which those keep.
+            let starts: [Vec<f64>; 3] = [
+                vec![f64::INFINITY; count],
+                exact.iter().map(|d| d * 1.01 + 1e-3).collect(),
+                exact.iter().map(|_| exact[0]).collect(),
+            ];
+            for start in starts {
+                let mut best = start.clone();
+                tree.nearest_to_points_below(&points, &mut best);
+                for i in 0..count {
+                    let expected = exact[i].min(start[i]);
+                    assert_eq!(best[i].to_bits(), expected.to_bits(), "point {i}");
+                }
+            }
+        }
+    }
 }

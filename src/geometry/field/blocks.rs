@@ -1,7 +1,8 @@
 //! The unsigned distance at the grid's nodes, block by block: one tree query at each block's
 //! centre bounds the distance of all its nodes, so a block near a few triangles takes them alone,
-//! every other node's search starts from that bound and from the nearest triangle of the node
-//! before it, and a block whose bound keeps it far from the surface can be left for later.
+//! the nodes of every other block walk the tree together from that bound and from their
+//! distances to the centre's nearest triangle, and a block whose bound keeps it far from the
+//! surface can be left for later.
 
 use nalgebra::{Point3, Vector3};
 
@@ -11,7 +12,7 @@ use super::super::tree::TriangleTree;
 /// Nodes along each side of a block.
 const SIDE: usize = 4;
 
-/// Above this many nearby triangles, a block's nodes each search the tree (from the block's
+/// Above this many nearby triangles, a block's nodes search the tree together (from the block's
 /// bound) rather than every nearby triangle.
 const MAX_NEARBY: usize = 24;
 
@@ -108,39 +109,43 @@ impl Blocks {
     /// [`TriangleTree::distance_to_point`] per node. `bound` is [`bound`](Self::bound)'s.
     ///
     /// Every node is within `bound.reach` of the surface, so its nearest triangle is one whose
-    /// bounding box lies within that of the block's box.
+    /// bounding box lies within that of the block's box: with few such, each node takes them
+    /// all; otherwise the nodes walk the tree together, each starting from its distance to the
+    /// centre's nearest triangle.
     pub(super) fn distances(&self, tree: &TriangleTree, b: usize, bound: Bound) -> Vec<f64> {
         let (lo, hi) = self.corners(b);
         let mut nearby = Vec::new();
         tree.triangles_near_box(&lo, &hi, bound.reach, &mut nearby);
-        let few = nearby.len() <= MAX_NEARBY;
         let triangles = tree.triangles();
-        let mut hint = bound.nearest;
         let (start, end) = self.range(b);
-        let mut values = Vec::with_capacity(SIDE * SIDE * SIDE);
+        let mut points = Vec::with_capacity(SIDE * SIDE * SIDE);
         for k in start[2]..end[2] {
             for j in start[1]..end[1] {
                 for i in start[0]..end[0] {
-                    let p = self.node(i, j, k);
-                    let d = if few {
-                        nearby
-                            .iter()
-                            .map(|&t| point_triangle_distance(&p, &triangles[t]))
-                            .fold(f64::INFINITY, f64::min)
-                    } else {
-                        // The last node's nearest triangle starts the search: a neighbour's
-                        // is often this node's too, and then only boxes nearer than it are
-                        // opened.
-                        let (distance, nearest) =
-                            tree.nearest_to_point_below(&p, bound.reach, hint);
-                        hint = nearest.or(hint);
-                        distance
-                    };
-                    values.push(d);
+                    points.push(self.node(i, j, k));
                 }
             }
         }
-        values
+        if nearby.len() <= MAX_NEARBY {
+            return points
+                .iter()
+                .map(|p| {
+                    nearby
+                        .iter()
+                        .map(|&t| point_triangle_distance(p, &triangles[t]))
+                        .fold(f64::INFINITY, f64::min)
+                })
+                .collect();
+        }
+        let mut best: Vec<f64> = points
+            .iter()
+            .map(|p| match bound.nearest {
+                Some(t) => point_triangle_distance(p, &triangles[t]).min(bound.reach),
+                None => bound.reach,
+            })
+            .collect();
+        tree.nearest_to_points_below(&points, &mut best);
+        best
     }
 
     /// The first and one-past-the-last node index of block `b` along each axis.
