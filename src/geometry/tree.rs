@@ -217,12 +217,14 @@ impl TriangleTree {
 
     /// Appends to `out` the index (into [`triangles`](Self::triangles)) of every triangle whose
     /// bounding box lies within `reach` of the box `lo`–`hi`: every triangle that can be nearer
-    /// than `reach` to some point of the box. In leaf order.
+    /// than `reach` to some point of the box. In leaf order. Stops as soon as `out` holds more
+    /// than `most`: then it holds more than `most` such triangles, not every one.
     pub(crate) fn triangles_near_box(
         &self,
         lo: &Point3<f64>,
         hi: &Point3<f64>,
         reach: f64,
+        most: usize,
         out: &mut Vec<usize>,
     ) {
         if self.nodes.is_empty() {
@@ -231,6 +233,9 @@ impl TriangleTree {
         let query = Aabb { lo: *lo, hi: *hi };
         let mut stack = vec![0];
         while let Some(index) = stack.pop() {
+            if out.len() > most {
+                return;
+            }
             let node = &self.nodes[index];
             if node.bounds.distance_to_box(&query) > reach {
                 continue;

@@ -115,7 +115,8 @@ impl Blocks {
     pub(super) fn distances(&self, tree: &TriangleTree, b: usize, bound: Bound) -> Vec<f64> {
         let (lo, hi) = self.corners(b);
         let mut nearby = Vec::new();
-        tree.triangles_near_box(&lo, &hi, bound.reach, &mut nearby);
+        // More than `MAX_NEARBY` is all it needs to know of a block far out.
+        tree.triangles_near_box(&lo, &hi, bound.reach, MAX_NEARBY, &mut nearby);
         let triangles = tree.triangles();
         let (start, end) = self.range(b);
         let mut points = Vec::with_capacity(SIDE * SIDE * SIDE);
