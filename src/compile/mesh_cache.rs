@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::rc::Rc;
 
 use crate::geometry::{check_mesh, external_buffer_paths, load_mesh_with, LoadError, MeshCheck};
-use crate::geometry::{FileReader, LoadedMesh, MeshFile, MeshSelector, ReadPolicy};
+use crate::geometry::{FileReader, LoadedMesh, MeshFile, MeshSelector, ReadPolicy, TriMesh};
 
 /// Loaded meshes and their checks. Entries not asked for since [`start_build`] can be dropped
 /// with [`prune`].
@@ -97,13 +97,16 @@ impl MeshCache {
     /// The mesh at `path` (the part `selector` picks) and its check: from the cache when the
     /// files it is read from hold the same bytes as when it was cached, else loaded now. Files
     /// are read only as `policy` allows, the cached ones too. A mesh that fails to load is not
-    /// cached.
-    pub fn load(
+    /// cached. `beside` is run on the mesh as loaded, and what it returns returned with it: on
+    /// another thread while the mesh is checked, when the check is not cached (work that needs
+    /// the mesh but not its check, such as its convex hull, then costs no time of its own).
+    pub fn load<T: Send>(
         &mut self,
         path: &Path,
         selector: &MeshSelector,
         policy: &ReadPolicy,
-    ) -> Result<(LoadedMesh, MeshCheck), LoadError> {
+        beside: impl FnOnce(&TriMesh) -> T + Send,
+    ) -> Result<(LoadedMesh, MeshCheck, T), LoadError> {
         let hash = *self
             .hashes
             .entry(path.to_path_buf())
@@ -112,14 +115,15 @@ impl MeshCache {
             // Unreadable or not allowed: the loader says why.
             self.loaded += 1;
             let mesh = load_mesh_with(path, selector, policy)?;
-            let check = check_mesh(&mesh.mesh);
-            return Ok((mesh, check));
+            let (check, beside) = check_beside(&mesh.mesh, beside);
+            return Ok((mesh, check, beside));
         };
         let key = (path.to_path_buf(), selector.clone(), hash);
         let build = self.build;
         if let Some(entry) = self.entries.get_mut(&key) {
             entry.used = build;
-            return Ok((entry.mesh.clone(), entry.check.clone()));
+            let beside = beside(&entry.mesh.mesh);
+            return Ok((entry.mesh.clone(), entry.check.clone(), beside));
         }
         self.loaded += 1;
         let file = match self.opened.get(&(path.to_path_buf(), hash)) {
@@ -132,7 +136,7 @@ impl MeshCache {
             }
         };
         let mesh = file.load(selector)?;
-        let check = check_mesh(&mesh.mesh);
+        let (check, beside) = check_beside(&mesh.mesh, beside);
         self.entries.insert(
             key,
             Entry {
@@ -141,8 +145,23 @@ impl MeshCache {
                 used: build,
             },
         );
-        Ok((mesh, check))
+        Ok((mesh, check, beside))
     }
+}
+
+/// [`check_mesh`] of `mesh`, and `beside` run on it on another thread meanwhile.
+fn check_beside<T: Send>(
+    mesh: &TriMesh,
+    beside: impl FnOnce(&TriMesh) -> T + Send,
+) -> (MeshCheck, T) {
+    std::thread::scope(|scope| {
+        let other = scope.spawn(|| beside(mesh));
+        let check = check_mesh(mesh);
+        let beside = other
+            .join()
+            .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+        (check, beside)
+    })
 }
 
 /// A hash of the bytes of `path` and of each external buffer file it names, in order; `None`
@@ -173,18 +192,28 @@ mod tests {
         let policy = ReadPolicy::within(folder.path());
         let mut cache = MeshCache::new();
         cache.start_build();
-        let (first, check) = cache.load(&path, &MeshSelector::Whole, &policy).unwrap();
+        // What runs beside the check sees the mesh, loaded or cached.
+        let triangles = |mesh: &TriMesh| mesh.triangles.len();
+        let (first, check, counted) = cache
+            .load(&path, &MeshSelector::Whole, &policy, triangles)
+            .unwrap();
         assert!(check.is_closed());
+        assert_eq!(counted, 4);
         assert_eq!(cache.loaded(), 1);
 
         cache.start_build();
-        let (again, _) = cache.load(&path, &MeshSelector::Whole, &policy).unwrap();
+        let (again, _, counted) = cache
+            .load(&path, &MeshSelector::Whole, &policy, triangles)
+            .unwrap();
         assert_eq!(again, first);
+        assert_eq!(counted, 4);
         assert_eq!(cache.loaded(), 0);
 
         std::fs::write(&path, TETRAHEDRON.replace("v 0 0 1", "v 0 0 2")).unwrap();
         cache.start_build();
-        let (moved, _) = cache.load(&path, &MeshSelector::Whole, &policy).unwrap();
+        let (moved, ..) = cache
+            .load(&path, &MeshSelector::Whole, &policy, triangles)
+            .unwrap();
         assert_ne!(moved, first);
         assert_eq!(cache.loaded(), 1);
         assert_eq!(cache.len(), 2);
@@ -214,8 +243,8 @@ mod tests {
         let mut cache = MeshCache::new();
         cache.start_build();
         let part = |name: &str| MeshSelector::ObjObject(name.to_string());
-        let (a, _) = cache.load(&path, &part("a"), &policy).unwrap();
-        let (b, _) = cache.load(&path, &part("b"), &policy).unwrap();
+        let (a, ..) = cache.load(&path, &part("a"), &policy, |_| ()).unwrap();
+        let (b, ..) = cache.load(&path, &part("b"), &policy, |_| ()).unwrap();
         assert_eq!(a.mesh.triangles.len(), 4);
         assert_eq!(b.mesh.triangles.len(), 4);
         assert_ne!(a.mesh.positions, b.mesh.positions);
@@ -229,8 +258,8 @@ mod tests {
         )
         .unwrap();
         cache.start_build();
-        cache.load(&path, &part("a"), &policy).unwrap();
-        cache.load(&path, &part("b"), &policy).unwrap();
+        cache.load(&path, &part("a"), &policy, |_| ()).unwrap();
+        cache.load(&path, &part("b"), &policy, |_| ()).unwrap();
         assert_eq!((cache.loaded(), cache.files_opened()), (2, 1));
     }
 
@@ -242,6 +271,7 @@ mod tests {
             &folder.path().join("none.obj"),
             &MeshSelector::Whole,
             &ReadPolicy::within(folder.path()),
+            |_| (),
         );
         assert!(
             matches!(missing, Err(LoadError::NotFound { .. })),

@@ -11,20 +11,23 @@ use super::mesh_cache::MeshCache;
 use super::mesh_repairs::repair_problems;
 use crate::diagnostic::Problem;
 use crate::geometry::{
-    LoadError, LoadedMesh, MassProperties, MeshCheck, ReadPolicy, Repairs, TriMesh,
+    convex_hull, ConvexHull, LoadError, LoadedMesh, MassProperties, MeshCheck, ReadPolicy, Repairs,
+    TriMesh,
 };
 use crate::spec::model::{Component, MeshFrame, Project};
 
 /// How many offending edges or triangles a diagnostic lists before it only counts the rest.
 const LISTED: usize = 3;
 
-/// Every component's mesh in the rest frame, and the mass properties of the solid it bounds.
-pub type LoadedComponents = (Vec<TriMesh>, Vec<MassProperties>);
+/// Every component's mesh in the rest frame, the mass properties of the solid it bounds, and its
+/// convex hull (`None` for a mesh that spans no volume).
+pub type LoadedComponents = (Vec<TriMesh>, Vec<MassProperties>, Vec<Option<ConvexHull>>);
 
 /// Loads and checks the mesh of every component, in order, through `cache`, reading only what
 /// `policy` allows. Returns the meshes when all of them are usable, with the mass properties of
-/// the solid each bounds (the union of its shells, [`MeshCheck::solid`]), and the problems found
-/// (every component is tried, so all are reported at once), warnings included.
+/// the solid each bounds (the union of its shells, [`MeshCheck::solid`]) and its convex hull in
+/// the rest frame (computed while the mesh is checked), and the problems found (every component
+/// is tried, so all are reported at once), warnings included.
 pub fn load_components(
     project: &Project,
     cache: &mut MeshCache,
@@ -32,13 +35,18 @@ pub fn load_components(
 ) -> (Option<LoadedComponents>, Vec<Problem>) {
     let mut meshes = Vec::with_capacity(project.components.len());
     let mut solids = Vec::with_capacity(project.components.len());
+    let mut hulls = Vec::with_capacity(project.components.len());
     // Each component's problems, in component order.
     let mut found: Vec<Vec<Problem>> = vec![Vec::new(); project.components.len()];
     // Loading failures, one per mesh file and error: the first component that met it, and every
     // component that shares it. Its one diagnostic goes where the first component's would.
     let mut failures: Vec<(&Path, String, usize, Vec<&Component>, LoadError)> = Vec::new();
     for (index, component) in project.components.iter().enumerate() {
-        match cache.load(&component.mesh.value, &component.selector, policy) {
+        let hull = |mesh: &TriMesh| match rest_frame(&component.frame, project) {
+            None => convex_hull(&mesh.positions),
+            Some(to_rest) => convex_hull(&mesh.positions.iter().map(to_rest).collect::<Vec<_>>()),
+        };
+        match cache.load(&component.mesh.value, &component.selector, policy, hull) {
             Ok((
                 LoadedMesh {
                     mesh,
@@ -46,6 +54,7 @@ pub fn load_components(
                     mut repairs,
                 },
                 check,
+                hull,
             )) => {
                 found[index].extend(short_face_warning(component, &short_faces));
                 let (mesh, check) =
@@ -58,6 +67,7 @@ pub fn load_components(
                 if problems.iter().all(|problem| !problem.is_error()) {
                     solids.push(check.solid(&mesh));
                     meshes.push(mesh);
+                    hulls.push(hull);
                 }
                 found[index].extend(problems);
             }
@@ -79,7 +89,7 @@ pub fn load_components(
     }
     let problems = found.into_iter().flatten().collect();
     let usable = meshes.len() == project.components.len();
-    (usable.then_some((meshes, solids)), problems)
+    (usable.then_some((meshes, solids, hulls)), problems)
 }
 
 /// `mesh` (and its `check`, and the holes its `repairs` capped) from its file's coordinates into
@@ -93,12 +103,11 @@ fn into_rest_frame(
     frame: &MeshFrame,
     project: &Project,
 ) -> (TriMesh, MeshCheck) {
-    if frame.is_identity(project.units, project.up) {
+    let Some(to_rest) = rest_frame(frame, project) else {
         return (mesh, check);
-    }
+    };
     let rotation = frame.rotation(project.up);
     let factor = frame.factor(project.units);
-    let to_rest = |p: &Point3<f64>| Point3::from(rotation * p.coords * factor);
     // A proper rotation and a positive factor keep every triangle's orientation, so the check's
     // edge and triangle lists still hold; only the volume scales.
     check.signed_volume *= factor * factor * factor;
@@ -114,6 +123,21 @@ fn into_rest_frame(
         triangles: mesh.triangles,
     };
     (mesh, check)
+}
+
+/// A point's move from its file's coordinates into the rest frame of `frame` (turned from the
+/// mesh's up axis to the project's, then scaled into project units); `None` when the frame is
+/// the identity.
+fn rest_frame(
+    frame: &MeshFrame,
+    project: &Project,
+) -> Option<impl Fn(&Point3<f64>) -> Point3<f64>> {
+    if frame.is_identity(project.units, project.up) {
+        return None;
+    }
+    let rotation = frame.rotation(project.up);
+    let factor = frame.factor(project.units);
+    Some(move |p: &Point3<f64>| Point3::from(rotation * p.coords * factor))
 }
 
 /// The diagnostic for `error`, which loading the mesh of every one of `sharing` (at least one

@@ -85,8 +85,7 @@ use crate::design::Design;
 use crate::diagnostic::Problem;
 use crate::fabrication::{Orientation, PrintPlan};
 use crate::geometry::{
-    convex_hull, ConvexHull, MassProperties, MeshLimits, PrintCorrection, PrintVolumes, ReadPolicy,
-    TriMesh,
+    ConvexHull, MassProperties, MeshLimits, PrintCorrection, PrintVolumes, ReadPolicy, TriMesh,
 };
 use crate::spec::model::Project;
 use crate::spec::parse_project_with;
@@ -259,14 +258,12 @@ pub fn compile_with(
     }
     let (loaded, mesh_problems) = load_components(&project, &mut workspace.meshes, &policy);
     problems.extend(mesh_problems);
-    let (meshes, solids) = loaded.unzip();
-    // Each component's hull, once: the print orientation turns it, every pose moves it.
-    let hulls: Option<Arc<[Option<ConvexHull>]>> = meshes.as_ref().map(|meshes| {
-        meshes
-            .iter()
-            .map(|mesh| convex_hull(&mesh.positions))
-            .collect()
-    });
+    // Each component's hull, once (computed while its mesh was checked): the print orientation
+    // turns it, every pose moves it.
+    let (meshes, solids, hulls): (_, _, Option<Arc<[Option<ConvexHull>]>>) = match loaded {
+        Some((meshes, solids, hulls)) => (Some(meshes), Some(solids), Some(hulls.into())),
+        None => (None, None, None),
+    };
     // The written capsules as they stand, for the ball-gap warnings and the capsules the print
     // orientation is chosen for; their problems come with the fabrication checks below, and the
     // ball-gap warnings after them, since a gap matters only for a capsule that is valid.

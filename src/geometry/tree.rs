@@ -177,7 +177,7 @@ impl TriangleTree {
         let mut stack: Vec<(usize, u64)> = vec![(0, everyone)];
         while let Some((index, asking)) = stack.pop() {
             let node = &self.nodes[index];
-            let open = those_below(asking, |i| {
+            let open = bits_where(asking, |i| {
                 node.bounds.squared_distance_to_point(&points[i]) < open_below[i]
             });
             if open == 0 {
@@ -199,7 +199,7 @@ impl TriangleTree {
                     for t in node.first..node.first + node.count {
                         let triangle = &self.triangles[t];
                         let bounds = Aabb::of_triangle(triangle);
-                        let near = those_below(open, |i| {
+                        let near = bits_where(open, |i| {
                             bounds.squared_distance_to_point(&points[i]) < open_below[i]
                         });
                         for i in bits(near) {
@@ -327,7 +327,7 @@ impl TriangleTree {
 }
 
 /// The set bits of `set` (point indices) for which `keep` holds.
-fn those_below(set: u64, keep: impl Fn(usize) -> bool) -> u64 {
+fn bits_where(set: u64, keep: impl Fn(usize) -> bool) -> u64 {
     bits(set)
         .filter(|&i| keep(i))
         .fold(0, |kept, i| kept | 1 << i)
