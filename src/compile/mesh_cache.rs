@@ -149,11 +149,19 @@ impl MeshCache {
     }
 }
 
-/// [`check_mesh`] of `mesh`, and `beside` run on it on another thread meanwhile.
+/// A mesh of fewer triangles is checked and given to `beside` on one thread: a thread would cost
+/// more than it saves, many times over for a rig of thousands of small parts.
+const THREAD_BESIDE_FROM: usize = 10_000;
+
+/// [`check_mesh`] of `mesh`, and `beside` run on it on another thread meanwhile (for a mesh of
+/// [`THREAD_BESIDE_FROM`] triangles or more).
 fn check_beside<T: Send>(
     mesh: &TriMesh,
     beside: impl FnOnce(&TriMesh) -> T + Send,
 ) -> (MeshCheck, T) {
+    if mesh.triangles.len() < THREAD_BESIDE_FROM {
+        return (check_mesh(mesh), beside(mesh));
+    }
     std::thread::scope(|scope| {
         let other = scope.spawn(|| beside(mesh));
         let check = check_mesh(mesh);
