@@ -38,10 +38,7 @@ impl Aabb {
 
     /// Distance from `p` to the box (0 inside).
     fn distance_to_point(&self, p: &Point3<f64>) -> f64 {
-        (self.lo - p)
-            .sup(&(p - self.hi))
-            .sup(&Vector3::zeros())
-            .norm()
+        self.squared_distance_to_point(p).sqrt()
     }
 
     /// Squared distance from `p` to the box (0 inside).

@@ -138,7 +138,7 @@ impl DistanceGrid {
         let winding = WindingTree::new(&tree);
         let inside = sign::inside_nodes(dims, node_at, &distances, near, &winding);
         // A far block lies in one region of far nodes, so its first node's side is its own.
-        let (far_inside, far_outside): (Vec<_>, Vec<_>) = far
+        let (far_inside, mut far_outside): (Vec<_>, Vec<_>) = far
             .into_iter()
             .partition(|&(b, _)| blocks.nodes(b).next().is_some_and(|node| inside[node]));
         let computed = map_nodes(far_inside.len(), |n| {
@@ -157,7 +157,6 @@ impl DistanceGrid {
             .collect();
         // Nearest the surface first: a solve's iterates stray outside by a little far more
         // often than by a lot, so its reads more often find their blocks done.
-        let mut far_outside = far_outside;
         far_outside.sort_by(|(a, x), (b, y)| x.floor().total_cmp(&y.floor()).then(a.cmp(b)));
         let pending: Vec<usize> = far_outside.into_iter().map(|(b, _)| b).collect();
         let deferred = (!pending.is_empty()).then(|| Deferred::new(blocks, tree, pending));
