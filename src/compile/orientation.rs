@@ -4,7 +4,7 @@
 use nalgebra::{Point3, Rotation3, Vector3};
 
 use crate::balance::up_to_print;
-use crate::design::Design;
+use crate::design::{Design, PlacedCapsule};
 use crate::diagnostic::Problem;
 use crate::fabrication::{
     choose, declared_down, declared_rotation, height, lay_out, plan_insertions, Bed, ComponentPlan,
@@ -69,35 +69,34 @@ pub fn print_orientations(
                 Some(PrintOrientation::Rotate(rotation)) => {
                     declared_rotation(hull, points, rotation.value.to_rotation_matrix())
                 }
-                None => choose(hull, points, &centre, &-project.up.unit_vector(), &|r| {
-                    insertion_rank(known, index, mesh, r, &grid)
-                }),
+                None => {
+                    let capsules = known.capsules_of(index);
+                    let rank = |r: &Rotation3<f64>| insertion_rank(&capsules, mesh, r, &grid);
+                    let rank: Option<&dyn Fn(&Rotation3<f64>) -> InsertionRank> =
+                        (!capsules.is_empty()).then_some(&rank);
+                    choose(hull, points, &centre, &-project.up.unit_vector(), rank)
+                }
             }
         })
         .collect();
     (orientations, problems)
 }
 
-/// How well printing component `component` (mesh `mesh`) turned by `to_print` lets `design`'s
-/// capsules in it take their balls: how many have a pause, and how many pauses they need;
-/// `None` when the component has none of the design's capsules.
+/// How well printing the component of mesh `mesh` turned by `to_print` lets its `capsules`
+/// (indices into their design, as [`Design::capsules_of`] gives them) take their balls: how many
+/// have a pause, and how many pauses they need.
 pub fn insertion_rank(
-    design: &Design,
-    component: usize,
+    capsules: &[(usize, &PlacedCapsule)],
     mesh: &TriMesh,
     to_print: &Rotation3<f64>,
     grid: &LayerGrid,
-) -> Option<InsertionRank> {
-    let capsules = design.capsules_of(component);
-    if capsules.is_empty() {
-        return None;
-    }
+) -> InsertionRank {
     let frame = PrintFrame::new(mesh, to_print.inverse() * Vector3::z());
-    let (insertions, pauses) = plan_insertions(&capsules, &frame, grid, &|_| String::new());
-    Some(InsertionRank {
+    let (insertions, pauses) = plan_insertions(capsules, &frame, grid, &|_| String::new());
+    InsertionRank {
         insertable: insertions.iter().filter(|i| i.pause.is_some()).count(),
         pauses: pauses.len(),
-    })
+    }
 }
 
 /// The layer grid of `project`'s print settings.

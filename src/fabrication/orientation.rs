@@ -101,38 +101,49 @@ pub fn declared_rotation(
 }
 
 /// The orientation ballast chooses for the part of hull `hull` over `points` with centroid
-/// `centre`, `down` the project's down in its rest frame (see the module documentation); `rank` says how each candidate rotation suits the
-/// capsules' insertion, `None` when it has nothing to say.
+/// `centre`, `down` the project's down in its rest frame (see the module documentation); `rank`
+/// says how each candidate rotation suits the capsules' insertion, `None` when the part has no
+/// capsules to rank by. Each facet's rotation and stability are computed only while it is still
+/// in the running, so a hull of a million facets costs little more than a scan of their areas.
 pub fn choose(
     hull: &ConvexHull,
     points: &[Point3<f64>],
     centre: &Point3<f64>,
     down: &Vector3<f64>,
-    rank: &dyn Fn(&Rotation3<f64>) -> Option<InsertionRank>,
+    rank: Option<&dyn Fn(&Rotation3<f64>) -> InsertionRank>,
 ) -> Orientation {
-    let placed: Vec<Candidate> = (0..hull.facets.len())
-        .map(|facet| {
-            let rotation = facet_rotation(&hull.facets[facet], points);
-            Candidate {
-                facet,
-                rank: rank(&rotation),
-                stable: facet_margin(&hull.facets[facet], points, centre) > 0.0,
-                rotation,
+    // The facets with the best insertion rank, each with its rotation when the rank needed it.
+    let (ranked, best_rank): (Vec<(usize, Option<Rotation3<f64>>)>, Option<InsertionRank>) =
+        match rank {
+            Some(rank) => {
+                let placed: Vec<(usize, Rotation3<f64>, InsertionRank)> = (0..hull.facets.len())
+                    .map(|facet| {
+                        let rotation = facet_rotation(&hull.facets[facet], points);
+                        (facet, rotation, rank(&rotation))
+                    })
+                    .collect();
+                let best = placed.iter().map(|(_, _, r)| *r).max_by_key(|r| r.key());
+                let ranked = placed
+                    .into_iter()
+                    .filter(|(_, _, r)| Some(r.key()) == best.map(|b| b.key()))
+                    .map(|(facet, rotation, _)| (facet, Some(rotation)))
+                    .collect();
+                (ranked, best)
             }
-        })
-        .collect();
-    let best_rank = placed.iter().filter_map(|c| c.rank).map(|r| r.key()).max();
-    let ranked: Vec<&Candidate> = placed
-        .iter()
-        .filter(|c| c.rank.map(|r| r.key()) == best_rank)
-        .collect();
+            None => ((0..hull.facets.len()).map(|f| (f, None)).collect(), None),
+        };
     let largest = ranked
         .iter()
-        .map(|c| hull.facets[c.facet].area)
+        .map(|&(facet, _)| hull.facets[facet].area)
         .fold(0.0, f64::max);
-    let large: Vec<&Candidate> = ranked
+    let large: Vec<Candidate> = ranked
         .into_iter()
-        .filter(|c| hull.facets[c.facet].area >= (1.0 - AREA_TIE) * largest)
+        .filter(|&(facet, _)| hull.facets[facet].area >= (1.0 - AREA_TIE) * largest)
+        .map(|(facet, rotation)| Candidate {
+            facet,
+            stable: facet_margin(&hull.facets[facet], points, centre) > 0.0,
+            rotation: rotation.unwrap_or_else(|| facet_rotation(&hull.facets[facet], points)),
+        })
         .collect();
     let any_stable = large.iter().any(|c| c.stable);
     // The height only of the facets still in the running, each by walks over the hull's edges
@@ -140,10 +151,7 @@ pub fn choose(
     // facet itself, which is on the bed, the high end from where the last walk ended, the facets
     // taken in an order that keeps successive directions close, so each walk is short.
     let walk = HullWalk::new(hull);
-    let candidates: Vec<&Candidate> = large
-        .into_iter()
-        .filter(|c| c.stable == any_stable)
-        .collect();
+    let candidates: Vec<&Candidate> = large.iter().filter(|c| c.stable == any_stable).collect();
     let mut heights = vec![0.0; candidates.len()];
     let mut order: Vec<usize> = (0..candidates.len()).collect();
     order.sort_by_key(|&k| direction_key(&hull.facets[candidates[k].facet].normal));
@@ -184,7 +192,7 @@ pub fn choose(
     if !best.stable {
         reason.push_str(" (the part leans past its edge: the bed holds it)");
     }
-    if let Some(rank) = best.rank {
+    if let Some(rank) = best_rank {
         reason = format!(
             "{} insertable in {}; {reason}",
             counted(rank.insertable, "capsule"),
@@ -205,8 +213,6 @@ pub fn choose(
 struct Candidate {
     /// Index into the hull's facets.
     facet: usize,
-    /// The insertion hook's rank of the orientation with this facet on the bed.
-    rank: Option<InsertionRank>,
     /// Whether the part stands on the facet by itself.
     stable: bool,
     /// The rotation that puts the facet on the bed.
@@ -306,7 +312,7 @@ mod tests {
         let points = box_points(30.0, 20.0, 5.0);
         let hull = convex_hull(&points).unwrap();
         let centre = Point3::new(15.0, 10.0, 2.5);
-        let chosen = choose(&hull, &points, &centre, &-Vector3::z(), &|_| None);
+        let chosen = choose(&hull, &points, &centre, &-Vector3::z(), None);
         assert!(chosen.down.z.abs() > 0.999_999, "{:?}", chosen.down);
         assert!((chosen.height - 5.0).abs() < 1e-9);
         let x = chosen.to_print * Vector3::x();
@@ -328,12 +334,12 @@ mod tests {
         // Only orientations with the rest frame's x vertical let every capsule in.
         let rank = |r: &Rotation3<f64>| {
             let x_up = (r * Vector3::x()).z.abs() > 0.5;
-            Some(InsertionRank {
+            InsertionRank {
                 insertable: if x_up { 2 } else { 1 },
                 pauses: 1,
-            })
+            }
         };
-        let chosen = choose(&hull, &points, &centre, &-Vector3::z(), &rank);
+        let chosen = choose(&hull, &points, &centre, &-Vector3::z(), Some(&rank));
         assert!(chosen.down.x.abs() > 0.999_999, "{:?}", chosen.down);
         assert!((chosen.height - 30.0).abs() < 1e-9);
         let OrientationChoice::Chosen { area, reason } = chosen.choice else {
