@@ -2,9 +2,6 @@
 //! points outside each face kept in its own list (the face's conflict list), so each added point
 //! is tested only against the faces its predecessors' cones made.
 
-use std::cmp::Reverse;
-use std::collections::BinaryHeap;
-
 use nalgebra::{Point3, Vector3};
 
 /// A triangle of the hull under construction, counter-clockwise seen from outside.
@@ -19,8 +16,6 @@ pub(super) struct Face {
     /// The points outside this face that no other face claimed first.
     outside: Vec<usize>,
     pub(super) alive: bool,
-    /// Whether the face is in the queue of faces with outside points.
-    queued: bool,
     /// The last point whose visible set this face was found in.
     seen_by: Option<usize>,
 }
@@ -32,10 +27,11 @@ const UNLINKED: usize = usize::MAX;
 pub(super) struct Quickhull<'a> {
     pub(super) points: &'a [Point3<f64>],
     pub(super) faces: Vec<Face>,
-    /// The faces with points outside them, lowest index first, so the next one is found without
-    /// a scan over every face ever made (which made the hull quadratic in its vertex count).
-    /// A face that died while queued is skipped when it comes up.
-    pending: BinaryHeap<Reverse<usize>>,
+    /// Every face before this one is dead or has no point outside it. Points are only ever
+    /// given to faces as they are made, which come after every other, so the first face with
+    /// outside points never lies behind the cursor, and the cursor passes each face once (a scan
+    /// from the first face for each point made the hull quadratic in its vertex count).
+    cursor: usize,
     /// A point counts as outside a face when farther than this above it.
     epsilon: f64,
     /// Buffers [`Quickhull::add_point`] reuses from one point to the next.
@@ -101,7 +97,7 @@ impl<'a> Quickhull<'a> {
         let mut hull = Quickhull {
             points,
             faces: Vec::new(),
-            pending: BinaryHeap::new(),
+            cursor: 0,
             epsilon,
             scratch: Scratch::default(),
         };
@@ -160,18 +156,9 @@ impl<'a> Quickhull<'a> {
             offset: normal.dot(&a.coords),
             outside: Vec::new(),
             alive: true,
-            queued: false,
             seen_by: None,
         });
         index
-    }
-
-    /// Puts face `f` in the queue unless it is there.
-    fn enqueue(&mut self, f: usize) {
-        if !self.faces[f].queued {
-            self.faces[f].queued = true;
-            self.pending.push(Reverse(f));
-        }
     }
 
     /// Gives each of `points` to the first of `faces` it is farthest outside of; points outside
@@ -187,20 +174,15 @@ impl<'a> Quickhull<'a> {
             }
             if let Some((f, _)) = best {
                 self.faces[f].outside.push(i);
-                self.enqueue(f);
             }
         }
     }
 
     /// Adds outside points until none is left: the farthest outside the first face (in the order
-    /// faces were made) that has any. O(n log n) for points spread over the hull: each step finds
-    /// that face in the queue, not by a scan.
+    /// faces were made) that has any. O(n log n) for points spread over the hull: that face is
+    /// found by a cursor that only moves forward.
     pub(super) fn run(&mut self) {
-        while let Some(Reverse(f)) = self.pending.pop() {
-            self.faces[f].queued = false;
-            if !self.faces[f].alive || self.faces[f].outside.is_empty() {
-                continue;
-            }
+        while let Some(f) = self.next_face() {
             let outside = &self.faces[f].outside;
             let (mut k, mut farthest) = (0, self.distance(f, outside[0]));
             for (j, &i) in outside.iter().enumerate().skip(1) {
@@ -210,11 +192,19 @@ impl<'a> Quickhull<'a> {
                 }
             }
             let apex = self.faces[f].outside.swap_remove(k);
-            if !self.faces[f].outside.is_empty() {
-                self.enqueue(f);
-            }
             self.add_point(f, apex);
         }
+    }
+
+    /// The first live face with points outside it, the cursor moved up to it.
+    fn next_face(&mut self) -> Option<usize> {
+        while let Some(face) = self.faces.get(self.cursor) {
+            if face.alive && !face.outside.is_empty() {
+                return Some(self.cursor);
+            }
+            self.cursor += 1;
+        }
+        None
     }
 
     /// Replaces the faces `apex` sees (starting from `first`) with a cone from their horizon to
