@@ -8,7 +8,8 @@ use crate::design::{Design, PlacedCapsule};
 use crate::diagnostic::Problem;
 use crate::fabrication::{
     choose, declared_down, declared_rotation, height, lay_out, plan_insertions, Bed, ComponentPlan,
-    InsertionRank, LayerGrid, Orientation, OrientationChoice, PrintFrame, PrintPlan, PrintSetup,
+    InsertionHook, InsertionRank, LayerGrid, Orientation, OrientationChoice, PrintFrame, PrintPlan,
+    PrintSetup,
 };
 use crate::geometry::{mass_properties, ConvexHull, TriMesh};
 use crate::spec::model::{PrintOrientation, Project};
@@ -72,8 +73,7 @@ pub fn print_orientations(
                 None => {
                     let capsules = known.capsules_of(index);
                     let rank = |r: &Rotation3<f64>| insertion_rank(&capsules, mesh, r, &grid);
-                    let rank: Option<&dyn Fn(&Rotation3<f64>) -> InsertionRank> =
-                        (!capsules.is_empty()).then_some(&rank);
+                    let rank: Option<InsertionHook> = (!capsules.is_empty()).then_some(&rank);
                     choose(hull, points, &centre, &-project.up.unit_vector(), rank)
                 }
             }

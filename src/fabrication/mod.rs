@@ -40,6 +40,7 @@ pub use frame::{LayerGrid, PrintFrame, PrintSetup};
 pub use insertion::{ceiling_bridge, has_window, insertion_window, plan_insertions, required_rise};
 pub use issue::CapsuleIssue;
 pub use orientation::{
-    choose, declared_down, declared_rotation, height, InsertionRank, Orientation, AREA_TIE,
+    choose, declared_down, declared_rotation, height, InsertionHook, InsertionRank, Orientation,
+    AREA_TIE,
 };
 pub use plan::{CapsuleInsertion, ComponentPlan, OrientationChoice, Pause, PlatePause, PrintPlan};

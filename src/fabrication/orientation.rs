@@ -48,6 +48,14 @@ impl InsertionRank {
     }
 }
 
+/// How each candidate rotation (rest frame to print frame) suits the capsules' insertion, for
+/// [`choose`].
+pub type InsertionHook<'a> = &'a dyn Fn(&Rotation3<f64>) -> InsertionRank;
+
+/// A facet still in the running in [`choose`], with the rotation that puts it on the bed when
+/// the insertion rank needed it.
+type Ranked = (usize, Option<Rotation3<f64>>);
+
 /// How one component is printed.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Orientation {
@@ -110,28 +118,27 @@ pub fn choose(
     points: &[Point3<f64>],
     centre: &Point3<f64>,
     down: &Vector3<f64>,
-    rank: Option<&dyn Fn(&Rotation3<f64>) -> InsertionRank>,
+    rank: Option<InsertionHook>,
 ) -> Orientation {
     // The facets with the best insertion rank, each with its rotation when the rank needed it.
-    let (ranked, best_rank): (Vec<(usize, Option<Rotation3<f64>>)>, Option<InsertionRank>) =
-        match rank {
-            Some(rank) => {
-                let placed: Vec<(usize, Rotation3<f64>, InsertionRank)> = (0..hull.facets.len())
-                    .map(|facet| {
-                        let rotation = facet_rotation(&hull.facets[facet], points);
-                        (facet, rotation, rank(&rotation))
-                    })
-                    .collect();
-                let best = placed.iter().map(|(_, _, r)| *r).max_by_key(|r| r.key());
-                let ranked = placed
-                    .into_iter()
-                    .filter(|(_, _, r)| Some(r.key()) == best.map(|b| b.key()))
-                    .map(|(facet, rotation, _)| (facet, Some(rotation)))
-                    .collect();
-                (ranked, best)
-            }
-            None => ((0..hull.facets.len()).map(|f| (f, None)).collect(), None),
-        };
+    let (ranked, best_rank): (Vec<Ranked>, Option<InsertionRank>) = match rank {
+        Some(rank) => {
+            let placed: Vec<(usize, Rotation3<f64>, InsertionRank)> = (0..hull.facets.len())
+                .map(|facet| {
+                    let rotation = facet_rotation(&hull.facets[facet], points);
+                    (facet, rotation, rank(&rotation))
+                })
+                .collect();
+            let best = placed.iter().map(|(_, _, r)| *r).max_by_key(|r| r.key());
+            let ranked = placed
+                .into_iter()
+                .filter(|(_, _, r)| Some(r.key()) == best.map(|b| b.key()))
+                .map(|(facet, rotation, _)| (facet, Some(rotation)))
+                .collect();
+            (ranked, best)
+        }
+        None => ((0..hull.facets.len()).map(|f| (f, None)).collect(), None),
+    };
     let largest = ranked
         .iter()
         .map(|&(facet, _)| hull.facets[facet].area)
