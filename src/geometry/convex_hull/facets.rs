@@ -1,5 +1,7 @@
 //! Quickhull's live triangles merged into the hull's flat facets.
 
+use std::sync::Arc;
+
 use nalgebra::Vector3;
 
 use super::quickhull::Quickhull;
@@ -126,7 +128,7 @@ impl Quickhull<'_> {
             })
             .sum::<f64>()
             / 2.0;
-        let corners: Vec<usize> = polygon.iter().map(|&k| corners[k]).collect();
+        let corners: Arc<[usize]> = polygon.iter().map(|&k| corners[k]).collect();
         let offset = corners
             .iter()
             .map(|&i| normal.dot(&self.points[i].coords))

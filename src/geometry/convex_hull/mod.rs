@@ -15,6 +15,8 @@
 mod facets;
 mod quickhull;
 
+use std::sync::Arc;
+
 use nalgebra::{Isometry3, Point3, Vector3};
 
 use quickhull::Quickhull;
@@ -34,8 +36,9 @@ pub struct HullFacet {
     /// [`convex_hull`] is at most the coplanarity tolerance above it.
     pub offset: f64,
     /// The corners, indices into the points given to [`convex_hull`], counter-clockwise seen from
-    /// outside, no three collinear.
-    pub corners: Vec<usize>,
+    /// outside, no three collinear. Shared, not copied, by the hull [`ConvexHull::moved`] makes
+    /// (a hull of a million facets is moved once for every pose).
+    pub corners: Arc<[usize]>,
     /// Area of the polygon, square units of the points.
     pub area: f64,
 }
@@ -263,7 +266,7 @@ mod tests {
         assert_eq!(a.vertices, b.vertices);
         assert_eq!(a.facets.len(), b.facets.len());
         let key = |facet: &HullFacet| {
-            let mut corners = facet.corners.clone();
+            let mut corners = facet.corners.to_vec();
             corners.sort_unstable();
             corners
         };
