@@ -25,6 +25,7 @@
 
 mod convex_hull;
 mod distance;
+mod edge_sort;
 mod field;
 mod gltf_buffers;
 mod hull_walk;

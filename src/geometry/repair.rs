@@ -10,6 +10,7 @@ use std::collections::{BTreeMap, HashMap};
 
 use nalgebra::Point3;
 
+use super::edge_sort::sort_by_lower_corner;
 use super::mass;
 use super::mesh::TriMesh;
 
@@ -117,7 +118,11 @@ fn half_edges(mesh: &TriMesh) -> Vec<HalfEdge> {
             });
         }
     }
-    edges.sort_unstable_by_key(|h| (h.edge, h.triangle));
+    sort_by_lower_corner(
+        &mut edges,
+        |h| (h.edge >> 32) as u32,
+        |h| (h.edge, h.triangle),
+    );
     edges
 }
 

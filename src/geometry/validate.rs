@@ -2,6 +2,7 @@
 
 use nalgebra::Point3;
 
+use super::edge_sort::sort_by_lower_corner;
 use super::mass::{self, MassProperties};
 use super::mesh::TriMesh;
 use super::print::{overlap, Overlap};
@@ -132,7 +133,7 @@ pub fn check_mesh(mesh: &TriMesh) -> MeshCheck {
         .volume,
         ..MeshCheck::default()
     };
-    uses.sort_unstable();
+    sort_by_lower_corner(&mut uses, |&(edge, _)| (edge >> 32) as u32, |&use_| use_);
     for run in uses.chunk_by(|a, b| a.0 == b.0) {
         let edge = [(run[0].0 >> 32) as u32, run[0].0 as u32];
         let backward = run.iter().filter(|&&(_, backward)| backward).count();
