@@ -42,11 +42,22 @@ pub fn load_components(
     // component that shares it. Its one diagnostic goes where the first component's would.
     let mut failures: Vec<(&Path, String, usize, Vec<&Component>, LoadError)> = Vec::new();
     for (index, component) in project.components.iter().enumerate() {
-        let hull = |mesh: &TriMesh| match rest_frame(&component.frame, project) {
-            None => convex_hull(&mesh.positions),
-            Some(to_rest) => convex_hull(&mesh.positions.iter().map(to_rest).collect::<Vec<_>>()),
+        // The positions in the rest frame (unless the frame is the identity) and their hull,
+        // while the mesh is checked.
+        let in_rest_frame = |mesh: &TriMesh| match rest_frame(&component.frame, project) {
+            None => (None, convex_hull(&mesh.positions)),
+            Some(to_rest) => {
+                let positions: Vec<Point3<f64>> = mesh.positions.iter().map(to_rest).collect();
+                let hull = convex_hull(&positions);
+                (Some(positions), hull)
+            }
         };
-        match cache.load(&component.mesh.value, &component.selector, policy, hull) {
+        match cache.load(
+            &component.mesh.value,
+            &component.selector,
+            policy,
+            in_rest_frame,
+        ) {
             Ok((
                 LoadedMesh {
                     mesh,
@@ -54,11 +65,17 @@ pub fn load_components(
                     mut repairs,
                 },
                 check,
-                hull,
+                (positions, hull),
             )) => {
                 found[index].extend(short_face_warning(component, &short_faces));
-                let (mesh, check) =
-                    into_rest_frame(mesh, check, &mut repairs, &component.frame, project);
+                let (mesh, check) = into_rest_frame(
+                    mesh,
+                    check,
+                    &mut repairs,
+                    positions,
+                    &component.frame,
+                    project,
+                );
                 let extent = mesh
                     .bounding_box()
                     .map_or(0.0, |(low, high)| (high - low).max());
@@ -94,16 +111,17 @@ pub fn load_components(
 
 /// `mesh` (and its `check`, and the holes its `repairs` capped) from its file's coordinates into
 /// the rest frame: turned from the mesh's up axis to the project's, then scaled into project
-/// units. Untouched when the frame is the identity, so a mesh in project units keeps its exact
-/// coordinates.
+/// units; `positions` are its positions moved so ([`rest_frame`]), `None` when the frame is the
+/// identity. Untouched then, so a mesh in project units keeps its exact coordinates.
 fn into_rest_frame(
     mesh: TriMesh,
     mut check: MeshCheck,
     repairs: &mut Repairs,
+    positions: Option<Vec<Point3<f64>>>,
     frame: &MeshFrame,
     project: &Project,
 ) -> (TriMesh, MeshCheck) {
-    let Some(to_rest) = rest_frame(frame, project) else {
+    let (Some(positions), Some(to_rest)) = (positions, rest_frame(frame, project)) else {
         return (mesh, check);
     };
     let rotation = frame.rotation(project.up);
@@ -119,7 +137,7 @@ fn into_rest_frame(
         hole.centre = to_rest(&hole.centre);
     }
     let mesh = TriMesh {
-        positions: mesh.positions.iter().map(to_rest).collect(),
+        positions,
         triangles: mesh.triangles,
     };
     (mesh, check)
