@@ -132,7 +132,7 @@ pub fn choose(
             let best = placed.iter().map(|(_, _, r)| *r).max_by_key(|r| r.key());
             let ranked = placed
                 .into_iter()
-                .filter(|(_, _, r)| Some(r.key()) == best.map(|b| b.key()))
+                .filter(|(_, _, r)| Some(*r) == best)
                 .map(|(facet, rotation, _)| (facet, Some(rotation)))
                 .collect();
             (ranked, best)
