@@ -132,8 +132,9 @@ pub struct Problem<'a> {
     project: &'a Project,
     meshes: &'a [TriMesh],
     bodies: Vec<ComponentBody<'a>>,
-    /// Each component's print, to cut a design's voids from when it is judged.
-    parts: PartPrints,
+    /// Each component's print, to cut a design's voids from when it is judged (its cuts kept
+    /// for whoever weighs the chosen design after the search).
+    parts: &'a PartPrints,
     interior: Arc<GridInterior>,
     parameters: Parameters,
     method: Method,
@@ -161,7 +162,7 @@ impl<'a> Problem<'a> {
             project,
             meshes,
             bodies: parts.bare_bodies(meshes),
-            parts: parts.clone(),
+            parts,
             interior,
             parameters: Parameters::for_project(project),
             method,
