@@ -10,13 +10,13 @@ use crate::compile::{Stage, Workspace};
 const ERASE_LINE: &str = "\r\x1b[2K";
 
 /// A progress sink for a [`Workspace`] when standard error is a terminal.
-pub(super) fn on_terminal() -> Option<Box<dyn Fn(Stage) + Send>> {
+pub(super) fn on_terminal() -> Option<Box<dyn Fn(Stage) + Send + Sync>> {
     std::io::stderr().is_terminal().then(|| {
         Box::new(|stage: Stage| {
             let mut stderr = std::io::stderr().lock();
             let _ = write!(stderr, "{ERASE_LINE}{stage}…");
             let _ = stderr.flush();
-        }) as Box<dyn Fn(Stage) + Send>
+        }) as Box<dyn Fn(Stage) + Send + Sync>
     })
 }
 

@@ -36,6 +36,7 @@ mod solution;
 mod workspace;
 
 use limits::optimizer_limits;
+use optimize::precompute_ahead;
 use pose_warnings::{
     lost_goal_warnings, other_states, settled_poses, solid_goals_lost, undetermined_balls,
 };
@@ -87,7 +88,7 @@ use crate::fabrication::{Orientation, PrintPlan};
 use crate::geometry::{
     ConvexHull, MassProperties, MeshLimits, PrintCorrection, PrintVolumes, ReadPolicy, TriMesh,
 };
-use crate::spec::model::Project;
+use crate::spec::model::{Optimize, Project};
 use crate::spec::parse_project_with;
 
 /// Where the evaluated design came from.
@@ -307,7 +308,7 @@ pub fn compile_with(
                 solids,
                 orientations,
                 &corrections,
-                workspace,
+                &mut workspace.prints,
             ))
             .prints;
         let bodies = bare_bodies(meshes, hulls, solids, prints);
@@ -334,14 +335,26 @@ pub fn compile_with(
         _ => return Err(Failure::Invalid(problems)),
     };
     let corrected = corrected.unwrap_or_else(|| {
-        corrected_volumes(
-            &project,
-            &meshes,
-            &solids,
-            &orientations,
-            &corrections,
-            workspace,
-        )
+        // The search's grids and skeletons do not depend on the print volumes: they are
+        // computed beside them (each uses every core, but not all the time).
+        let ahead = searched(&project, options.optimize.as_ref(), &meshes);
+        let (prints, cache, cancel, reporter) = workspace.split();
+        std::thread::scope(|scope| {
+            if let Some((settings, warm)) = ahead {
+                let (project, meshes) = (&project, &meshes);
+                scope.spawn(move || {
+                    precompute_ahead(project, settings, meshes, warm, cache, cancel, reporter)
+                });
+            }
+            corrected_volumes(
+                &project,
+                &meshes,
+                &solids,
+                &orientations,
+                &corrections,
+                prints,
+            )
+        })
     });
     problems.extend(corrected.refused);
     // A refused correction is in no material: neither in the bare prints nor in any cut.
@@ -472,7 +485,7 @@ fn part_prints(
     )
 }
 
-/// Each component's print volumes in its print orientation (from `workspace`'s cache), with the
+/// Each component's print volumes in its print orientation (from the `prints` cache), with the
 /// calibration's corrections added, the corrections applied and the problems of those refused.
 fn corrected_volumes(
     project: &Project,
@@ -480,15 +493,30 @@ fn corrected_volumes(
     solids: &[MassProperties],
     orientations: &[Orientation],
     corrections: &[PrintCorrection],
-    workspace: &mut Workspace,
+    prints: &mut PrintCache,
 ) -> calibration::Corrected {
     let prints: Vec<PrintVolumes> = meshes
         .iter()
         .zip(solids)
         .zip(orientations)
-        .map(|((mesh, solid), o)| workspace.prints.volumes(project, mesh, solid, o.to_print))
+        .map(|((mesh, solid), o)| prints.volumes(project, mesh, solid, o.to_print))
         .collect();
     calibration::corrected_prints(project, &prints, corrections)
+}
+
+/// When `project` is built with a search (optimized, and not a warm start judged as it is): its
+/// optimizer settings, and whether a warm start that fits `meshes` starts the search.
+fn searched<'p>(
+    project: &'p Project,
+    run: Option<&OptimizeOptions>,
+    meshes: &[TriMesh],
+) -> Option<(&'p Optimize, bool)> {
+    let (settings, run) = (project.optimize.as_ref()?, run?);
+    let warm = run.warm_start.as_ref().filter(|warm| warm.fits(meshes));
+    if warm.is_some() && run.judge_warm_start {
+        return None;
+    }
+    Some((settings, warm.is_some()))
 }
 
 /// Where an output goes: its own path, or its file name inside `out_dir`.

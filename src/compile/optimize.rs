@@ -8,8 +8,9 @@ use super::optimization::{
     candidate_report, conflict_report, repair_warning, seed_report, CapsuleOrigin, Optimization,
     Starts, Timings,
 };
-use super::workspace::{Stage, Workspace};
+use super::workspace::{Reporter, Stage, Workspace};
 use crate::balance::PartPrints;
+use crate::cancel::Cancel;
 use crate::design::Design;
 use crate::fabrication::PrintSetup;
 use crate::geometry::{DistanceGrid, Skeleton, TriMesh};
@@ -18,8 +19,8 @@ pub use crate::optimize::length_decimals;
 use crate::optimize::{
     backfill, choose, content_hash, default_cell, explain_conflicts, grid_scale, has_room, rank,
     repair_seeds, rescue, run_heuristic, skeleton_seeds, smallest_capsule_radius, Candidate,
-    ConflictSpace, GoalRef, GridKey, Method, Origin, Outcome, Problem, Rules, SeedRepair, SeedSite,
-    StartCapsule,
+    ConflictSpace, GoalRef, GridKey, Method, Origin, Outcome, PrecomputeCache, Problem, Rules,
+    SeedRepair, SeedSite, StartCapsule,
 };
 use crate::spec::model::{Optimize, Project};
 
@@ -109,6 +110,98 @@ pub struct Preparation {
     pub repairs: Vec<SeedRepair>,
 }
 
+/// Each mesh's distance-grid key: at the project's `grid-cell`, or [`default_cell`] for the
+/// smallest capsule radius `min_radius`.
+fn grid_keys(settings: &Optimize, meshes: &[TriMesh], min_radius: f64) -> Vec<GridKey> {
+    // One key per mesh: making it reads every coordinate.
+    meshes
+        .iter()
+        .map(|mesh| {
+            let cell = settings
+                .grid_cell
+                .unwrap_or_else(|| default_cell(mesh, min_radius));
+            GridKey::new(mesh, cell)
+        })
+        .collect()
+}
+
+/// Each mesh's distance grid at its key, from `cache` or sampled into it (each sampling told to
+/// `reporter` as it starts); `None` when `cancel` stopped it.
+fn grids(
+    project: &Project,
+    meshes: &[TriMesh],
+    keys: &[GridKey],
+    cache: &mut PrecomputeCache,
+    cancel: &Cancel,
+    reporter: Reporter,
+) -> Option<Vec<Arc<DistanceGrid>>> {
+    let mut grids = Vec::with_capacity(meshes.len());
+    for (index, (mesh, &key)) in meshes.iter().zip(keys).enumerate() {
+        if !cache.recall(mesh, key) {
+            reporter.report(Stage::Grid {
+                component: project.component_name(index).to_string(),
+                nodes: DistanceGrid::node_count(mesh, key.cell()),
+            });
+        }
+        grids.push(cache.grid(mesh, key, cancel)?);
+    }
+    Some(grids)
+}
+
+/// Each mesh's skeleton thinned on its grid at its key, from `cache` or thinned into it (each
+/// thinning told to `reporter`); `None` when `cancel` stopped it.
+fn skeletons(
+    project: &Project,
+    meshes: &[TriMesh],
+    keys: &[GridKey],
+    cache: &mut PrecomputeCache,
+    cancel: &Cancel,
+    reporter: Reporter,
+) -> Option<Vec<Arc<Skeleton>>> {
+    let mut skeletons = Vec::with_capacity(meshes.len());
+    for (index, (mesh, &key)) in meshes.iter().zip(keys).enumerate() {
+        if !cache.holds_skeleton(key) {
+            reporter.report(Stage::Skeleton {
+                component: project.component_name(index).to_string(),
+            });
+        }
+        skeletons.push(cache.skeleton(mesh, key, cancel)?);
+    }
+    Some(skeletons)
+}
+
+/// Whether the seeds come from the skeletons: without a warm start, when every written capsule
+/// is pinned.
+fn seeds_from_skeletons(project: &Project, warm: bool) -> bool {
+    !warm && written_capsules(project).iter().all(|c| c.pinned)
+}
+
+/// Samples into `cache` the grids, and the skeletons when the seeds come from them, that
+/// [`prepare`] reads for `project` (with a warm start that fits when `warm`): so that they can
+/// be computed beside another stage of the build (the print volumes), on another thread.
+/// Stops early when `cancel` is set; [`prepare`] then finds what is missing.
+pub(super) fn precompute_ahead(
+    project: &Project,
+    settings: &Optimize,
+    meshes: &[TriMesh],
+    warm: bool,
+    cache: &mut PrecomputeCache,
+    cancel: &Cancel,
+    reporter: Reporter,
+) {
+    let keys = grid_keys(
+        settings,
+        meshes,
+        Parameters::for_project(project).min_radius,
+    );
+    if grids(project, meshes, &keys, cache, cancel, reporter).is_some()
+        && seeds_from_skeletons(project, warm)
+    {
+        // A cancelled thinning leaves nothing for `prepare` to find: it thins again.
+        let _ = skeletons(project, meshes, &keys, cache, cancel, reporter);
+    }
+}
+
 /// The precomputation of the optimizer: distance grids (from the workspace's cache when it holds
 /// them, at the project's `grid-cell` or [`default_cell`]), then the seeds: from `warm` when
 /// given, else from skeletons thinned on the grids. `None` when the workspace was cancelled.
@@ -121,33 +214,16 @@ pub fn prepare(
     warm: Option<&Design>,
 ) -> Option<Preparation> {
     let parameters = Parameters::for_project(project);
-    // One key per mesh: making it reads every coordinate.
-    let keys: Vec<GridKey> = meshes
-        .iter()
-        .map(|mesh| {
-            let cell = settings
-                .grid_cell
-                .unwrap_or_else(|| default_cell(mesh, parameters.min_radius));
-            GridKey::new(mesh, cell)
-        })
-        .collect();
-    let mut grids = Vec::with_capacity(meshes.len());
-    for (index, (mesh, &key)) in meshes.iter().zip(&keys).enumerate() {
-        if !workspace.cache.recall(mesh, key) {
-            workspace.report(Stage::Grid {
-                component: project.component_name(index).to_string(),
-                nodes: DistanceGrid::node_count(mesh, key.cell()),
-            });
-        }
-        grids.push(workspace.cache.grid(mesh, key, &workspace.cancel)?);
-    }
+    let keys = grid_keys(settings, meshes, parameters.min_radius);
+    let (_, cache, cancel, reporter) = workspace.split();
+    let grids = grids(project, meshes, &keys, cache, cancel, reporter)?;
     let interior = Arc::new(GridInterior { grids });
     let mut seeds = written_capsules(project);
     if let Some(design) = warm {
         seeds.retain(|c| c.pinned);
         seeds.extend(warm_capsules(design, &seeds));
     }
-    if warm.is_some() || seeds.iter().any(|c| !c.pinned) {
+    if !seeds_from_skeletons(project, warm.is_some()) {
         let repairs = if warm.is_some() {
             Vec::new()
         } else {
@@ -169,15 +245,7 @@ pub fn prepare(
             repairs,
         });
     }
-    let mut skeletons: Vec<Arc<Skeleton>> = Vec::with_capacity(meshes.len());
-    for (index, (mesh, &key)) in meshes.iter().zip(&keys).enumerate() {
-        if !workspace.cache.holds_skeleton(key) {
-            workspace.report(Stage::Skeleton {
-                component: project.component_name(index).to_string(),
-            });
-        }
-        skeletons.push(workspace.cache.skeleton(mesh, key, &workspace.cancel)?);
-    }
+    let skeletons = skeletons(project, meshes, &keys, cache, cancel, reporter)?;
     let ball = &project.ball;
     let scale = grid_scale(length_decimals(meshes));
     let smallest = smallest_capsule_radius(ball, parameters.min_radius, scale);

@@ -26,7 +26,7 @@ pub struct Workspace {
     /// Set from another thread to stop the build in flight (watch mode: a newer save).
     pub cancel: Cancel,
     /// Told as each long stage starts; silent when `None`.
-    pub progress: Option<Box<dyn Fn(Stage) + Send>>,
+    pub progress: Option<Box<dyn Fn(Stage) + Send + Sync>>,
     /// The long stage the build in flight started last, told or not (read it with
     /// [`stage`](Self::stage)).
     pub last_stage: Mutex<Option<Stage>>,
@@ -63,13 +63,27 @@ impl Workspace {
 
     /// Tells the progress sink that `stage` starts.
     pub(crate) fn report(&self, stage: Stage) {
-        *self
-            .last_stage
-            .lock()
-            .unwrap_or_else(PoisonError::into_inner) = Some(stage.clone());
-        if let Some(progress) = &self.progress {
-            progress(stage);
+        self.reporter().report(stage);
+    }
+
+    /// Where this workspace's stages are told.
+    fn reporter(&self) -> Reporter<'_> {
+        Reporter {
+            progress: &self.progress,
+            last_stage: &self.last_stage,
         }
+    }
+
+    /// The print-volume and precompute caches apart, with the cancel flag and where stages are
+    /// told: what it takes to fill both caches at once.
+    pub(crate) fn split(
+        &mut self,
+    ) -> (&mut PrintCache, &mut PrecomputeCache, &Cancel, Reporter<'_>) {
+        let reporter = Reporter {
+            progress: &self.progress,
+            last_stage: &self.last_stage,
+        };
+        (&mut self.prints, &mut self.cache, &self.cancel, reporter)
     }
 
     /// The long stage the build in flight (or the last one) started last, if any: where a
@@ -79,6 +93,27 @@ impl Workspace {
             .lock()
             .unwrap_or_else(PoisonError::into_inner)
             .clone()
+    }
+}
+
+/// Where a workspace's stages are told: its progress sink, and the last stage it was told
+/// ([`Workspace::stage`]). Shared by the threads of one build.
+#[derive(Clone, Copy)]
+pub(crate) struct Reporter<'a> {
+    progress: &'a Option<Box<dyn Fn(Stage) + Send + Sync>>,
+    last_stage: &'a Mutex<Option<Stage>>,
+}
+
+impl Reporter<'_> {
+    /// Tells the progress sink that `stage` starts.
+    pub(crate) fn report(&self, stage: Stage) {
+        *self
+            .last_stage
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner) = Some(stage.clone());
+        if let Some(progress) = self.progress {
+            progress(stage);
+        }
     }
 }
 
