@@ -125,49 +125,46 @@ fn grid_keys(settings: &Optimize, meshes: &[TriMesh], min_radius: f64) -> Vec<Gr
         .collect()
 }
 
-/// Each mesh's distance grid at its key, from `cache` or sampled into it (each sampling told to
-/// `reporter` as it starts); `None` when `cancel` stopped it.
-fn grids(
-    project: &Project,
-    meshes: &[TriMesh],
-    keys: &[GridKey],
-    cache: &mut PrecomputeCache,
-    cancel: &Cancel,
-    reporter: Reporter,
-) -> Option<Vec<Arc<DistanceGrid>>> {
-    let mut grids = Vec::with_capacity(meshes.len());
-    for (index, (mesh, &key)) in meshes.iter().zip(keys).enumerate() {
-        if !cache.recall(mesh, key) {
-            reporter.report(Stage::Grid {
-                component: project.component_name(index).to_string(),
-                nodes: DistanceGrid::node_count(mesh, key.cell()),
-            });
-        }
-        grids.push(cache.grid(mesh, key, cancel)?);
-    }
-    Some(grids)
+/// The grids and skeletons of a project's meshes, each at its key, from `cache` or computed into
+/// it, each computation told to `reporter` as it starts; stopped by `cancel`.
+struct Precompute<'a> {
+    project: &'a Project,
+    meshes: &'a [TriMesh],
+    keys: Vec<GridKey>,
+    cache: &'a mut PrecomputeCache,
+    cancel: &'a Cancel,
+    reporter: Reporter<'a>,
 }
 
-/// Each mesh's skeleton thinned on its grid at its key, from `cache` or thinned into it (each
-/// thinning told to `reporter`); `None` when `cancel` stopped it.
-fn skeletons(
-    project: &Project,
-    meshes: &[TriMesh],
-    keys: &[GridKey],
-    cache: &mut PrecomputeCache,
-    cancel: &Cancel,
-    reporter: Reporter,
-) -> Option<Vec<Arc<Skeleton>>> {
-    let mut skeletons = Vec::with_capacity(meshes.len());
-    for (index, (mesh, &key)) in meshes.iter().zip(keys).enumerate() {
-        if !cache.holds_skeleton(key) {
-            reporter.report(Stage::Skeleton {
-                component: project.component_name(index).to_string(),
-            });
+impl Precompute<'_> {
+    /// Each mesh's distance grid; `None` when cancelled.
+    fn grids(&mut self) -> Option<Vec<Arc<DistanceGrid>>> {
+        let mut grids = Vec::with_capacity(self.meshes.len());
+        for (index, (mesh, &key)) in self.meshes.iter().zip(&self.keys).enumerate() {
+            if !self.cache.recall(mesh, key) {
+                self.reporter.report(Stage::Grid {
+                    component: self.project.component_name(index).to_string(),
+                    nodes: DistanceGrid::node_count(mesh, key.cell()),
+                });
+            }
+            grids.push(self.cache.grid(mesh, key, self.cancel)?);
         }
-        skeletons.push(cache.skeleton(mesh, key, cancel)?);
+        Some(grids)
     }
-    Some(skeletons)
+
+    /// Each mesh's skeleton, thinned on its grid; `None` when cancelled.
+    fn skeletons(&mut self) -> Option<Vec<Arc<Skeleton>>> {
+        let mut skeletons = Vec::with_capacity(self.meshes.len());
+        for (index, (mesh, &key)) in self.meshes.iter().zip(&self.keys).enumerate() {
+            if !self.cache.holds_skeleton(key) {
+                self.reporter.report(Stage::Skeleton {
+                    component: self.project.component_name(index).to_string(),
+                });
+            }
+            skeletons.push(self.cache.skeleton(mesh, key, self.cancel)?);
+        }
+        Some(skeletons)
+    }
 }
 
 /// Whether the seeds come from the skeletons: without a warm start, when every written capsule
@@ -189,16 +186,21 @@ pub(super) fn precompute_ahead(
     cancel: &Cancel,
     reporter: Reporter,
 ) {
-    let keys = grid_keys(
-        settings,
+    let mut precompute = Precompute {
+        project,
         meshes,
-        Parameters::for_project(project).min_radius,
-    );
-    if grids(project, meshes, &keys, cache, cancel, reporter).is_some()
-        && seeds_from_skeletons(project, warm)
-    {
+        keys: grid_keys(
+            settings,
+            meshes,
+            Parameters::for_project(project).min_radius,
+        ),
+        cache,
+        cancel,
+        reporter,
+    };
+    if precompute.grids().is_some() && seeds_from_skeletons(project, warm) {
         // A cancelled thinning leaves nothing for `prepare` to find: it thins again.
-        let _ = skeletons(project, meshes, &keys, cache, cancel, reporter);
+        let _ = precompute.skeletons();
     }
 }
 
@@ -214,9 +216,16 @@ pub fn prepare(
     warm: Option<&Design>,
 ) -> Option<Preparation> {
     let parameters = Parameters::for_project(project);
-    let keys = grid_keys(settings, meshes, parameters.min_radius);
     let (_, cache, cancel, reporter) = workspace.split();
-    let grids = grids(project, meshes, &keys, cache, cancel, reporter)?;
+    let mut precompute = Precompute {
+        project,
+        meshes,
+        keys: grid_keys(settings, meshes, parameters.min_radius),
+        cache,
+        cancel,
+        reporter,
+    };
+    let grids = precompute.grids()?;
     let interior = Arc::new(GridInterior { grids });
     let mut seeds = written_capsules(project);
     if let Some(design) = warm {
@@ -245,7 +254,7 @@ pub fn prepare(
             repairs,
         });
     }
-    let skeletons = skeletons(project, meshes, &keys, cache, cancel, reporter)?;
+    let skeletons = precompute.skeletons()?;
     let ball = &project.ball;
     let scale = grid_scale(length_decimals(meshes));
     let smallest = smallest_capsule_radius(ball, parameters.min_radius, scale);
