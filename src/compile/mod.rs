@@ -504,8 +504,9 @@ fn corrected_volumes(
     calibration::corrected_prints(project, &prints, corrections)
 }
 
-/// When `project` is built with a search (optimized, and not a warm start judged as it is): its
-/// optimizer settings, and whether a warm start that fits `meshes` starts the search.
+/// When `project` is built with a search (optimized, within the optimizer's limits, and not a
+/// warm start judged as it is): its optimizer settings, and whether a warm start that fits
+/// `meshes` starts the search.
 fn searched<'p>(
     project: &'p Project,
     run: Option<&OptimizeOptions>,
@@ -513,7 +514,9 @@ fn searched<'p>(
 ) -> Option<(&'p Optimize, bool)> {
     let (settings, run) = (project.optimize.as_ref()?, run?);
     let warm = run.warm_start.as_ref().filter(|warm| warm.fits(meshes));
-    if warm.is_some() && run.judge_warm_start {
+    if (warm.is_some() && run.judge_warm_start)
+        || !optimizer_limits(project, settings, meshes, run).is_empty()
+    {
         return None;
     }
     Some((settings, warm.is_some()))
