@@ -504,22 +504,23 @@ fn corrected_volumes(
     calibration::corrected_prints(project, &prints, corrections)
 }
 
-/// When `project` is built with a search (optimized, within the optimizer's limits, and not a
-/// warm start judged as it is): its optimizer settings, and whether a warm start that fits
-/// `meshes` starts the search.
+/// When `project` is built with a search (optimized, within the optimizer's limits over
+/// `meshes`, and not asked to judge a warm start first): its optimizer settings, and whether a
+/// warm start is given. Whether that warm start fits the meshes is left to the optimizer (it
+/// hashes every mesh): one given, the precomputation ahead stops at the grids.
 fn searched<'p>(
     project: &'p Project,
     run: Option<&OptimizeOptions>,
     meshes: &[TriMesh],
 ) -> Option<(&'p Optimize, bool)> {
     let (settings, run) = (project.optimize.as_ref()?, run?);
-    let warm = run.warm_start.as_ref().filter(|warm| warm.fits(meshes));
-    if (warm.is_some() && run.judge_warm_start)
+    let warm = run.warm_start.is_some();
+    if (warm && run.judge_warm_start)
         || !optimizer_limits(project, settings, meshes, run).is_empty()
     {
         return None;
     }
-    Some((settings, warm.is_some()))
+    Some((settings, warm))
 }
 
 /// Where an output goes: its own path, or its file name inside `out_dir`.

@@ -167,14 +167,14 @@ impl Precompute<'_> {
     }
 }
 
-/// Whether the seeds come from the skeletons: without a warm start, when every written capsule
-/// is pinned.
-fn seeds_from_skeletons(project: &Project, warm: bool) -> bool {
-    !warm && written_capsules(project).iter().all(|c| c.pinned)
+/// Whether the seeds come from the skeletons: without a warm start, when every one of the
+/// project's written capsules (`written`) is pinned.
+fn seeds_from_skeletons(written: &[StartCapsule], warm: bool) -> bool {
+    !warm && written.iter().all(|c| c.pinned)
 }
 
 /// Samples into `cache` the grids, and the skeletons when the seeds come from them, that
-/// [`prepare`] reads for `project` (with a warm start that fits when `warm`): so that they can
+/// [`prepare`] reads for `project` (with no skeleton when `warm`, a warm start given): so that they can
 /// be computed beside another stage of the build (the print volumes), on another thread.
 /// Stops early when `cancel` is set; [`prepare`] then finds what is missing.
 pub(super) fn precompute_ahead(
@@ -198,7 +198,7 @@ pub(super) fn precompute_ahead(
         cancel,
         reporter,
     };
-    if precompute.grids().is_some() && seeds_from_skeletons(project, warm) {
+    if precompute.grids().is_some() && seeds_from_skeletons(&written_capsules(project), warm) {
         // A cancelled thinning leaves nothing for `prepare` to find: it thins again.
         let _ = precompute.skeletons();
     }
@@ -232,7 +232,8 @@ pub fn prepare(
         seeds.retain(|c| c.pinned);
         seeds.extend(warm_capsules(design, &seeds));
     }
-    if !seeds_from_skeletons(project, warm.is_some()) {
+    // With a warm start the pinned written capsules are among the seeds, whatever it says.
+    if !seeds_from_skeletons(&seeds, warm.is_some()) {
         let repairs = if warm.is_some() {
             Vec::new()
         } else {
